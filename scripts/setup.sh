@@ -1,0 +1,29 @@
+#!/usr/bin/env bash
+# Installs the Debian packages eulersplat needs (only those missing), then
+# configures and builds into build/. Idempotent: re-running only rebuilds.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+PACKAGES=(cmake g++ make pkg-config libceres-dev libeigen3-dev libopencv-dev
+          libopencv-contrib-dev libgoogle-glog-dev libgflags-dev libgtest-dev
+          libbenchmark-dev colmap ffmpeg)
+missing=()
+for p in "${PACKAGES[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" \
+    || missing+=("$p")
+done
+if ((${#missing[@]})); then
+  echo "[setup] installing: ${missing[*]}"
+  SUDO=""; [[ $(id -u) -ne 0 ]] && SUDO="sudo"
+  $SUDO apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
+
+jobs=$(nproc)
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release > build.log 2>&1 || { cat build.log; exit 1; }
+echo "[setup] building with $jobs jobs (log: build.log)"
+if ! cmake --build build -j"$jobs" >> build.log 2>&1; then
+  grep -E -B2 -A6 "error" build.log | head -80
+  echo "[setup] build failed; see build.log"; exit 1
+fi
+echo "[setup] built into build/bin"
