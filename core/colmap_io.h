@@ -47,6 +47,8 @@ struct ColmapModel {
 // Reads dir/{cameras,images,points3D}.bin if all three exist, else the .txt
 // files. Throws InputError naming the file (and line, for text) on any problem.
 ColmapModel ReadColmapModel(const std::string& dir);
+// True if dir holds all three .bin files, i.e. ReadColmapModel reads them.
+bool HasColmapBinary(const std::string& dir);
 ColmapModel ReadColmapText(const std::string& dir);
 ColmapModel ReadColmapBinary(const std::string& dir);
 

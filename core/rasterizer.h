@@ -32,6 +32,7 @@ struct SplatView {
   int num_extra = 0;                       // extra channels per Gaussian
   const double* extra = nullptr;           // N * num_extra, [n][e]
 
+  // All attributes of g, no extra channels.
   static SplatView Of(const GaussianSet& g);
 };
 
@@ -64,10 +65,19 @@ struct SplatGradients {
   void Resize(int count, int sh_degree, int num_extra);
 };
 
+// Expected depth of the visible surface, depth / alpha, where alpha >
+// min_alpha and 0 elsewhere (H*W).
+std::vector<double> ExpectedDepth(const RenderResult& result,
+                                  double min_alpha = 1e-3);
+
 // Tile-based EWA splatting, forward and analytic backward, parallel over
-// tiles. Keeps the per-Gaussian and per-pixel state of the last Forward (and
-// its buffers, reused to avoid allocation), so Backward must follow Forward
-// on the same object with the same camera, splats and options.
+// tiles (OpenMP). Keeps the per-Gaussian and per-pixel state of the last
+// Forward (and its buffers, reused to avoid allocation), so Backward must
+// follow Forward on the same object with the same camera, splats and
+// options; the arrays the SplatView points at must stay alive and unchanged
+// in between. Conventions: see core/raster_project.h (projection, culling,
+// FOV clamp) and core/rasterizer.cc (compositing); the test twin is
+// tests/reference_rasterizer.h.
 class Rasterizer {
  public:
   Rasterizer();
@@ -82,6 +92,9 @@ class Rasterizer {
 
   // Number of Gaussians that survived culling in the last Forward.
   int num_visible() const;
+  // Gaussian-pixel pairs the last Forward looked at (its work, for
+  // benchmarks): each binned Gaussian's pixel box within each of its tiles.
+  long long num_pair_evaluations() const;
 
  private:
   struct State;

@@ -1,0 +1,276 @@
+// Stage 2: initializes the motion field V from optical flow lifted to 3D
+// with the static model's depth, and pretrains it on those samples.
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <string>
+
+#include <gflags/gflags.h>
+
+#include "core/app_main.h"
+#include "core/field_io.h"
+#include "core/flow_lifting.h"
+#include "core/input_error.h"
+#include "core/ply_io.h"
+#include "core/scene.h"
+#include "solvers/flow_pretrain.h"
+#include "solvers/joint_trainer.h"
+#include "solvers/motion_gt.h"
+
+DEFINE_string(scene, "", "Scene directory (images/, sparse/0/, masks/).");
+DEFINE_string(static, "",
+              "Static model from Stage 1 (3DGS PLY with dynamic_logit); "
+              "default <scene>/static.ply.");
+DEFINE_string(out, "",
+              "Output directory for motion_field.bin and flow_metrics.json; "
+              "default the scene directory.");
+DEFINE_double(image_scale, 1.0, "Resize frames by this factor.");
+DEFINE_bool(use_test_frames, false,
+            "Also lift flow between held-out frames (off: they stay unseen).");
+// Optical flow and lifting.
+DEFINE_string(flow, "dis",
+              "Optical flow method: dis, dis_fast, dis_ultrafast, farneback, "
+              "and with OpenCV contrib deepflow, tvl1, pcaflow.");
+DEFINE_string(water_source, "auto",
+              "Water pixels from: masks (masks/), model (the static model's "
+              "rendered dynamic probability), auto (masks if present).");
+DEFINE_double(water_threshold, 0.5, "Mask / probability that is water.");
+DEFINE_int32(stride, 2, "Lift every stride-th pixel of every stride-th row.");
+DEFINE_double(max_fb_px, 1.0,
+              "Reject flow whose forward-backward round trip misses by more "
+              "than this (px): occlusions and unreliable matches.");
+DEFINE_double(max_depth_jump, 0.05,
+              "Reject pixels whose 3x3 depth range exceeds this fraction of "
+              "the depth at either end: occluding edges.");
+DEFINE_double(min_alpha, 0.5, "Rendered alpha below this has no depth.");
+DEFINE_int32(max_samples, 500000,
+             "Keep at most this many samples (a random subset).");
+// The field.
+DEFINE_double(dynamic_threshold, 0.2,
+              "sigmoid(dynamic_logit) above this marks a Gaussian as water; "
+              "the field's box bounds those Gaussians.");
+DEFINE_int32(triplane_res, 128, "Triplane resolution R (R x R planes).");
+DEFINE_int32(triplane_channels, 12, "Triplane feature channels.");
+DEFINE_string(combination, "product",
+              "How plane features combine: product, sum, concat.");
+DEFINE_int32(mlp_width, 64, "MLP hidden width.");
+DEFINE_int32(mlp_depth, 2, "MLP hidden layers.");
+DEFINE_double(velocity_scale, 0.01,
+              "V = this * box diagonal * MLP output (see motion_field.h).");
+// Pretraining.
+DEFINE_string(solver, "adam",
+              "Pretraining solver: adam (mini-batches), lbfgs (Ceres "
+              "GradientProblemSolver), lm (Ceres LM, small fields only).");
+DEFINE_int32(iterations, 2000, "Adam steps or LBFGS / LM iterations.");
+DEFINE_int32(batch_size, 8192, "Adam mini-batch; LM's batch.");
+DEFINE_double(lr_triplane, 1e-2, "Adam learning rate of the planes.");
+DEFINE_double(lr_mlp, 1e-3, "Adam learning rate of the MLP.");
+DEFINE_double(final_lr_factor, 0.1, "Learning rates decay to this factor.");
+DEFINE_double(tv_weight, 0.0, "Total variation weight on the planes.");
+DEFINE_int32(lbfgs_max_samples, 200000,
+             "LBFGS fits a random subset of at most this many samples.");
+DEFINE_int32(seed, 1, "Seed of the field's initialization and sampling.");
+DEFINE_int32(log_every, 100, "Print pretraining progress this often.");
+
+namespace {
+
+es::PlaneCombination ParseCombination(const std::string& name) {
+  if (name == "product") return es::PlaneCombination::kProduct;
+  if (name == "sum") return es::PlaneCombination::kSum;
+  if (name == "concat") return es::PlaneCombination::kConcat;
+  throw es::InputError("unknown --combination '" + name +
+                       "'; available: product, sum, concat");
+}
+
+void CheckFlags() {
+  if (FLAGS_scene.empty()) throw es::InputError("--scene is required");
+  if (FLAGS_stride < 1) throw es::InputError("--stride must be >= 1");
+  if (FLAGS_iterations < 0) throw es::InputError("--iterations must be >= 0");
+  if (FLAGS_batch_size < 1) throw es::InputError("--batch_size must be >= 1");
+  if (FLAGS_max_samples < 1) throw es::InputError("--max_samples must be >= 1");
+  if (FLAGS_triplane_res < 2 || FLAGS_triplane_channels < 1 ||
+      FLAGS_mlp_width < 1 || FLAGS_mlp_depth < 0) {
+    throw es::InputError(
+        "field shape: --triplane_res >= 2, --triplane_channels >= 1, "
+        "--mlp_width >= 1, --mlp_depth >= 0");
+  }
+  if (!(FLAGS_velocity_scale > 0)) {
+    throw es::InputError("--velocity_scale must be positive");
+  }
+}
+
+// Keeps a random subset of at most `max` samples.
+void Subsample(int max, uint32_t seed,
+               std::vector<es::SceneFlowSample>* samples) {
+  if (static_cast<int>(samples->size()) <= max) return;
+  std::mt19937 rng(seed);
+  std::shuffle(samples->begin(), samples->end(), rng);
+  samples->resize(max);
+}
+
+void WriteMetrics(const std::string& path, const std::string& json) {
+  std::ofstream out(path);
+  out << json;
+  if (!out) throw es::InputError(path + ": cannot write");
+}
+
+int Run() {
+  CheckFlags();
+  const auto start = std::chrono::steady_clock::now();
+  const std::string static_path = FLAGS_static.empty()
+                                      ? FLAGS_scene + "/static.ply"
+                                      : FLAGS_static;
+  const std::string out_dir = FLAGS_out.empty() ? FLAGS_scene : FLAGS_out;
+
+  es::SceneFlowOptions flow_options;
+  flow_options.method = es::ParseFlowMethod(FLAGS_flow);
+  flow_options.water = es::ParseWaterSource(FLAGS_water_source);
+  flow_options.lifting.stride = FLAGS_stride;
+  flow_options.lifting.max_fb_error_px = FLAGS_max_fb_px;
+  flow_options.lifting.max_rel_depth_jump = FLAGS_max_depth_jump;
+  flow_options.lifting.water_threshold = FLAGS_water_threshold;
+  flow_options.min_alpha = FLAGS_min_alpha;
+  flow_options.use_test_frames = FLAGS_use_test_frames;
+  es::FlowPretrainOptions fit_options;
+  fit_options.solver = es::ParsePretrainSolver(FLAGS_solver);
+  fit_options.iterations = FLAGS_iterations;
+  fit_options.batch_size = FLAGS_batch_size;
+  fit_options.lr_triplane = FLAGS_lr_triplane;
+  fit_options.lr_mlp = FLAGS_lr_mlp;
+  fit_options.final_lr_factor = FLAGS_final_lr_factor;
+  fit_options.tv_weight = FLAGS_tv_weight;
+  fit_options.lbfgs_max_samples = FLAGS_lbfgs_max_samples;
+  fit_options.seed = FLAGS_seed;
+  fit_options.log_every = FLAGS_log_every;
+  es::MotionFieldOptions field_options;
+  field_options.triplane.resolution = FLAGS_triplane_res;
+  field_options.triplane.channels = FLAGS_triplane_channels;
+  field_options.triplane.combination = ParseCombination(FLAGS_combination);
+  field_options.mlp_width = FLAGS_mlp_width;
+  field_options.mlp_depth = FLAGS_mlp_depth;
+  field_options.velocity_scale = FLAGS_velocity_scale;
+  field_options.seed = FLAGS_seed;
+
+  es::SceneOptions scene_options;
+  scene_options.image_scale = FLAGS_image_scale;
+  const es::Scene scene = es::LoadScene(FLAGS_scene, scene_options);
+  const es::GaussianSet model = es::ReadPly(static_path);
+  const std::vector<int> dynamic =
+      es::DynamicSet(model, FLAGS_dynamic_threshold);
+  if (dynamic.empty()) {
+    throw es::InputError(
+        static_path + ": no dynamic Gaussians (sigmoid(dynamic_logit) > " +
+        std::to_string(FLAGS_dynamic_threshold) +
+        "), so there is no water for a motion field; train Stage 1 with "
+        "water masks or lower --dynamic_threshold. Nothing was written.");
+  }
+  std::printf("%d frames, %d of %d Gaussians dynamic\n",
+              static_cast<int>(scene.frames.size()),
+              static_cast<int>(dynamic.size()), model.size());
+
+  flow_options.progress = [](int k, int n, const std::string& a,
+                             const std::string& b, long count) {
+    std::printf("flow %d/%d %s -> %s: %ld samples\n", k + 1, n, a.c_str(),
+                b.c_str(), count);
+    std::fflush(stdout);
+  };
+  es::SceneFlowResult lifted = es::LiftSceneFlow(scene, model, flow_options);
+  const es::LiftingStats& s = lifted.stats;
+  std::printf(
+      "water pixels from %s; %ld candidates: %ld accepted, rejected %ld no "
+      "depth, %ld depth edge, %ld outside, %ld inconsistent, %ld not water\n",
+      lifted.used_masks ? "masks" : "the model's dynamic channel",
+      s.candidates, s.accepted, s.no_depth, s.depth_edge, s.outside,
+      s.inconsistent, s.not_water);
+  if (lifted.samples.empty()) {
+    throw es::InputError(
+        FLAGS_scene +
+        ": no scene-flow sample survived the checks (see the counts above); "
+        "loosen --max_fb_px / --max_depth_jump or check the water masks. "
+        "Nothing was written.");
+  }
+  Subsample(FLAGS_max_samples, FLAGS_seed, &lifted.samples);
+
+  es::MotionField field(field_options);
+  Eigen::Vector3d lo, hi;
+  es::FieldBox(model, dynamic, &lo, &hi);
+  field.SetBox(lo, hi);
+  fit_options.progress = [](int it, double seconds, double rmse) {
+    std::printf("pretrain iteration %d  %.1f s  batch rmse %.3g\n", it,
+                seconds, rmse);
+    std::fflush(stdout);
+  };
+  const es::FlowPretrainReport fit =
+      es::PretrainMotionField(lifted.samples, fit_options, &field);
+  std::printf("fit rmse %.4g (targets rms %.4g, start %.4g) in %.1f s\n",
+              fit.fit_rmse, fit.target_rms, fit.initial_rmse, fit.seconds);
+
+  std::filesystem::create_directories(out_dir);
+  es::SaveMotionField(field, out_dir + "/motion_field.bin");
+  const double seconds = std::chrono::duration<double>(
+                             std::chrono::steady_clock::now() - start)
+                             .count();
+  char json[2048];
+  int len = std::snprintf(
+      json, sizeof(json),
+      "{\n  \"num_samples\": %d,\n  \"seconds\": %.3f,\n"
+      "  \"fit_rmse\": %.6g,\n  \"target_rms\": %.6g,\n"
+      "  \"initial_rmse\": %.6g,\n  \"flow\": \"%s\",\n"
+      "  \"solver\": \"%s\",\n  \"iterations\": %d,\n"
+      "  \"num_pairs\": %d,\n  \"num_dynamic\": %d,\n"
+      "  \"water_from_masks\": %s,\n  \"candidates\": %ld,\n"
+      "  \"rejected_no_depth\": %ld,\n  \"rejected_depth_edge\": %ld,\n"
+      "  \"rejected_outside\": %ld,\n  \"rejected_inconsistent\": %ld,\n"
+      "  \"rejected_not_water\": %ld,\n  \"render_seconds\": %.3f,\n"
+      "  \"flow_seconds\": %.3f,\n  \"lift_seconds\": %.3f,\n"
+      "  \"pretrain_seconds\": %.3f",
+      fit.num_samples, seconds, fit.fit_rmse, fit.target_rms,
+      fit.initial_rmse, FLAGS_flow.c_str(), FLAGS_solver.c_str(),
+      fit.iterations, lifted.num_pairs, static_cast<int>(dynamic.size()),
+      lifted.used_masks ? "true" : "false", s.candidates, s.no_depth,
+      s.depth_edge, s.outside, s.inconsistent, s.not_water,
+      lifted.render_seconds, lifted.flow_seconds, lifted.lift_seconds,
+      fit.seconds);
+  if (es::HasMotionGt(FLAGS_scene)) {
+    std::vector<Eigen::Vector3d> points;
+    for (int i : dynamic) {
+      points.emplace_back(model.means[3 * i], model.means[3 * i + 1],
+                          model.means[3 * i + 2]);
+    }
+    const es::MotionGtMetrics gt = es::EvaluateMotionGt(
+        field, points, es::LoadMotionGt(FLAGS_scene));
+    std::printf("ground truth: epe %.4g (mean speed %.4g, relative %.3f)\n",
+                gt.epe, gt.mean_speed, gt.rel_epe);
+    len += std::snprintf(json + len, sizeof(json) - len,
+                         ",\n  \"epe_gt\": %.6g,\n  \"rel_epe_gt\": %.6g,\n"
+                         "  \"mean_speed_gt\": %.6g",
+                         gt.epe, gt.rel_epe, gt.mean_speed);
+  }
+  std::snprintf(json + len, sizeof(json) - len, "\n}\n");
+  WriteMetrics(out_dir + "/flow_metrics.json", json);
+  std::printf("wrote %s/motion_field.bin and flow_metrics.json (%.1f s)\n",
+              out_dir.c_str(), seconds);
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return es::RunApp(
+      argc, argv,
+      "Stage 2: motion-field initialization from optical flow.\n"
+      "  es_flowinit --scene DIR [--static DIR/static.ply] [--out DIR]\n"
+      "              [--flow dis|farneback|...] [--solver adam|lbfgs|lm]\n"
+      "Lifts the flow between adjacent training frames to 3D with the static "
+      "model's rendered depth, keeps water pixels (masks/, or the model's "
+      "dynamic channel), pretrains V on them and writes <out>/"
+      "motion_field.bin (core/field_io.h) and <out>/flow_metrics.json "
+      "(num_samples, seconds, fit_rmse, ...; epe_gt and rel_epe_gt when the "
+      "scene has gt/). Exits 1 and writes nothing when the model has no "
+      "dynamic Gaussians or no sample survives.",
+      Run);
+}

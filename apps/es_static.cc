@@ -1,0 +1,100 @@
+// Stage 1: static 3DGS reconstruction with a learned per-Gaussian dynamic
+// (water) probability.
+//
+//   es_static --scene DIR --out DIR [--iterations 10000] [--resume]
+//             [--image_scale 1] ...
+//
+// Writes DIR/static.ply (3DGS layout + dynamic_logit), DIR/metrics.json and
+// DIR/checkpoint.bin every --checkpoint_every iterations.
+
+#include <gflags/gflags.h>
+
+#include "core/app_main.h"
+#include "solvers/static_stage.h"
+
+DEFINE_string(scene, "", "Scene directory (images/, masks/, sparse/0/).");
+DEFINE_string(out, "", "Output directory (created).");
+DEFINE_int32(iterations, 10000, "Training iterations.");
+DEFINE_bool(resume, false, "Continue from OUT/checkpoint.bin.");
+DEFINE_int32(checkpoint_every, 1000,
+             "Write OUT/checkpoint.bin every this many iterations (0: "
+             "never).");
+DEFINE_int32(log_every, 100, "Print progress every this many iterations.");
+DEFINE_double(image_scale, 1.0, "Resize frames (and intrinsics) by this.");
+DEFINE_uint64(seed, 0, "Seed for frame sampling and splitting.");
+DEFINE_int32(sh_degree, 3, "Maximum SH degree (0..3).");
+DEFINE_int32(sh_degree_interval, 1000,
+             "Raise the SH degree by one every this many iterations.");
+DEFINE_double(lr_position, 1.6e-4,
+              "Initial position learning rate (times the scene extent).");
+DEFINE_double(lr_position_final, 1.6e-6,
+              "Final position learning rate (times the scene extent); "
+              "log-linear decay over --iterations.");
+DEFINE_double(lr_scale, 5e-3, "Log-scale learning rate.");
+DEFINE_double(lr_rotation, 1e-3, "Quaternion learning rate.");
+DEFINE_double(lr_opacity, 0.05, "Opacity-logit learning rate.");
+DEFINE_double(lr_sh_dc, 2.5e-3, "SH DC learning rate.");
+DEFINE_double(lr_sh_rest, 2.5e-3 / 20, "Higher-band SH learning rate.");
+DEFINE_double(lr_dynamic, 0.05, "Dynamic-logit learning rate.");
+DEFINE_double(ssim_weight, 0.2, "Photometric loss: (1-w) L1 + w (1-SSIM).");
+DEFINE_double(mask_weight, 0.5,
+              "Weight of the mask BCE on the dynamic channel (0: off).");
+DEFINE_double(dynamic_threshold, 0.2,
+              "Dynamic probability above which a Gaussian counts as water.");
+DEFINE_bool(densify, true, "Adaptive density control (clone/split/prune).");
+DEFINE_int32(densify_from, 500, "First densification iteration.");
+DEFINE_int32(densify_until, 15000, "Last densification iteration.");
+DEFINE_int32(densify_interval, 100, "Densify every this many iterations.");
+DEFINE_int32(opacity_reset_interval, 3000,
+             "Reset opacities every this many iterations (0: never).");
+DEFINE_double(densify_grad_threshold, 2e-4,
+              "Mean view-space gradient norm that triggers clone/split.");
+DEFINE_double(percent_dense, 0.01,
+              "Clone below, split above this fraction of the scene extent.");
+DEFINE_double(min_opacity, 0.005, "Prune Gaussians below this opacity.");
+DEFINE_int32(max_gaussians, 1000000, "Cap on the number of Gaussians.");
+DEFINE_bool(white_background, false, "Render on white instead of black.");
+
+int main(int argc, char** argv) {
+  return es::RunApp(
+      argc, argv,
+      "Stage 1: static reconstruction.\n"
+      "  es_static --scene DIR --out DIR [--iterations N] [--resume]",
+      [] {
+        es::StaticStageOptions o;
+        o.scene_dir = FLAGS_scene;
+        o.out_dir = FLAGS_out;
+        o.scene.image_scale = FLAGS_image_scale;
+        o.resume = FLAGS_resume;
+        o.checkpoint_every = FLAGS_checkpoint_every;
+        o.log_every = FLAGS_log_every;
+        o.dynamic_threshold = FLAGS_dynamic_threshold;
+        es::StaticTrainerOptions& t = o.trainer;
+        t.iterations = FLAGS_iterations;
+        t.seed = FLAGS_seed;
+        t.max_sh_degree = FLAGS_sh_degree;
+        t.sh_degree_interval = FLAGS_sh_degree_interval;
+        t.lr_means_initial = FLAGS_lr_position;
+        t.lr_means_final = FLAGS_lr_position_final;
+        t.lr_log_scales = FLAGS_lr_scale;
+        t.lr_quats = FLAGS_lr_rotation;
+        t.lr_opacity = FLAGS_lr_opacity;
+        t.lr_sh_dc = FLAGS_lr_sh_dc;
+        t.lr_sh_rest = FLAGS_lr_sh_rest;
+        t.lr_dynamic = FLAGS_lr_dynamic;
+        t.ssim_weight = FLAGS_ssim_weight;
+        t.mask_weight = FLAGS_mask_weight;
+        t.densify = FLAGS_densify;
+        t.densify_options.from_iteration = FLAGS_densify_from;
+        t.densify_options.until_iteration = FLAGS_densify_until;
+        t.densify_options.interval = FLAGS_densify_interval;
+        t.densify_options.opacity_reset_interval = FLAGS_opacity_reset_interval;
+        t.densify_options.grad_threshold = FLAGS_densify_grad_threshold;
+        t.densify_options.percent_dense = FLAGS_percent_dense;
+        t.densify_options.min_opacity = FLAGS_min_opacity;
+        t.densify_options.max_gaussians = FLAGS_max_gaussians;
+        if (FLAGS_white_background) t.background.setOnes();
+        es::RunStaticStage(o);
+        return 0;
+      });
+}

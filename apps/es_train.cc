@@ -1,0 +1,283 @@
+// Stage 3: joint training of the canonical splats, the motion field V and
+// the residual field D on a scene, from the static model (es_static) and
+// the pretrained V (es_flowinit).
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <optional>
+#include <string>
+
+#include <gflags/gflags.h>
+
+#include "core/app_main.h"
+#include "core/field_io.h"
+#include "core/input_error.h"
+#include "core/loop_model.h"
+#include "core/ply_io.h"
+#include "core/scene.h"
+#include "solvers/joint_checkpoint.h"
+#include "solvers/joint_trainer.h"
+
+DEFINE_string(scene, "", "Scene directory (images/, masks/, sparse/0/).");
+DEFINE_string(init, "",
+              "Directory with static.ply (es_static) and, optionally, "
+              "motion_field.bin (es_flowinit).");
+DEFINE_string(out, "", "Output model directory (created).");
+DEFINE_int32(iterations, 20000, "Joint training iterations.");
+DEFINE_int32(cycle_length, 15, "Loop length L in frames.");
+DEFINE_bool(resume, false,
+            "Continue from <out>/joint_checkpoint.bin if it exists.");
+DEFINE_int32(checkpoint_interval, 1000,
+             "Write <out>/joint_checkpoint.bin every this many iterations "
+             "(0: never).");
+DEFINE_int32(log_interval, 100, "Print progress every this many iterations.");
+DEFINE_uint64(seed, 0, "Seed of frame sampling and loop start times.");
+DEFINE_double(image_scale, 1.0, "Resize frames (and intrinsics) by this.");
+DEFINE_bool(no_motion_field, false,
+            "Ablation: no V; dynamic Gaussians move only through D.");
+DEFINE_bool(no_flow_init, false,
+            "Ablation: V from scratch even if motion_field.bin exists.");
+DEFINE_bool(no_residual, false, "Ablation: no residual field D.");
+DEFINE_bool(no_random_start, false,
+            "Ablation: every loop starts at frame 0 (all reborn together).");
+DEFINE_bool(static_only, false,
+            "Comparison: no V and no D, only the splats are optimized.");
+DEFINE_double(dynamic_threshold, 0.2,
+              "A Gaussian is dynamic when sigmoid(dynamic_logit) exceeds "
+              "this.");
+DEFINE_int32(refresh_interval, 10,
+             "Re-derive the dynamic set every this many iterations.");
+DEFINE_double(ssim_weight, 0.2, "SSIM share of the photometric loss.");
+DEFINE_double(mask_weight, 0.5, "Mask BCE weight (0: off).");
+DEFINE_double(residual_weight, 0.001, "Weight of the residual L2 term.");
+DEFINE_double(lr_means, 1.6e-5,
+              "Initial position learning rate (times the scene extent).");
+DEFINE_double(lr_means_final, 1.6e-6, "Final position learning rate.");
+DEFINE_double(lr_log_scales, 5e-3, "Log-scale learning rate.");
+DEFINE_double(lr_quats, 1e-3, "Rotation learning rate.");
+DEFINE_double(lr_opacity, 0.05, "Opacity-logit learning rate.");
+DEFINE_double(lr_sh_dc, 2.5e-3, "SH DC learning rate.");
+DEFINE_double(lr_sh_rest, 1.25e-4, "Higher SH bands learning rate.");
+DEFINE_double(lr_dynamic, 0.05, "Dynamic-logit learning rate.");
+DEFINE_double(lr_motion_triplane, 5e-3, "V triplane learning rate.");
+DEFINE_double(lr_motion_mlp, 1e-3, "V MLP learning rate.");
+DEFINE_double(lr_residual_triplane, 5e-3, "D triplane learning rate.");
+DEFINE_double(lr_residual_mlp, 1e-3, "D MLP learning rate.");
+DEFINE_double(field_lr_final_factor, 0.1,
+              "Field learning rates decay log-linearly to this factor.");
+DEFINE_int32(motion_resolution, 128, "V triplane resolution (from scratch).");
+DEFINE_int32(motion_channels, 12, "V triplane channels (from scratch).");
+DEFINE_int32(motion_width, 64, "V MLP width (from scratch).");
+DEFINE_int32(motion_depth, 2, "V MLP hidden layers (from scratch).");
+DEFINE_int32(residual_resolution, 128, "D triplane resolution.");
+DEFINE_int32(residual_channels, 16, "D triplane channels.");
+DEFINE_int32(residual_width, 128, "D MLP width.");
+DEFINE_int32(residual_depth, 2, "D MLP hidden layers.");
+DEFINE_bool(white_background, false, "Render on white instead of black.");
+
+namespace es {
+namespace {
+
+namespace fs = std::filesystem;
+
+void Require(bool ok, const std::string& message) {
+  if (!ok) throw InputError(message);
+}
+
+JointTrainerOptions OptionsFromFlags() {
+  Require(FLAGS_iterations >= 0, "--iterations must be >= 0");
+  Require(FLAGS_cycle_length >= 1, "--cycle_length must be >= 1");
+  Require(FLAGS_refresh_interval >= 1, "--refresh_interval must be >= 1");
+  Require(FLAGS_checkpoint_interval >= 0,
+          "--checkpoint_interval must be >= 0");
+  Require(FLAGS_motion_resolution >= 2 && FLAGS_residual_resolution >= 2,
+          "triplane resolutions must be >= 2");
+  Require(FLAGS_motion_channels >= 1 && FLAGS_residual_channels >= 1 &&
+              FLAGS_motion_width >= 1 && FLAGS_residual_width >= 1 &&
+              FLAGS_motion_depth >= 0 && FLAGS_residual_depth >= 0,
+          "field channels and widths must be >= 1, depths >= 0");
+  JointTrainerOptions o;
+  o.iterations = FLAGS_iterations;
+  o.seed = FLAGS_seed;
+  o.cycle_length = FLAGS_cycle_length;
+  o.use_motion = !FLAGS_no_motion_field && !FLAGS_static_only;
+  o.use_residual = !FLAGS_no_residual && !FLAGS_static_only;
+  o.random_start = !FLAGS_no_random_start;
+  o.dynamic_threshold = FLAGS_dynamic_threshold;
+  o.refresh_interval = FLAGS_refresh_interval;
+  o.ssim_weight = FLAGS_ssim_weight;
+  o.mask_weight = FLAGS_mask_weight;
+  o.residual_weight = FLAGS_residual_weight;
+  o.lr_means_initial = FLAGS_lr_means;
+  o.lr_means_final = FLAGS_lr_means_final;
+  o.lr_log_scales = FLAGS_lr_log_scales;
+  o.lr_quats = FLAGS_lr_quats;
+  o.lr_opacity = FLAGS_lr_opacity;
+  o.lr_sh_dc = FLAGS_lr_sh_dc;
+  o.lr_sh_rest = FLAGS_lr_sh_rest;
+  o.lr_dynamic = FLAGS_lr_dynamic;
+  o.lr_motion_triplane = FLAGS_lr_motion_triplane;
+  o.lr_motion_mlp = FLAGS_lr_motion_mlp;
+  o.lr_residual_triplane = FLAGS_lr_residual_triplane;
+  o.lr_residual_mlp = FLAGS_lr_residual_mlp;
+  o.field_lr_final_factor = FLAGS_field_lr_final_factor;
+  o.motion.triplane.resolution = FLAGS_motion_resolution;
+  o.motion.triplane.channels = FLAGS_motion_channels;
+  o.motion.mlp_width = FLAGS_motion_width;
+  o.motion.mlp_depth = FLAGS_motion_depth;
+  o.residual.triplane.resolution = FLAGS_residual_resolution;
+  o.residual.triplane.channels = FLAGS_residual_channels;
+  o.residual.mlp_width = FLAGS_residual_width;
+  o.residual.mlp_depth = FLAGS_residual_depth;
+  if (FLAGS_white_background) o.background.setOnes();
+  return o;
+}
+
+// JSON has no NaN: an undefined metric is null.
+std::string JsonNumber(double v) {
+  if (!std::isfinite(v)) return "null";
+  char buffer[32];
+  std::snprintf(buffer, sizeof(buffer), "%.6g", v);
+  return buffer;
+}
+
+void WriteMetrics(const std::string& path, const LoopMetrics& m,
+                  double seconds, int64_t iterations, const LoopModel& model,
+                  bool flow_init, double final_loss) {
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp);
+    if (!out) throw InputError(tmp + ": cannot open for writing");
+    out << "{\n"
+        << "  \"psnr_test\": " << JsonNumber(m.psnr) << ",\n"
+        << "  \"ssim_test\": " << JsonNumber(m.ssim) << ",\n"
+        << "  \"psnr_test_water\": " << JsonNumber(m.psnr_water) << ",\n"
+        << "  \"ssim_test_water\": " << JsonNumber(m.ssim_water) << ",\n"
+        << "  \"test_frames\": " << m.frames << ",\n"
+        << "  \"seconds\": " << JsonNumber(seconds) << ",\n"
+        << "  \"iterations\": " << iterations << ",\n"
+        << "  \"num_gaussians\": " << model.gaussians.size() << ",\n"
+        << "  \"num_dynamic\": " << model.num_dynamic() << ",\n"
+        << "  \"cycle_length\": " << model.cycle_length << ",\n"
+        << "  \"motion_field\": " << (model.motion ? "true" : "false")
+        << ",\n"
+        << "  \"flow_init\": " << (flow_init ? "true" : "false") << ",\n"
+        << "  \"residual_field\": " << (model.residual ? "true" : "false")
+        << ",\n"
+        << "  \"random_start\": " << (FLAGS_no_random_start ? "false" : "true")
+        << ",\n"
+        << "  \"final_loss\": " << JsonNumber(final_loss) << "\n"
+        << "}\n";
+    if (!out) throw InputError(tmp + ": write failed");
+  }
+  fs::rename(tmp, path);
+}
+
+int Run() {
+  Require(!FLAGS_scene.empty(), "--scene is required");
+  Require(!FLAGS_init.empty(), "--init is required");
+  Require(!FLAGS_out.empty(), "--out is required");
+  const JointTrainerOptions options = OptionsFromFlags();
+  SceneOptions scene_options;
+  scene_options.image_scale = FLAGS_image_scale;
+  const Scene scene = LoadScene(FLAGS_scene, scene_options);
+  Require(!scene.train.empty(), FLAGS_scene + ": no training frames");
+  const std::string static_ply = (fs::path(FLAGS_init) / "static.ply").string();
+  GaussianSet initial = ReadPly(static_ply);
+  std::printf("loaded %s: %d Gaussians, SH degree %d\n", static_ply.c_str(),
+              initial.size(), initial.sh_degree);
+
+  const std::string motion_path =
+      (fs::path(FLAGS_init) / "motion_field.bin").string();
+  std::optional<MotionField> motion;
+  bool flow_init = false;
+  if (options.use_motion) {
+    if (FLAGS_no_flow_init) {
+      std::printf("V: from scratch (--no_flow_init)\n");
+    } else if (fs::exists(motion_path)) {
+      motion.emplace(LoadMotionField(motion_path));
+      flow_init = true;
+      std::printf("V: pretrained from %s\n", motion_path.c_str());
+    } else {
+      std::printf("V: from scratch (%s not found)\n", motion_path.c_str());
+    }
+  }
+
+  std::error_code error;
+  fs::create_directories(FLAGS_out, error);
+  Require(!error, FLAGS_out + ": cannot create directory");
+  JointTrainer trainer(&scene.frames, scene.train, options,
+                       std::move(initial), std::move(motion));
+  std::printf("dynamic Gaussians: %d of %d; V %s, D %s; masks %s\n",
+              trainer.model().num_dynamic(), trainer.model().gaussians.size(),
+              options.use_motion ? "on" : "off",
+              options.use_residual ? "on" : "off",
+              trainer.uses_masks() ? "on" : "off");
+  const std::string checkpoint_path =
+      (fs::path(FLAGS_out) / "joint_checkpoint.bin").string();
+  if (FLAGS_resume && fs::exists(checkpoint_path)) {
+    trainer.Restore(ReadJointCheckpoint(checkpoint_path), checkpoint_path);
+    std::printf("resumed from %s at iteration %lld\n",
+                checkpoint_path.c_str(),
+                static_cast<long long>(trainer.iteration()));
+  }
+
+  using Clock = std::chrono::steady_clock;
+  const Clock::time_point start = Clock::now();
+  const int64_t first = trainer.iteration();
+  double loss_sum = 0, final_loss = NAN;
+  int loss_count = 0;
+  while (trainer.iteration() < options.iterations) {
+    const JointIterationStats s = trainer.Step();
+    loss_sum += s.loss;
+    ++loss_count;
+    const int64_t it = trainer.iteration();
+    if (FLAGS_log_interval > 0 &&
+        (it % FLAGS_log_interval == 0 || it == options.iterations)) {
+      final_loss = loss_sum / loss_count;
+      const double elapsed =
+          std::chrono::duration<double>(Clock::now() - start).count();
+      const double rate = (it - first) / std::max(elapsed, 1e-9);
+      std::printf(
+          "iter %lld/%d  loss %.5f (photo %.5f mask %.5f res %.2e)  "
+          "dynamic %d  %.2f it/s  ETA %.0f s\n",
+          static_cast<long long>(it), options.iterations, final_loss,
+          s.photometric, s.mask, s.residual, s.num_dynamic, rate,
+          (options.iterations - it) / rate);
+      std::fflush(stdout);
+      loss_sum = 0;
+      loss_count = 0;
+    }
+    if (FLAGS_checkpoint_interval > 0 &&
+        it % FLAGS_checkpoint_interval == 0) {
+      WriteJointCheckpoint(trainer.Save(), checkpoint_path);
+    }
+  }
+  const double seconds =
+      std::chrono::duration<double>(Clock::now() - start).count();
+
+  SaveLoopModel(trainer.model(), FLAGS_out);
+  const LoopMetrics metrics = EvaluateLoopModel(
+      trainer.model(), scene.frames, scene.test, trainer.render_options());
+  WriteMetrics((fs::path(FLAGS_out) / "metrics.json").string(), metrics,
+               seconds, trainer.iteration(), trainer.model(), flow_init,
+               final_loss);
+  std::printf("test PSNR %.3f SSIM %.4f (water PSNR %.3f SSIM %.4f) over %d "
+              "frames; %.1f s\n",
+              metrics.psnr, metrics.ssim, metrics.psnr_water,
+              metrics.ssim_water, metrics.frames, seconds);
+  return 0;
+}
+
+}  // namespace
+}  // namespace es
+
+int main(int argc, char** argv) {
+  return es::RunApp(argc, argv,
+                    "es_train --scene DIR --init DIR --out DIR "
+                    "[--iterations N] [--cycle_length L] [--resume]",
+                    es::Run);
+}

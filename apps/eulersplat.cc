@@ -1,0 +1,450 @@
+// The all-in-one driver: from a scene directory to a looping 4D model, a
+// looping video, metrics and a contact sheet. Runs the stage binaries that
+// sit next to it (es_static, es_flowinit, es_train, es_animate, es_eval),
+// each a process of its own so every stage can also be run, resumed or
+// debugged alone with the very same flags the driver prints.
+//
+//   eulersplat --scene DIR --out DIR [--preset quick|paper]
+//
+// OUT/static/          Stage 1 (static.ply) and Stage 2 (motion_field.bin)
+// OUT/model/           Stage 3, the looping model (es_train)
+// OUT/animate/         looping video along the input trajectory, with tracks
+// OUT/animate_fixed/   fixed-view video and its x-t slice
+// OUT/eval/eval.json   metrics (es_eval)
+// OUT/contact_sheet.png
+//
+// A stage whose outputs exist is skipped (delete its folder to redo it);
+// interrupted training resumes from its checkpoint.
+
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>  // environ
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <gflags/gflags.h>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "core/app_main.h"
+#include "core/colmap_io.h"
+#include "core/input_error.h"
+#include "core/ply_io.h"
+#include "core/video_writer.h"
+#include "solvers/joint_trainer.h"
+
+DEFINE_string(scene, "", "Scene directory: images/ (or a video), optional "
+              "masks/, sparse/0/ (made with COLMAP if missing).");
+DEFINE_string(out, "", "Output directory (created).");
+DEFINE_string(preset, "quick",
+              "quick: a few minutes on 2 cores, at most 320 px wide, small "
+              "fields, few iterations; paper: the paper's settings (10k "
+              "static + 20k joint iterations, L = 15, full-size fields).");
+DEFINE_int32(static_iterations, -1, "Override the preset's Stage 1 "
+             "iterations (-1: preset).");
+DEFINE_int32(flow_iterations, -1, "Override the preset's V pretraining "
+             "iterations (-1: preset).");
+DEFINE_int32(joint_iterations, -1, "Override the preset's Stage 3 "
+             "iterations (-1: preset).");
+DEFINE_int32(cycle_length, 15, "Loop length L in frames.");
+DEFINE_double(image_scale, -1, "Override the preset's image scale (-1: "
+              "preset; quick scales frames down to at most 320 px wide).");
+DEFINE_int32(animate_frames, -1, "Frames of each animation (-1: 4 L).");
+DEFINE_double(dynamic_threshold, 0.2, "sigmoid(dynamic_logit) above which a "
+              "Gaussian is water.");
+DEFINE_bool(white_background, false, "Train and render on white.");
+DEFINE_string(colmap_script, "", "Pose script run when sparse/0 is missing "
+              "(default: scripts/colmap_poses.sh of the source tree this "
+              "binary was built in).");
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Preset {
+  int static_iterations;
+  int flow_iterations;
+  int joint_iterations;
+  int field_resolution;  // V and D triplanes
+  int motion_channels, residual_channels;
+  int motion_width, residual_width;
+  int max_width;  // frames wider than this are scaled down (0: never)
+  int sh_degree;
+  int densify_from, densify_interval;
+};
+
+Preset MakePreset(const std::string& name) {
+  if (name == "quick") {
+    return {600, 300, 600, 32, 8, 8, 32, 64, 320, 1, 100, 100};
+  }
+  if (name == "paper") {
+    return {10000, 2000, 20000, 128, 12, 16, 64, 128, 0, 3, 500, 100};
+  }
+  throw es::InputError("--preset: unknown preset '" + name +
+                       "' (quick or paper)");
+}
+
+fs::path BinaryDir() {
+  return fs::read_symlink("/proc/self/exe").parent_path();
+}
+
+std::string Join(const std::vector<std::string>& args) {
+  std::string out;
+  for (const std::string& a : args) out += (out.empty() ? "" : " ") + a;
+  return out;
+}
+
+// Runs a stage binary from this binary's directory (no shell: arguments go
+// through untouched). Returns its exit status.
+int RunStage(const std::string& binary, const std::vector<std::string>& args) {
+  const std::string path = binary.find('/') == std::string::npos
+                               ? (BinaryDir() / binary).string()
+                               : binary;
+  std::vector<std::string> all = {path};
+  all.insert(all.end(), args.begin(), args.end());
+  std::printf("\n$ %s\n", Join(all).c_str());
+  std::fflush(stdout);
+  std::vector<char*> argv;
+  for (std::string& a : all) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  pid_t pid;
+  if (posix_spawn(&pid, path.c_str(), nullptr, nullptr, argv.data(),
+                  environ) != 0) {
+    throw es::InputError(path + ": cannot run (is the project built?)");
+  }
+  int status = 0;
+  waitpid(pid, &status, 0);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 128;
+}
+
+void RunOrThrow(const std::string& stage, const std::string& binary,
+                const std::vector<std::string>& args) {
+  const int status = RunStage(binary, args);
+  if (status != 0) {
+    throw es::InputError(stage + " failed (" + binary + " exit status " +
+                         std::to_string(status) + "; its message is above)");
+  }
+}
+
+bool AllExist(const std::vector<fs::path>& paths) {
+  return std::all_of(paths.begin(), paths.end(),
+                     [](const fs::path& p) { return fs::exists(p); });
+}
+
+void Skip(const std::string& stage, const fs::path& where) {
+  std::printf("\n[%s] skipped: outputs exist in %s (delete them to redo)\n",
+              stage.c_str(), where.string().c_str());
+}
+
+std::string Number(double v) {
+  char text[32];
+  std::snprintf(text, sizeof(text), "%g", v);
+  return text;
+}
+
+// Makes sparse/0 with COLMAP when the scene has frames but no poses.
+void EnsurePoses(const fs::path& scene) {
+  if (fs::exists(scene / "sparse" / "0")) return;
+  if (!fs::is_directory(scene / "images")) {
+    throw es::InputError(scene.string() + ": no images/ and no sparse/0");
+  }
+  fs::path script = FLAGS_colmap_script;
+  if (script.empty()) {
+    script = BinaryDir().parent_path().parent_path() / "scripts" /
+             "colmap_poses.sh";
+  }
+  if (!fs::exists(script)) {
+    throw es::InputError(script.string() + ": pose script not found; give "
+                         "--colmap_script or run COLMAP into sparse/0");
+  }
+  std::printf("[poses] %s has no sparse/0: recovering poses with COLMAP\n",
+              scene.string().c_str());
+  RunOrThrow("[poses]", "/bin/bash", {script.string(), scene.string()});
+}
+
+// The preset's image scale for this scene: quick keeps frames at most
+// max_width wide.
+double ImageScale(const fs::path& scene, const Preset& preset) {
+  if (FLAGS_image_scale > 0) return FLAGS_image_scale;
+  if (preset.max_width <= 0) return 1.0;
+  const es::ColmapModel model =
+      es::ReadColmapModel((scene / "sparse" / "0").string());
+  int width = 0;
+  for (const auto& [id, camera] : model.cameras) {
+    width = std::max(width, camera.width);
+  }
+  return width > preset.max_width
+             ? static_cast<double>(preset.max_width) / width
+             : 1.0;
+}
+
+// Frames of the fixed-view animation over one loop and of the tracks video,
+// four per row, each labelled: what the run produced, at a glance.
+void WriteContactSheet(const fs::path& out, int cycle_length) {
+  std::vector<std::pair<cv::Mat, std::string>> tiles;
+  const auto add = [&](const fs::path& dir, const std::string& label) {
+    for (int k = 0; k < 4; ++k) {
+      const int frame = k * cycle_length / 4;
+      cv::Mat image = cv::imread(
+          (dir / es::AnimationFrameName(frame)).string(), cv::IMREAD_COLOR);
+      if (!image.empty()) {
+        tiles.emplace_back(image, label + " t=" + std::to_string(frame));
+      }
+    }
+  };
+  add(out / "animate_fixed" / "frames", "fixed view");
+  add(out / "animate" / "tracks", "tracks");
+  if (tiles.empty()) return;
+  const cv::Size size = tiles[0].first.size();
+  const int columns = 4;
+  const int rows = (static_cast<int>(tiles.size()) + columns - 1) / columns;
+  cv::Mat sheet(rows * size.height, columns * size.width, CV_8UC3,
+                cv::Scalar(40, 40, 40));
+  for (size_t i = 0; i < tiles.size(); ++i) {
+    cv::Mat tile = tiles[i].first;
+    if (tile.size() != size) cv::resize(tile, tile, size);
+    const cv::Rect where((i % columns) * size.width,
+                         (i / columns) * size.height, size.width,
+                         size.height);
+    tile.copyTo(sheet(where));
+    const double font = std::max(0.3, size.width / 640.0);
+    cv::putText(sheet, tiles[i].second, where.tl() + cv::Point(4, 14),
+                cv::FONT_HERSHEY_SIMPLEX, font, cv::Scalar(255, 255, 255), 1,
+                cv::LINE_AA);
+  }
+  const std::string path = (out / "contact_sheet.png").string();
+  if (!cv::imwrite(path, sheet)) throw es::InputError(path + ": cannot write");
+}
+
+// What every stage of one run shares.
+struct Pipeline {
+  Preset preset;
+  fs::path scene, out;
+  bool has_masks = false;
+  std::vector<std::string> common;      // --scene, --image_scale
+  std::vector<std::string> background;  // --white_background or nothing
+
+  fs::path static_dir() const { return out / "static"; }
+  fs::path static_ply() const { return static_dir() / "static.ply"; }
+  fs::path model_dir() const { return out / "model"; }
+  fs::path eval_dir() const { return out / "eval"; }
+
+  // common + extra (+ background if `render`).
+  std::vector<std::string> Args(const std::vector<std::string>& extra,
+                                bool render) const {
+    std::vector<std::string> args = common;
+    args.insert(args.end(), extra.begin(), extra.end());
+    if (render) args.insert(args.end(), background.begin(), background.end());
+    return args;
+  }
+};
+
+void StaticStage(const Pipeline& run) {
+  if (AllExist({run.static_ply(), run.static_dir() / "metrics.json"})) {
+    Skip("static", run.static_dir());
+    return;
+  }
+  const Preset& p = run.preset;
+  const int sh_interval =
+      std::max(1, p.static_iterations / (p.sh_degree + 1));
+  std::vector<std::string> args = run.Args(
+      {"--out", run.static_dir().string(), "--iterations",
+       std::to_string(p.static_iterations), "--sh_degree",
+       std::to_string(p.sh_degree), "--sh_degree_interval",
+       std::to_string(sh_interval), "--densify_from",
+       std::to_string(p.densify_from), "--densify_interval",
+       std::to_string(p.densify_interval), "--dynamic_threshold",
+       Number(FLAGS_dynamic_threshold)},
+      true);
+  if (!run.has_masks) args.insert(args.end(), {"--mask_weight", "0"});
+  // es_static resumes only from a checkpoint that exists.
+  if (fs::exists(run.static_dir() / "checkpoint.bin")) {
+    args.push_back("--resume");
+  }
+  RunOrThrow("[static]", "es_static", args);
+}
+
+// V from optical flow. A failure is not fatal: Stage 3 then learns V from
+// scratch.
+void FlowStage(const Pipeline& run) {
+  if (AllExist({run.static_dir() / "motion_field.bin",
+                run.static_dir() / "flow_metrics.json"})) {
+    Skip("flow init", run.static_dir());
+    return;
+  }
+  const Preset& p = run.preset;
+  const std::vector<std::string> args = run.Args(
+      {"--static", run.static_ply().string(), "--out",
+       run.static_dir().string(), "--iterations",
+       std::to_string(p.flow_iterations), "--triplane_res",
+       std::to_string(p.field_resolution), "--triplane_channels",
+       std::to_string(p.motion_channels), "--mlp_width",
+       std::to_string(p.motion_width), "--dynamic_threshold",
+       Number(FLAGS_dynamic_threshold)},
+      false);
+  if (RunStage("es_flowinit", args) != 0) {
+    std::printf("[flow init] failed (see above): joint training learns V "
+                "from scratch\n");
+  }
+}
+
+void JointStage(const Pipeline& run) {
+  if (AllExist({run.model_dir() / "loop.txt",
+                run.model_dir() / "metrics.json"})) {
+    Skip("joint", run.model_dir());
+    return;
+  }
+  const Preset& p = run.preset;
+  std::vector<std::string> args = run.Args(
+      {"--init", run.static_dir().string(), "--out",
+       run.model_dir().string(), "--iterations",
+       std::to_string(p.joint_iterations), "--cycle_length",
+       std::to_string(FLAGS_cycle_length), "--resume", "--dynamic_threshold",
+       Number(FLAGS_dynamic_threshold), "--motion_resolution",
+       std::to_string(p.field_resolution), "--motion_channels",
+       std::to_string(p.motion_channels), "--motion_width",
+       std::to_string(p.motion_width), "--residual_resolution",
+       std::to_string(p.field_resolution), "--residual_channels",
+       std::to_string(p.residual_channels), "--residual_width",
+       std::to_string(p.residual_width)},
+      true);
+  if (!run.has_masks) args.insert(args.end(), {"--mask_weight", "0"});
+  RunOrThrow("[joint]", "es_train", args);
+}
+
+// Two animations: along the input trajectory with tracks, and a fixed
+// view with its x-t slice.
+void AnimateStage(const Pipeline& run) {
+  const int frames = FLAGS_animate_frames > 0 ? FLAGS_animate_frames
+                                              : 4 * FLAGS_cycle_length;
+  struct Video {
+    std::string name;
+    std::string last_output;  // written last: its presence means done
+    std::vector<std::string> flags;
+  };
+  for (const Video& v :
+       {Video{"animate", "tracks.mp4", {"--camera", "input", "--tracks"}},
+        Video{"animate_fixed", "xt_slice.png",
+              {"--camera", "fixed", "--xt_slice", "auto"}}}) {
+    const fs::path dir = run.out / v.name;
+    if (AllExist({dir / "animation.mp4", dir / v.last_output})) {
+      Skip(v.name, dir);
+      continue;
+    }
+    std::vector<std::string> args =
+        run.Args({"--model", run.model_dir().string(), "--frames",
+                  std::to_string(frames), "--out", dir.string()},
+                 true);
+    args.insert(args.end(), v.flags.begin(), v.flags.end());
+    RunOrThrow("[" + v.name + "]", "es_animate", args);
+  }
+}
+
+void EvalStage(const Pipeline& run) {
+  if (AllExist({run.eval_dir() / "eval.json"})) {
+    Skip("eval", run.eval_dir());
+    return;
+  }
+  RunOrThrow("[eval]", "es_eval",
+             run.Args({"--model", run.model_dir().string(), "--out",
+                       run.eval_dir().string()},
+                      true));
+}
+
+// Stops the run after Stage 1 (returning false) when nothing is water.
+bool HasDynamicGaussians(const Pipeline& run) {
+  const int num_dynamic = static_cast<int>(
+      es::DynamicSet(es::ReadPly(run.static_ply().string()),
+                     FLAGS_dynamic_threshold)
+          .size());
+  if (num_dynamic > 0) {
+    std::printf("\n[eulersplat] the static model marks %d Gaussians "
+                "dynamic\n", num_dynamic);
+    return true;
+  }
+  std::printf(
+      "\n[eulersplat] the static model marks no Gaussian dynamic "
+      "(sigmoid(dynamic_logit) > %g), so there is no motion field, loop "
+      "or animation to make: stopping after the static model, %s\n",
+      FLAGS_dynamic_threshold, run.static_ply().string().c_str());
+  if (!run.has_masks) {
+    std::printf("[eulersplat] the scene has no masks/: without them "
+                "Stage 1 has no mask (BCE) term and marks no Gaussian as "
+                "water. Add masks/ (same file names, white = water) to "
+                "animate it.\n");
+  }
+  return false;
+}
+
+int Main() {
+  if (FLAGS_scene.empty() || FLAGS_out.empty()) {
+    throw es::InputError("--scene and --out are required");
+  }
+  if (FLAGS_cycle_length < 1) {
+    throw es::InputError("--cycle_length must be >= 1");
+  }
+  Pipeline run;
+  run.preset = MakePreset(FLAGS_preset);
+  Preset& p = run.preset;
+  if (FLAGS_static_iterations >= 0) {
+    p.static_iterations = FLAGS_static_iterations;
+  }
+  if (FLAGS_flow_iterations >= 0) p.flow_iterations = FLAGS_flow_iterations;
+  if (FLAGS_joint_iterations >= 0) {
+    p.joint_iterations = FLAGS_joint_iterations;
+  }
+  run.scene = FLAGS_scene;
+  run.out = FLAGS_out;
+  if (!fs::is_directory(run.scene)) {
+    throw es::InputError(FLAGS_scene + ": no such directory");
+  }
+  const auto start = std::chrono::steady_clock::now();
+  fs::create_directories(run.out);
+  EnsurePoses(run.scene);
+  const double scale = ImageScale(run.scene, p);
+  run.has_masks = fs::is_directory(run.scene / "masks");
+  run.common = {"--scene", run.scene.string(), "--image_scale",
+                Number(scale)};
+  if (FLAGS_white_background) run.background = {"--white_background"};
+  std::printf("[eulersplat] preset %s: %d static / %d flow / %d joint "
+              "iterations, L = %d, image scale %.3g, masks %s\n",
+              FLAGS_preset.c_str(), p.static_iterations, p.flow_iterations,
+              p.joint_iterations, FLAGS_cycle_length, scale,
+              run.has_masks ? "yes" : "no");
+
+  StaticStage(run);
+  if (!HasDynamicGaussians(run)) return 0;
+  FlowStage(run);
+  JointStage(run);
+  AnimateStage(run);
+  EvalStage(run);
+  WriteContactSheet(run.out, FLAGS_cycle_length);
+
+  const double seconds = std::chrono::duration<double>(
+                             std::chrono::steady_clock::now() - start)
+                             .count();
+  std::printf("\n[eulersplat] done in %.0f s\n"
+              "  looping video  %s\n  fixed view     %s\n"
+              "  metrics        %s\n  contact sheet  %s\n",
+              seconds, (run.out / "animate" / "animation.mp4").c_str(),
+              (run.out / "animate_fixed" / "animation.mp4").c_str(),
+              (run.eval_dir() / "eval.json").c_str(),
+              (run.out / "contact_sheet.png").c_str());
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return es::RunApp(argc, argv,
+                    "Runs every stage: static -> flow init -> joint -> "
+                    "animate -> eval.\n"
+                    "  eulersplat --scene DIR --out DIR [--preset "
+                    "quick|paper]",
+                    Main);
+}

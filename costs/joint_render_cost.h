@@ -1,0 +1,125 @@
+#ifndef EULERSPLAT_COSTS_JOINT_RENDER_COST_H_
+#define EULERSPLAT_COSTS_JOINT_RENDER_COST_H_
+
+#include <memory>
+#include <vector>
+
+#include <ceres/cost_function.h>
+
+#include "core/frame_composer.h"
+#include "core/loop_model.h"
+#include "core/rasterizer.h"
+#include "core/scene.h"
+#include "costs/residual_l2_cost.h"
+
+namespace es {
+
+// What a joint cost needs beyond its parameter blocks: the model's shape,
+// which Gaussians are dynamic and when their loops start, and the fields'
+// structure (their parameters are blocks). Pointed-to data must outlive the
+// cost; a field pointer of nullptr removes that field and its blocks.
+struct LoopStructure {
+  int count = 0;
+  int sh_degree = 0;
+  const std::vector<int>* dynamic_index = nullptr;
+  const std::vector<int>* start_times = nullptr;
+  int cycle_length = 15;
+  const MotionField* motion = nullptr;
+  const ResidualField* residual = nullptr;
+
+  static LoopStructure Of(const LoopModel& model);
+};
+
+// Which terms a JointRenderCost sums; a zero weight turns a term off.
+struct JointRenderTerms {
+  double photometric_weight = 1.0;  // (1 - s) L1 + s (1 - SSIM)
+  double ssim_weight = 0.2;         // s above
+  double mask_weight = 0.0;         // BCE of the dynamic channel vs mask
+  double residual_weight = 0.0;     // ResidualL2Loss of D's outputs
+};
+
+// Parameter block order: the six GaussianSet arrays (SplatBlock order of
+// costs/splat_render_cost.h), then V's triplane and MLP if the structure
+// has V, then D's triplane and MLP if it has D.
+class JointBlockLayout {
+ public:
+  explicit JointBlockLayout(const LoopStructure& s);
+  int num_blocks() const { return static_cast<int>(sizes_.size()); }
+  const std::vector<int32_t>& sizes() const { return sizes_; }
+  int motion_triplane() const { return motion_; }    // -1 if absent
+  int motion_mlp() const { return motion_ < 0 ? -1 : motion_ + 1; }
+  int residual_triplane() const { return residual_; }  // -1 if absent
+  int residual_mlp() const { return residual_ < 0 ? -1 : residual_ + 1; }
+
+ private:
+  std::vector<int32_t> sizes_;
+  int motion_ = -1, residual_ = -1;
+};
+
+// The model's blocks in JointBlockLayout order (its own arrays).
+std::vector<double*> JointBlocks(LoopModel* model);
+
+// The joint-training loss of one frame i: the looping model is composed at
+// frame i (Alg. 1 advection of the dynamic Gaussians by V to their cycle
+// index, plus D's position, opacity and SH offsets; core/frame_composer.h),
+// rendered once, and scored by every enabled term,
+//   l = w_p photometric + w_m BCE(dynamic channel, mask) + w_r D L2,
+// exposed as one residual sqrt(2 l + eps) (costs/scalar_loss.h). The
+// gradient flows through the rasterizer, D and the whole Euler chain to the
+// canonical splats, V's and D's parameters. Evaluate reuses internal
+// buffers: not thread-safe.
+class JointRenderCost : public ceres::CostFunction {
+ public:
+  // frame, the structure's data and rasterizer (if given) must outlive the
+  // cost. frame_index is i (its place in the video, for t and p).
+  JointRenderCost(const Frame* frame, int frame_index,
+                  const LoopStructure& structure,
+                  const JointRenderTerms& terms, const RenderOptions& options,
+                  Rasterizer* rasterizer = nullptr);
+
+  // Points the cost at another frame or model shape, keeping its buffers.
+  void Reset(const Frame* frame, int frame_index,
+             const LoopStructure& structure);
+
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const override;
+
+  const JointBlockLayout& layout() const { return layout_; }
+  // Unweighted terms of the last Evaluate (0 for a disabled term).
+  double last_photometric() const { return last_photometric_; }
+  double last_mask() const { return last_mask_; }
+  double last_residual() const { return last_residual_; }
+  const EulerStats& last_euler_stats() const {
+    return composer_.euler_stats();
+  }
+
+ private:
+  LoopSplatView View(double const* const* parameters) const;
+
+  const Frame* frame_ = nullptr;
+  int frame_index_ = 0;
+  LoopStructure structure_;
+  JointBlockLayout layout_;
+  JointRenderTerms terms_;
+  RenderOptions options_;
+  std::unique_ptr<Rasterizer> owned_rasterizer_;
+  Rasterizer* rasterizer_;
+  mutable FrameComposer composer_;
+  mutable std::vector<double> probability_, d_rgb_, d_extra_, d_residuals_;
+  mutable RenderResult render_;
+  mutable SplatGradients grads_;
+  mutable double last_photometric_ = 0, last_mask_ = 0, last_residual_ = 0;
+};
+
+// Single-term costs (weight 1; weight them with ceres::ScaledLoss).
+ceres::CostFunction* CreateJointPhotometricCost(
+    const Frame* frame, int frame_index, const LoopStructure& structure,
+    double ssim_weight, const RenderOptions& options);
+ceres::CostFunction* CreateJointMaskBceCost(const Frame* frame,
+                                            int frame_index,
+                                            const LoopStructure& structure,
+                                            const RenderOptions& options);
+
+}  // namespace es
+
+#endif  // EULERSPLAT_COSTS_JOINT_RENDER_COST_H_

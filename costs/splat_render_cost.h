@@ -1,0 +1,88 @@
+#ifndef EULERSPLAT_COSTS_SPLAT_RENDER_COST_H_
+#define EULERSPLAT_COSTS_SPLAT_RENDER_COST_H_
+
+#include <ceres/cost_function.h>
+
+#include <memory>
+#include <vector>
+
+#include "core/gaussians.h"
+#include "core/rasterizer.h"
+#include "core/scene.h"
+
+namespace es {
+
+// Which image-space terms a SplatRenderCost sums, and their weights. A zero
+// weight turns a term off (it is then neither computed nor differentiated).
+struct SplatRenderTerms {
+  double photometric_weight = 1.0;  // (1 - s) L1 + s (1 - SSIM)
+  double ssim_weight = 0.2;         // s above
+  double mask_weight = 0.0;         // BCE of the dynamic channel vs the mask
+};
+
+// The parameter blocks, in order: the GaussianSet arrays.
+enum SplatBlock {
+  kMeansBlock = 0,
+  kLogScalesBlock,
+  kQuatsBlock,
+  kOpacityBlock,
+  kShBlock,
+  kDynamicBlock,
+  kNumSplatBlocks
+};
+
+// Renders one frame from the splat parameter blocks once and scores it with
+// every enabled term, sharing one rasterizer Forward and one Backward:
+//   l = w_p * photometric(rgb, image) + w_m * BCE(dynamic, mask),
+// exposed as one residual sqrt(2 l + eps) (costs/scalar_loss.h). The dynamic
+// channel renders sigmoid(dynamic_logit) composited like a colour, as the
+// paper does, so the mask gradient also reaches the geometry (detaching it
+// would cost a second Backward). Blocks a term does not touch get a zero
+// Jacobian. Evaluate reuses internal buffers: not thread-safe.
+class SplatRenderCost : public ceres::CostFunction {
+ public:
+  // `frame` (and `rasterizer`, if given) must outlive the cost; without a
+  // rasterizer the cost owns one.
+  SplatRenderCost(const Frame* frame, int count, int sh_degree,
+                  const SplatRenderTerms& terms, const RenderOptions& options,
+                  Rasterizer* rasterizer = nullptr);
+
+  // Points the cost at another frame / model size, keeping its buffers.
+  void Reset(const Frame* frame, int count, int sh_degree);
+
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const override;
+
+  // The unweighted terms of the last Evaluate (0 for a disabled term).
+  double last_photometric() const { return last_photometric_; }
+  double last_mask() const { return last_mask_; }
+
+  // The blocks of a GaussianSet in SplatBlock order.
+  static std::vector<double*> Blocks(GaussianSet* g);
+
+ private:
+  const Frame* frame_ = nullptr;
+  int count_ = 0;
+  int sh_degree_ = 0;
+  SplatRenderTerms terms_;
+  RenderOptions options_;
+  std::unique_ptr<Rasterizer> owned_rasterizer_;
+  Rasterizer* rasterizer_;
+  // Reused between evaluations.
+  mutable std::vector<double> probability_, d_rgb_, d_extra_;
+  mutable RenderResult render_;
+  mutable SplatGradients grads_;
+  mutable double last_photometric_ = 0, last_mask_ = 0;
+};
+
+// Single-term costs (weight 1; weight them with ceres::ScaledLoss).
+ceres::CostFunction* CreatePhotometricCost(const Frame* frame, int count,
+                                           int sh_degree, double ssim_weight,
+                                           const RenderOptions& options);
+ceres::CostFunction* CreateMaskBceCost(const Frame* frame, int count,
+                                       int sh_degree,
+                                       const RenderOptions& options);
+
+}  // namespace es
+
+#endif  // EULERSPLAT_COSTS_SPLAT_RENDER_COST_H_

@@ -1,0 +1,270 @@
+#include <ceres/ceres.h>
+#include <ceres/gradient_checker.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+#include <random>
+#include <vector>
+
+#include "core/image_metrics.h"
+#include "costs/mask_bce_cost.h"
+#include "costs/photometric_cost.h"
+#include "costs/scalar_loss.h"
+#include "costs/splat_render_cost.h"
+
+namespace es {
+namespace {
+
+constexpr int kWidth = 24, kHeight = 20;
+
+Frame TinyFrame() {
+  Frame f;
+  f.camera.width = kWidth;
+  f.camera.height = kHeight;
+  f.camera.fx = f.camera.fy = 20;
+  f.camera.cx = 12;
+  f.camera.cy = 10;
+  f.camera.q_cw = Eigen::Quaterniond(
+      Eigen::AngleAxisd(0.1, Eigen::Vector3d(0.3, 1, 0).normalized()));
+  f.camera.t_cw = {0.1, -0.05, 0.2};
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> u(0.f, 1.f);
+  f.image.create(kHeight, kWidth, CV_32FC3);
+  for (int i = 0; i < kHeight; ++i)
+    for (int j = 0; j < kWidth; ++j)
+      f.image.at<cv::Vec3f>(i, j) = {0.2f + 0.5f * u(rng), 0.4f, 0.05f * j};
+  f.mask = cv::Mat(kHeight, kWidth, CV_32FC1, cv::Scalar(0.f));
+  f.mask.rowRange(10, kHeight).setTo(1.f);
+  return f;
+}
+
+// Six Gaussians of SH degree 1 in front of the camera, opacities and sizes
+// away from the rasterizer's clamps so the loss is smooth at the probe
+// (opacity < 0.35 keeps alpha below 1/255 outside the 3-sigma tiles).
+GaussianSet SixGaussians() {
+  GaussianSet g;
+  g.sh_degree = 1;
+  g.Resize(6);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int i = 0; i < 6; ++i) {
+    g.means[3 * i] = 0.5 * u(rng);
+    g.means[3 * i + 1] = 0.4 * u(rng);
+    // Well-separated depths: a depth-order swap is a true discontinuity.
+    g.means[3 * i + 2] = 2.5 + 0.2 * i;
+    for (int a = 0; a < 3; ++a)
+      g.log_scales[3 * i + a] = std::log(0.25) + 0.3 * u(rng);
+    for (int a = 0; a < 4; ++a) g.quats[4 * i + a] = (a == 0) + 0.3 * u(rng);
+    g.opacity_logits[i] = -1.2 + 0.3 * u(rng);
+    for (int k = 0; k < 12; ++k)
+      g.sh[12 * i + k] = (k < 3 ? 0.8 : 0.3) * u(rng);
+    g.dynamic_logits[i] = u(rng);
+  }
+  return g;
+}
+
+RenderOptions DoubleOptions() {
+  RenderOptions o;
+  o.use_double = true;
+  o.background = {0.1, 0.2, 0.3};
+  return o;
+}
+
+bool Probe(const ceres::CostFunction& cost, GaussianSet* g, std::string* log) {
+  // Ridders' default first step (1% of the value) moves a splat by a good
+  // fraction of a pixel and crosses the rasterizer's discrete cut-offs (alpha
+  // threshold, tile binning, depth order); the loss is only piecewise
+  // smooth, so start the steps small.
+  ceres::NumericDiffOptions nd;
+  nd.ridders_relative_initial_step_size = 1e-6;
+  const ceres::GradientChecker checker(
+      &cost, static_cast<const std::vector<const ceres::Manifold*>*>(nullptr),
+      nd);
+  const std::vector<double*> blocks = SplatRenderCost::Blocks(g);
+  ceres::GradientChecker::ProbeResults results;
+  const bool ok = checker.Probe(blocks.data(), 1e-5, &results);
+  *log = results.error_log;
+  return ok;
+}
+
+// Gradient of the loss (not the residual) by calling Evaluate directly, as
+// the trainer does: dl/dtheta = J r.
+std::vector<std::vector<double>> LossGradient(const ceres::CostFunction& cost,
+                                              GaussianSet* g, double* loss) {
+  const std::vector<double*> blocks = SplatRenderCost::Blocks(g);
+  std::vector<std::vector<double>> jac;
+  std::vector<double*> jac_ptrs;
+  for (int size : cost.parameter_block_sizes()) jac.emplace_back(size);
+  for (auto& j : jac) jac_ptrs.push_back(j.data());
+  double r = 0;
+  EXPECT_TRUE(cost.Evaluate(blocks.data(), &r, jac_ptrs.data()));
+  for (auto& j : jac)
+    for (double& v : j) v *= r;
+  *loss = 0.5 * (r * r - kScalarLossEps);
+  return jac;
+}
+
+TEST(CostsTest, PhotometricGradientMatchesFiniteDifferences) {
+  const Frame frame = TinyFrame();
+  GaussianSet g = SixGaussians();
+  std::unique_ptr<ceres::CostFunction> cost(
+      CreatePhotometricCost(&frame, 6, 1, 0.2, DoubleOptions()));
+  std::string log;
+  EXPECT_TRUE(Probe(*cost, &g, &log)) << log;
+  // The dynamic block is not touched by this term.
+  double loss;
+  const auto grad = LossGradient(*cost, &g, &loss);
+  for (double v : grad[kDynamicBlock]) EXPECT_EQ(v, 0.0);
+  for (int b = 0; b < kDynamicBlock; ++b) {
+    double norm = 0;
+    for (double v : grad[b]) norm += v * v;
+    EXPECT_GT(norm, 0.0) << "block " << b;
+  }
+}
+
+TEST(CostsTest, MaskBceGradientMatchesFiniteDifferences) {
+  const Frame frame = TinyFrame();
+  GaussianSet g = SixGaussians();
+  std::unique_ptr<ceres::CostFunction> cost(
+      CreateMaskBceCost(&frame, 6, 1, DoubleOptions()));
+  std::string log;
+  EXPECT_TRUE(Probe(*cost, &g, &log)) << log;
+  double loss;
+  const auto grad = LossGradient(*cost, &g, &loss);
+  for (double v : grad[kShBlock]) EXPECT_EQ(v, 0.0);  // colour not involved
+  double geometry = 0;
+  for (double v : grad[kMeansBlock]) geometry += v * v;
+  EXPECT_GT(geometry, 0.0);  // the mask reaches the geometry
+}
+
+TEST(CostsTest, CombinedCostGradientMatchesFiniteDifferences) {
+  const Frame frame = TinyFrame();
+  GaussianSet g = SixGaussians();
+  SplatRenderTerms terms;
+  terms.mask_weight = 0.5;
+  const SplatRenderCost cost(&frame, 6, 1, terms, DoubleOptions());
+  std::string log;
+  EXPECT_TRUE(Probe(cost, &g, &log)) << log;
+}
+
+// Wraps a cost and corrupts one Jacobian entry.
+class WrongJacobian : public ceres::CostFunction {
+ public:
+  explicit WrongJacobian(const ceres::CostFunction* inner) : inner_(inner) {
+    set_num_residuals(1);
+    *mutable_parameter_block_sizes() = inner->parameter_block_sizes();
+  }
+  bool Evaluate(double const* const* p, double* r, double** j) const override {
+    if (!inner_->Evaluate(p, r, j)) return false;
+    if (j && j[kMeansBlock]) j[kMeansBlock][4] *= 1.05;
+    return true;
+  }
+
+ private:
+  const ceres::CostFunction* inner_;
+};
+
+TEST(CostsTest, GradientCheckerCatchesAWrongJacobian) {
+  const Frame frame = TinyFrame();
+  GaussianSet g = SixGaussians();
+  std::unique_ptr<ceres::CostFunction> cost(
+      CreatePhotometricCost(&frame, 6, 1, 0.2, DoubleOptions()));
+  const WrongJacobian wrong(cost.get());
+  std::string log;
+  EXPECT_FALSE(Probe(wrong, &g, &log));
+}
+
+// Problem::Evaluate with ScaledLoss returns weight * dl/dtheta, and the
+// combined cost equals the sum of its single-term costs.
+TEST(CostsTest, ScaledLossWeightsAndCombinedCostAgree) {
+  const Frame frame = TinyFrame();
+  GaussianSet g = SixGaussians();
+  const RenderOptions options = DoubleOptions();
+  SplatRenderTerms terms;
+  terms.mask_weight = 0.5;
+  const SplatRenderCost combined(&frame, 6, 1, terms, options);
+  double combined_loss;
+  const auto combined_grad = LossGradient(combined, &g, &combined_loss);
+
+  ceres::Problem::Options po;
+  po.loss_function_ownership = ceres::TAKE_OWNERSHIP;
+  ceres::Problem problem(po);
+  const std::vector<double*> blocks = SplatRenderCost::Blocks(&g);
+  problem.AddResidualBlock(
+      CreatePhotometricCost(&frame, 6, 1, 0.2, options),
+      new ceres::ScaledLoss(nullptr, 1.0, ceres::TAKE_OWNERSHIP), blocks);
+  problem.AddResidualBlock(
+      CreateMaskBceCost(&frame, 6, 1, options),
+      new ceres::ScaledLoss(nullptr, 0.5, ceres::TAKE_OWNERSHIP), blocks);
+  double cost = 0;
+  std::vector<double> gradient;
+  ceres::Problem::EvaluateOptions eo;
+  eo.parameter_blocks = blocks;
+  ASSERT_TRUE(problem.Evaluate(eo, &cost, nullptr, &gradient, nullptr));
+  EXPECT_NEAR(cost, combined_loss, 1e-9);
+  size_t offset = 0;
+  double max_err = 0, max_abs = 0;
+  for (const auto& block : combined_grad)
+    for (double v : block) {
+      max_err = std::max(max_err, std::abs(gradient[offset++] - v));
+      max_abs = std::max(max_abs, std::abs(v));
+    }
+  EXPECT_EQ(offset, gradient.size());
+  EXPECT_LT(max_err, 1e-10 * max_abs);
+  EXPECT_GT(max_abs, 0.0);
+}
+
+TEST(CostsTest, ScaledLossScalesProblemGradient) {
+  const Frame frame = TinyFrame();
+  GaussianSet g = SixGaussians();
+  std::unique_ptr<ceres::CostFunction> direct(
+      CreatePhotometricCost(&frame, 6, 1, 0.2, DoubleOptions()));
+  double loss;
+  const auto grad = LossGradient(*direct, &g, &loss);
+  const std::vector<double*> blocks = SplatRenderCost::Blocks(&g);
+  ceres::ScaledLoss scaled(nullptr, 0.7, ceres::DO_NOT_TAKE_OWNERSHIP);
+  ceres::Problem::Options po;
+  po.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  ceres::Problem problem(po);
+  problem.AddResidualBlock(
+      CreatePhotometricCost(&frame, 6, 1, 0.2, DoubleOptions()), &scaled,
+      blocks);
+  ceres::Problem::EvaluateOptions eo;
+  eo.parameter_blocks = blocks;
+  double cost;
+  std::vector<double> gradient;
+  ASSERT_TRUE(problem.Evaluate(eo, &cost, nullptr, &gradient, nullptr));
+  EXPECT_NEAR(cost, 0.7 * (loss + 0.5 * kScalarLossEps), 1e-12);
+  size_t offset = 0;
+  for (const auto& block : grad)
+    for (double v : block) EXPECT_NEAR(gradient[offset++], 0.7 * v, 1e-12);
+}
+
+TEST(CostsTest, PhotometricLossIsZeroOnTheTarget) {
+  const Frame frame = TinyFrame();
+  cv::Mat y;
+  frame.image.convertTo(y, CV_64F);
+  std::vector<double> d(kWidth * kHeight * 3);
+  EXPECT_NEAR(PhotometricLoss(y.ptr<double>(), frame.image, 0.2, 1.0, d.data()),
+              0.0, 1e-12);
+  // Off the target: 0.8 L1 + 0.2 (1 - SSIM).
+  cv::Mat x = y + 0.1;
+  const double expected = 0.8 * L1Loss(x, y) + 0.2 * (1 - Ssim(x, y));
+  EXPECT_NEAR(PhotometricLoss(x.ptr<double>(), frame.image, 0.2, 1.0, d.data()),
+              expected, 1e-12);
+}
+
+TEST(CostsTest, MaskBceValueGradientAndClamp) {
+  const cv::Mat mask = (cv::Mat_<float>(1, 3) << 1.f, 0.f, 1.f);
+  const double p[3] = {0.8, 0.3, 0.0};  // the last is clamped
+  double d[3];
+  const double l = MaskBceLoss(p, mask, 2.0, d);
+  EXPECT_NEAR(l, -(std::log(0.8) + std::log(0.7) + std::log(1e-6)) / 3, 1e-12);
+  EXPECT_NEAR(d[0], 2.0 * -1 / 0.8 / 3, 1e-12);
+  EXPECT_NEAR(d[1], 2.0 * 1 / 0.7 / 3, 1e-12);
+  EXPECT_EQ(d[2], 0.0);
+}
+
+}  // namespace
+}  // namespace es

@@ -1,0 +1,292 @@
+#include "core/flow_lifting.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
+
+namespace es {
+namespace {
+
+Camera MakeCamera(int width, int height, double focal) {
+  Camera c;
+  c.width = width;
+  c.height = height;
+  c.fx = c.fy = focal;
+  c.cx = width / 2.0;
+  c.cy = height / 2.0;
+  return c;
+}
+
+// A plane n . X = offset (world), textured by its world x and y.
+struct Plane {
+  Eigen::Vector3d normal;
+  double offset;
+
+  // World point on the ray through pixel index (x, y) of `camera`.
+  Eigen::Vector3d Intersect(const Camera& camera, double x, double y) const {
+    const Eigen::Vector3d center = camera.Center();
+    const Eigen::Vector3d dir =
+        camera.R().transpose() * camera.Unproject(x + 0.5, y + 0.5, 1.0);
+    const double s = (offset - normal.dot(center)) / normal.dot(dir);
+    return center + s * dir;
+  }
+  Plane Moved(const Eigen::Vector3d& t) const {
+    return {normal, offset + normal.dot(t)};
+  }
+};
+
+cv::Mat PlaneDepth(const Camera& camera, const Plane& plane) {
+  cv::Mat depth(camera.height, camera.width, CV_32FC1);
+  for (int y = 0; y < camera.height; ++y) {
+    for (int x = 0; x < camera.width; ++x) {
+      depth.at<float>(y, x) =
+          camera.WorldToCamera(plane.Intersect(camera, x, y)).z();
+    }
+  }
+  return depth;
+}
+
+// Exact flow of pixels of `from` seeing plane `p_from` to `to`, where the
+// plane's points have moved by `t`.
+cv::Mat PlaneFlow(const Camera& from, const Plane& p_from, const Camera& to,
+                  const Eigen::Vector3d& t) {
+  cv::Mat flow(from.height, from.width, CV_32FC2);
+  for (int y = 0; y < from.height; ++y) {
+    for (int x = 0; x < from.width; ++x) {
+      const Eigen::Vector3d moved = p_from.Intersect(from, x, y) + t;
+      const Eigen::Vector2d uv = to.Project(to.WorldToCamera(moved));
+      flow.at<cv::Vec2f>(y, x) = cv::Vec2f(uv.x() - 0.5 - x, uv.y() - 0.5 - y);
+    }
+  }
+  return flow;
+}
+
+// Renders the plane with a texture looked up by the world (x, y) of each
+// pixel's surface point, shifted back by the plane's motion `t` so the
+// texture moves with the plane.
+cv::Mat RenderPlane(const Camera& camera, const Plane& plane,
+                    const Eigen::Vector3d& t, const cv::Mat& texture,
+                    double texels_per_unit) {
+  cv::Mat map(camera.height, camera.width, CV_32FC2);
+  for (int y = 0; y < camera.height; ++y) {
+    for (int x = 0; x < camera.width; ++x) {
+      const Eigen::Vector3d p = plane.Intersect(camera, x, y) - t;
+      map.at<cv::Vec2f>(y, x) =
+          cv::Vec2f(texture.cols / 2.0 + p.x() * texels_per_unit,
+                    texture.rows / 2.0 + p.y() * texels_per_unit);
+    }
+  }
+  cv::Mat image;
+  cv::remap(texture, image, map, cv::noArray(), cv::INTER_LINEAR,
+            cv::BORDER_REFLECT);
+  return image;
+}
+
+cv::Mat RandomTexture(int size, uint64_t seed) {
+  cv::RNG rng(seed);
+  cv::Mat fine(size, size, CV_32FC1), coarse(size, size, CV_32FC1);
+  rng.fill(fine, cv::RNG::UNIFORM, 0.0, 1.0);
+  rng.fill(coarse, cv::RNG::UNIFORM, 0.0, 1.0);
+  cv::GaussianBlur(fine, fine, cv::Size(0, 0), 1.5);
+  cv::GaussianBlur(coarse, coarse, cv::Size(0, 0), 6.0);
+  cv::Mat texture = fine + coarse;
+  cv::normalize(texture, texture, 0.0, 1.0, cv::NORM_MINMAX);
+  return texture;
+}
+
+struct TwoViews {
+  Camera a, b;
+  Plane plane;
+  Eigen::Vector3d motion;
+};
+
+TwoViews MakeTwoViews(int width, int height, double focal) {
+  TwoViews v;
+  v.a = MakeCamera(width, height, focal);
+  v.b = v.a;
+  v.b.q_cw = Eigen::AngleAxisd(0.04, Eigen::Vector3d::UnitY()) *
+             Eigen::AngleAxisd(-0.02, Eigen::Vector3d::UnitX());
+  v.b.t_cw = Eigen::Vector3d(-0.12, 0.03, 0.05);
+  v.plane = {Eigen::Vector3d(0.1, -0.25, 1.0).normalized(), 4.0};
+  v.motion = Eigen::Vector3d(0.15, -0.08, 0.1);
+  return v;
+}
+
+cv::Mat Ones(const Camera& c) {
+  return cv::Mat(c.height, c.width, CV_32FC1, cv::Scalar(1));
+}
+
+TEST(FlowLiftingTest, ExactFlowRecoversPlaneTranslation) {
+  const TwoViews v = MakeTwoViews(64, 48, 60);
+  const Plane moved = v.plane.Moved(v.motion);
+  FlowPair flow;
+  flow.forward = PlaneFlow(v.a, v.plane, v.b, v.motion);
+  flow.backward = PlaneFlow(v.b, moved, v.a, -v.motion);
+  const LiftingView first{&v.a, PlaneDepth(v.a, v.plane), Ones(v.a)};
+  const LiftingView second{&v.b, PlaneDepth(v.b, moved), Ones(v.b)};
+  LiftingOptions options;
+  options.stride = 1;
+  std::vector<SceneFlowSample> samples;
+  LiftingStats stats;
+  LiftFlow(first, second, flow, options, &samples, &stats);
+
+  EXPECT_EQ(stats.candidates, 64 * 48);
+  EXPECT_EQ(stats.inconsistent + stats.depth_edge + stats.no_depth +
+                stats.not_water, 0);
+  EXPECT_GT(stats.accepted, 64 * 48 * 3 / 4);  // some leave the image
+  ASSERT_EQ(static_cast<long>(samples.size()), stats.accepted);
+  for (const SceneFlowSample& s : samples) {
+    // x lies on the plane and moves with it; bilinear depth on a tilted
+    // plane is the only approximation.
+    EXPECT_NEAR(v.plane.normal.dot(s.x), v.plane.offset, 1e-6);
+    EXPECT_LT((s.v - v.motion).norm(), 1e-3 * v.motion.norm());
+  }
+}
+
+TEST(FlowLiftingTest, EstimatedFlowRecoversPlaneTranslation) {
+  const TwoViews v = MakeTwoViews(160, 120, 150);
+  const Plane moved = v.plane.Moved(v.motion);
+  const cv::Mat texture = RandomTexture(512, 11);
+  const cv::Mat image_a = RenderPlane(v.a, v.plane, Eigen::Vector3d::Zero(),
+                                      texture, 120.0);
+  const cv::Mat image_b = RenderPlane(v.b, moved, v.motion, texture, 120.0);
+  OpticalFlow estimator(FlowMethod::kDisMedium);
+  const FlowPair flow = estimator.ComputePair(image_a, image_b);
+  const LiftingView first{&v.a, PlaneDepth(v.a, v.plane), Ones(v.a)};
+  const LiftingView second{&v.b, PlaneDepth(v.b, moved), Ones(v.b)};
+  std::vector<SceneFlowSample> samples;
+  LiftingStats stats;
+  LiftFlow(first, second, flow, LiftingOptions(), &samples, &stats);
+
+  ASSERT_GT(stats.accepted, stats.candidates / 2);
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  std::vector<double> errors;
+  for (const SceneFlowSample& s : samples) {
+    mean += s.v;
+    errors.push_back((s.v - v.motion).norm());
+  }
+  mean /= samples.size();
+  std::nth_element(errors.begin(), errors.begin() + errors.size() / 2,
+                   errors.end());
+  EXPECT_LT((mean - v.motion).norm(), 0.05 * v.motion.norm());
+  EXPECT_LT(errors[errors.size() / 2], 0.15 * v.motion.norm());
+}
+
+// A static camera looking at a background wall (depth 4) with a foreground
+// square (depth 2) whose border pixels hold a blended depth (3), as a splat
+// renderer produces at an occluding edge.
+struct OcclusionScene {
+  Camera camera = MakeCamera(32, 24, 30);
+  cv::Mat depth;
+  OcclusionScene() : depth(24, 32, CV_32FC1, cv::Scalar(4)) {
+    depth(cv::Rect(10, 8, 12, 8)) = 2.0f;
+    cv::rectangle(depth, cv::Rect(10, 8, 12, 8), cv::Scalar(3));
+  }
+};
+
+FlowPair ConstantFlow(cv::Size size, float dx, float dy) {
+  return {cv::Mat(size, CV_32FC2, cv::Scalar(dx, dy)),
+          cv::Mat(size, CV_32FC2, cv::Scalar(-dx, -dy))};
+}
+
+TEST(FlowLiftingTest, RejectsDepthDiscontinuities) {
+  const OcclusionScene scene;
+  const LiftingView view{&scene.camera, scene.depth, Ones(scene.camera)};
+  LiftingOptions options;
+  options.stride = 1;
+  std::vector<SceneFlowSample> samples;
+  LiftingStats stats;
+  LiftFlow(view, view, ConstantFlow(scene.depth.size(), 0, 0), options,
+           &samples, &stats);
+  // Every pixel whose 3x3 neighbourhood touches the blended ring is dropped:
+  // the 14x10 block around the 12x8 ring, less the 8x4 pixels inside that
+  // see only the square.
+  EXPECT_EQ(stats.depth_edge, 14 * 10 - 8 * 4);
+  EXPECT_EQ(stats.accepted, 32 * 24 - stats.depth_edge);
+  for (const SceneFlowSample& s : samples) {
+    const double z = scene.camera.WorldToCamera(s.x).z();
+    EXPECT_TRUE(std::abs(z - 2) < 1e-6 || std::abs(z - 4) < 1e-6) << z;
+    EXPECT_EQ(s.v.norm(), 0.0);
+  }
+}
+
+TEST(FlowLiftingTest, RejectsInconsistentFlowAtOcclusions) {
+  const Camera camera = MakeCamera(32, 24, 30);
+  const cv::Mat depth(24, 32, CV_32FC1, cv::Scalar(4));
+  const LiftingView view{&camera, depth, Ones(camera)};
+  FlowPair flow = ConstantFlow(depth.size(), 2, 0);
+  // In frame 2 an occluder covers columns 14..17: its backward flow is zero,
+  // so pixels of frame 1 landing there fail the round trip.
+  flow.backward.colRange(14, 18) = cv::Scalar(0, 0);
+  LiftingOptions options;
+  options.stride = 1;
+  std::vector<SceneFlowSample> samples;
+  LiftingStats stats;
+  LiftFlow(view, view, flow, options, &samples, &stats);
+  // Integer targets x + 2 read one column of the backward flow: columns
+  // 12..15 land on the occluder.
+  EXPECT_EQ(stats.inconsistent, 4 * 24);
+  EXPECT_EQ(stats.outside, 2 * 24);  // columns 30, 31 land beyond 31
+  EXPECT_EQ(stats.accepted, (32 - 6) * 24);
+  const Eigen::Vector3d step(2 * 4 / 30.0, 0, 0);  // 2 px at depth 4, f = 30
+  for (const SceneFlowSample& s : samples) {
+    EXPECT_LT((s.v - step).norm(), 1e-5);
+  }
+}
+
+TEST(FlowLiftingTest, RejectsFlowLeavingTheWater) {
+  const Camera camera = MakeCamera(32, 24, 30);
+  const cv::Mat depth(24, 32, CV_32FC1, cv::Scalar(4));
+  cv::Mat water_a = Ones(camera), water_b = Ones(camera);
+  water_a.colRange(0, 4) = 0.0f;   // not candidates
+  water_b.colRange(20, 32) = 0.0f;  // columns 19.. of frame 1 land here
+  const LiftingView first{&camera, depth, water_a};
+  const LiftingView second{&camera, depth, water_b};
+  LiftingOptions options;
+  options.stride = 2;
+  std::vector<SceneFlowSample> samples;
+  LiftingStats stats;
+  LiftFlow(first, second, ConstantFlow(depth.size(), 1, 0), options, &samples,
+           &stats);
+  // Stride 2: columns 4, 6, ..., 30 (14) on rows 0, 2, ..., 22 (12).
+  EXPECT_EQ(stats.candidates, 14 * 12);
+  // Columns 20..30 land on 21..31 (6 columns), none outside (x + 1 <= 31).
+  EXPECT_EQ(stats.not_water, 6 * 12);
+  EXPECT_EQ(stats.accepted, 8 * 12);
+}
+
+TEST(FlowLiftingTest, PixelsWithoutSurfaceAreNotLifted) {
+  const Camera camera = MakeCamera(16, 12, 20);
+  cv::Mat depth(12, 16, CV_32FC1, cv::Scalar(4));
+  depth.rowRange(0, 6) = 0.0f;  // sky: alpha below threshold
+  const LiftingView view{&camera, depth, Ones(camera)};
+  LiftingOptions options;
+  options.stride = 1;
+  std::vector<SceneFlowSample> samples;
+  LiftingStats stats;
+  LiftFlow(view, view, ConstantFlow(depth.size(), 0, 0), options, &samples,
+           &stats);
+  EXPECT_EQ(stats.no_depth, 6 * 16);
+  EXPECT_EQ(stats.depth_edge, 16);  // row 6 touches the empty row 5
+  EXPECT_EQ(stats.accepted, 5 * 16);
+}
+
+TEST(FlowLiftingTest, DepthMapDividesByAlphaAndMasksEmptyPixels) {
+  RenderResult render;
+  render.width = 2;
+  render.height = 1;
+  render.alpha = {0.8, 0.3};
+  render.depth = {2.4, 0.9};
+  render.extra = {0.4, 0.8, 0.1, 0.2};  // two channels
+  const cv::Mat depth = ExpectedDepthMap(render);
+  EXPECT_FLOAT_EQ(depth.at<float>(0, 0), 3.0f);
+  EXPECT_EQ(depth.at<float>(0, 1), 0.0f);
+  const cv::Mat extra = NormalizedExtraMap(render, 1);
+  EXPECT_FLOAT_EQ(extra.at<float>(0, 0), 1.0f);
+  EXPECT_EQ(extra.at<float>(0, 1), 0.0f);
+}
+
+}  // namespace
+}  // namespace es

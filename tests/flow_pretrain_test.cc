@@ -1,0 +1,165 @@
+#include "solvers/flow_pretrain.h"
+
+#include <cmath>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "core/input_error.h"
+#include "solvers/motion_gt.h"
+
+namespace es {
+namespace {
+
+// A smooth swirl with a vertical component, displacement per frame.
+Eigen::Vector3d TrueVelocity(const Eigen::Vector3d& x) {
+  return 0.04 * Eigen::Vector3d(std::sin(1.5 * x.y()) + 0.3,
+                                -std::sin(1.5 * x.x()),
+                                0.5 * std::cos(x.x() + x.y()));
+}
+
+std::vector<SceneFlowSample> SamplesOf(int n, uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::vector<SceneFlowSample> samples(n);
+  for (SceneFlowSample& s : samples) {
+    s.x = Eigen::Vector3d(u(rng), u(rng), u(rng));
+    s.v = TrueVelocity(s.x);
+  }
+  return samples;
+}
+
+MotionField SmallField(int resolution, int channels, int width) {
+  MotionFieldOptions o;
+  o.triplane.resolution = resolution;
+  o.triplane.channels = channels;
+  o.mlp_width = width;
+  o.mlp_depth = 2;
+  MotionField field(o);
+  field.SetBox(Eigen::Vector3d(-1, -1, -1), Eigen::Vector3d(1, 1, 1));
+  return field;
+}
+
+TEST(FlowPretrainTest, AdamFitsASmoothFieldAndGeneralizes) {
+  MotionField field = SmallField(12, 6, 32);
+  const std::vector<SceneFlowSample> samples = SamplesOf(3000, 1);
+  FlowPretrainOptions options;
+  options.iterations = 800;
+  options.batch_size = 512;
+  const FlowPretrainReport report =
+      PretrainMotionField(samples, options, &field);
+  EXPECT_EQ(report.num_samples, 3000);
+  EXPECT_EQ(report.iterations, 800);
+  EXPECT_NEAR(report.initial_rmse, report.target_rms,
+              0.05 * report.target_rms);  // V starts near zero
+  EXPECT_LT(report.fit_rmse, 0.05 * report.target_rms);
+  EXPECT_DOUBLE_EQ(report.fit_rmse, FitRmse(field, samples));
+  // Points it never saw: the field itself was learned, not the samples.
+  EXPECT_LT(FitRmse(field, SamplesOf(1000, 2)), 0.08 * report.target_rms);
+}
+
+TEST(FlowPretrainTest, LbfgsFitsASmoothField) {
+  MotionField field = SmallField(12, 6, 32);
+  const std::vector<SceneFlowSample> samples = SamplesOf(1500, 1);
+  FlowPretrainOptions options;
+  options.solver = PretrainSolver::kLbfgs;
+  options.iterations = 300;
+  const FlowPretrainReport report =
+      PretrainMotionField(samples, options, &field);
+  EXPECT_LT(report.fit_rmse, 0.05 * report.target_rms);
+}
+
+TEST(FlowPretrainTest, LevenbergMarquardtFitsATinyField) {
+  MotionField field = SmallField(4, 3, 8);
+  const std::vector<SceneFlowSample> samples = SamplesOf(300, 1);
+  FlowPretrainOptions options;
+  options.solver = PretrainSolver::kLm;
+  options.iterations = 50;
+  options.batch_size = 300;
+  const FlowPretrainReport report =
+      PretrainMotionField(samples, options, &field);
+  EXPECT_LT(report.fit_rmse, 0.1 * report.target_rms);
+}
+
+TEST(FlowPretrainTest, ProgressIsReportedWithDecreasingError) {
+  MotionField field = SmallField(8, 4, 16);
+  const std::vector<SceneFlowSample> samples = SamplesOf(500, 3);
+  FlowPretrainOptions options;
+  options.iterations = 200;
+  options.batch_size = 500;
+  options.log_every = 50;
+  std::vector<double> rmse;
+  options.progress = [&](int, double, double r) { rmse.push_back(r); };
+  PretrainMotionField(samples, options, &field);
+  ASSERT_EQ(rmse.size(), 4u);
+  EXPECT_LT(rmse.back(), 0.5 * rmse.front());
+}
+
+TEST(FlowPretrainTest, TotalVariationSmoothsUntouchedTexels) {
+  // Samples only in the lower half of the box: without TV the upper texels
+  // keep their initial noise; with TV they follow their neighbours.
+  std::vector<SceneFlowSample> samples = SamplesOf(1000, 4);
+  for (SceneFlowSample& s : samples) s.x.z() = -std::abs(s.x.z());
+  FlowPretrainOptions options;
+  options.iterations = 300;
+  options.batch_size = 500;
+  double tv[2];
+  for (int with_tv = 0; with_tv < 2; ++with_tv) {
+    MotionField field = SmallField(8, 4, 16);
+    options.tv_weight = with_tv ? 1.0 : 0.0;
+    PretrainMotionField(samples, options, &field);
+    tv[with_tv] = field.triplane().TotalVariation(
+        field.triplane_params().data(), 1.0, nullptr);
+  }
+  EXPECT_LT(tv[1], 0.5 * tv[0]);
+}
+
+TEST(MotionGtTest, EndpointErrorOfFittedAndZeroFields) {
+  std::vector<Eigen::Vector3d> points;
+  for (const SceneFlowSample& s : SamplesOf(400, 6)) points.push_back(s.x);
+  MotionField field = SmallField(8, 4, 16);
+  std::fill(field.mlp_params().begin(), field.mlp_params().end(), 0.0);
+  // V = 0: the error is the true speed itself.
+  MotionGtMetrics zero = EvaluateMotionGt(field, points, TrueVelocity);
+  EXPECT_EQ(zero.num_points, 400);
+  EXPECT_GT(zero.mean_speed, 0.0);
+  EXPECT_NEAR(zero.epe, zero.mean_speed, 1e-12);
+  EXPECT_NEAR(zero.rel_epe, 1.0, 1e-12);
+
+  FlowPretrainOptions options;
+  options.iterations = 300;
+  options.batch_size = 500;
+  field.Initialize(1);
+  PretrainMotionField(SamplesOf(2000, 7), options, &field);
+  const MotionGtMetrics fitted = EvaluateMotionGt(field, points, TrueVelocity);
+  EXPECT_LT(fitted.rel_epe, 0.1);
+  // A constant offset of the truth is measured exactly.
+  const MotionGtMetrics shifted =
+      EvaluateMotionGt(field, points,
+                       [](const Eigen::Vector3d& x) -> Eigen::Vector3d {
+                         return TrueVelocity(x) + Eigen::Vector3d(0.3, 0, 0);
+                       });
+  EXPECT_NEAR(shifted.epe, 0.3, 0.02);
+}
+
+TEST(FlowPretrainTest, RejectsEmptySamplesAndOversizedLm) {
+  MotionField field = SmallField(8, 4, 16);
+  EXPECT_THROW(PretrainMotionField({}, FlowPretrainOptions(), &field),
+               InputError);
+  FlowPretrainOptions options;
+  options.solver = PretrainSolver::kLm;
+  options.lm_max_jacobian_values = 1000;
+  EXPECT_THROW(PretrainMotionField(SamplesOf(10, 1), options, &field),
+               InputError);
+}
+
+TEST(FlowPretrainTest, ParsesSolverNames) {
+  for (PretrainSolver s :
+       {PretrainSolver::kAdam, PretrainSolver::kLbfgs, PretrainSolver::kLm}) {
+    EXPECT_EQ(ParsePretrainSolver(PretrainSolverName(s)), s);
+  }
+  EXPECT_THROW(ParsePretrainSolver("sgd"), InputError);
+}
+
+}  // namespace
+}  // namespace es

@@ -1,0 +1,231 @@
+#include "core/frame_composer.h"
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "core/looping.h"
+
+namespace es {
+namespace {
+
+constexpr int kCycle = 4;
+
+// Small fields whose outputs are far from zero, so every path matters.
+MotionFieldOptions TinyMotion() {
+  MotionFieldOptions o;
+  o.triplane.resolution = 8;
+  o.triplane.channels = 4;
+  o.mlp_width = 16;
+  o.velocity_scale = 0.05;
+  o.last_layer_init_scale = 1.0;
+  o.seed = 5;
+  return o;
+}
+
+ResidualFieldOptions TinyResidual() {
+  ResidualFieldOptions o;
+  o.triplane.resolution = 8;
+  o.triplane.channels = 4;
+  o.cycle_length = kCycle;
+  o.mlp_width = 16;
+  o.last_layer_init_scale = 1.0;
+  o.seed = 7;
+  return o;
+}
+
+LoopModel TinyModel(int sh_degree) {
+  LoopModel m;
+  m.cycle_length = kCycle;
+  GaussianSet& g = m.gaussians;
+  g.sh_degree = sh_degree;
+  g.Resize(7);
+  std::mt19937 rng(1);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (double& v : g.means) v = 0.8 * u(rng);
+  for (double& v : g.log_scales) v = -2 + 0.2 * u(rng);
+  for (double& v : g.opacity_logits) v = u(rng);
+  for (double& v : g.sh) v = 0.5 * u(rng);
+  m.dynamic_index = {1, 2, 4, 6};
+  m.start_times = {0, 3, 1, 2};
+  m.motion.emplace(TinyMotion());
+  m.motion->SetBox(Eigen::Vector3d::Constant(-1), Eigen::Vector3d::Constant(1));
+  m.residual.emplace(TinyResidual());
+  m.residual->SetBox(Eigen::Vector3d::Constant(-1),
+                     Eigen::Vector3d::Constant(1));
+  return m;
+}
+
+// Naive twin of Alg. 1 for one point (steps well below the clamp).
+Eigen::Vector3d NaiveAdvect(const MotionField& field, Eigen::Vector3d x,
+                            int steps) {
+  FieldWorkspace ws;
+  for (int s = 0; s < steps; ++s) {
+    double v[3];
+    field.Evaluate(field.params(), 1, x.data(), v, &ws);
+    x += Eigen::Vector3d(v);
+  }
+  return x;
+}
+
+TEST(FrameComposerTest, ComposesAdvectedPositionsAndResidualOffsets) {
+  for (int degree : {0, 3}) {
+    const LoopModel m = TinyModel(degree);
+    const int coeffs = NumShCoeffs(degree);
+    const int offset_coeffs = std::min(coeffs, 16);
+    FrameComposer composer;
+    const int frame = 6;
+    const SplatView& v = composer.Compose(LoopSplatView::Of(m), frame);
+    const GaussianSet& g = m.gaussians;
+    EXPECT_EQ(v.log_scales, g.log_scales.data());
+    EXPECT_EQ(v.quats, g.quats.data());
+    std::vector<bool> dynamic(g.size(), false);
+    for (int n : m.dynamic_index) dynamic[n] = true;
+    for (int n = 0; n < g.size(); ++n) {
+      if (dynamic[n]) continue;
+      for (int j = 0; j < 3; ++j) EXPECT_EQ(v.means[3 * n + j], g.means[3 * n + j]);
+      EXPECT_EQ(v.opacity_logits[n], g.opacity_logits[n]);
+      for (int i = 0; i < 3 * coeffs; ++i)
+        EXPECT_EQ(v.sh[3 * coeffs * n + i], g.sh[3 * coeffs * n + i]);
+    }
+    ASSERT_EQ(composer.residuals().size(), 4u * kResidualDim);
+    for (int k = 0; k < m.num_dynamic(); ++k) {
+      const int n = m.dynamic_index[k];
+      const int t = CycleIndex(frame, m.start_times[k], kCycle);
+      const int p = CycleNumber(frame, m.start_times[k], kCycle);
+      EXPECT_EQ(composer.cycle_indices()[k], t);
+      EXPECT_EQ(composer.cycle_numbers()[k], p);
+      double d[kResidualDim];
+      FieldWorkspace ws;
+      m.residual->Evaluate(m.residual->params(), 1, &g.means[3 * n], &t, &p,
+                           d, &ws);
+      const Eigen::Vector3d x =
+          NaiveAdvect(*m.motion, Eigen::Vector3d(&g.means[3 * n]), t);
+      for (int j = 0; j < 3; ++j)
+        EXPECT_NEAR(v.means[3 * n + j], x[j] + d[j], 1e-12);
+      EXPECT_NEAR(v.opacity_logits[n], g.opacity_logits[n] + d[3], 1e-12);
+      for (int i = 0; i < 3 * coeffs; ++i) {
+        const double offset = i < 3 * offset_coeffs ? d[4 + i] : 0.0;
+        EXPECT_NEAR(v.sh[3 * coeffs * n + i], g.sh[3 * coeffs * n + i] + offset,
+                    1e-12);
+      }
+    }
+  }
+}
+
+TEST(FrameComposerTest, WithoutFieldsTheModelIsRenderedAsIs) {
+  LoopModel m = TinyModel(1);
+  m.motion.reset();
+  m.residual.reset();
+  FrameComposer composer;
+  const SplatView& v = composer.Compose(LoopSplatView::Of(m), 9);
+  for (size_t i = 0; i < m.gaussians.means.size(); ++i)
+    EXPECT_EQ(v.means[i], m.gaussians.means[i]);
+  EXPECT_EQ(v.opacity_logits, m.gaussians.opacity_logits.data());
+  EXPECT_EQ(v.sh, m.gaussians.sh.data());
+  EXPECT_TRUE(composer.residuals().empty());
+}
+
+// Alg. 2 positions (LoopAnimator, p = 0) give the same splats as Alg. 1 at
+// a frame where every Gaussian is in its first cycle.
+TEST(FrameComposerTest, AdvectedEntryMatchesComposeInTheFirstCycle) {
+  const LoopModel m = TinyModel(2);
+  const LoopSplatView view = LoopSplatView::Of(m);
+  std::vector<double> x0;
+  for (int n : m.dynamic_index)
+    for (int j = 0; j < 3; ++j) x0.push_back(m.gaussians.means[3 * n + j]);
+  LoopAnimator animator(&*m.motion, EulerOptions(), kCycle);
+  animator.Start(m.motion->params(), m.num_dynamic(), x0.data(),
+                 m.start_times, kCycle - 1);
+  FrameComposer a, b;
+  const SplatView& va = a.Compose(view, kCycle - 1);
+  const SplatView& vb = b.ComposeAdvected(view, animator.positions().data(),
+                                          animator.cycle_indices().data(), 0);
+  const int n = m.gaussians.size();
+  for (int i = 0; i < 3 * n; ++i) EXPECT_NEAR(va.means[i], vb.means[i], 1e-12);
+  for (int i = 0; i < n; ++i)
+    EXPECT_NEAR(va.opacity_logits[i], vb.opacity_logits[i], 1e-12);
+  for (size_t i = 0; i < m.gaussians.sh.size(); ++i)
+    EXPECT_NEAR(va.sh[i], vb.sh[i], 1e-12);
+}
+
+// A fixed random linear functional of the composed arrays, as a loss.
+struct LinearLoss {
+  std::vector<double> w_means, w_opacity, w_sh;
+  double Value(const SplatView& v) const {
+    double l = 0;
+    for (size_t i = 0; i < w_means.size(); ++i) l += w_means[i] * v.means[i];
+    for (size_t i = 0; i < w_opacity.size(); ++i)
+      l += w_opacity[i] * v.opacity_logits[i];
+    for (size_t i = 0; i < w_sh.size(); ++i) l += w_sh[i] * v.sh[i];
+    return l;
+  }
+};
+
+TEST(FrameComposerTest, BackwardMatchesCentralDifferences) {
+  LoopModel m = TinyModel(1);
+  const int n = m.gaussians.size();
+  const int frame = 9;  // cycle numbers 2, 1, 2, 1
+  std::mt19937 rng(4);
+  std::uniform_real_distribution<double> u(-1, 1);
+  LinearLoss loss;
+  loss.w_means.resize(3 * n);
+  loss.w_opacity.resize(n);
+  loss.w_sh.resize(m.gaussians.sh.size());
+  for (auto* w : {&loss.w_means, &loss.w_opacity, &loss.w_sh})
+    for (double& x : *w) x = u(rng);
+
+  FrameComposer composer;
+  const SplatView& v = composer.Compose(LoopSplatView::Of(m), frame);
+  SplatGradients grads;
+  grads.Resize(n, 1, 0);
+  grads.means = loss.w_means;
+  grads.opacity_logits = loss.w_opacity;
+  grads.sh = loss.w_sh;
+  (void)v;
+  std::vector<double> d_means(3 * n, 0.0), d_opacity(n, 0.0),
+      d_sh(m.gaussians.sh.size(), 0.0),
+      d_vt(m.motion->triplane_params().size(), 0.0),
+      d_vm(m.motion->mlp_params().size(), 0.0),
+      d_dt(m.residual->triplane_params().size(), 0.0),
+      d_dm(m.residual->mlp_params().size(), 0.0);
+  LoopSplatGradients out;
+  out.means = d_means.data();
+  out.opacity_logits = d_opacity.data();
+  out.sh = d_sh.data();
+  out.motion = {d_vt.data(), d_vm.data()};
+  out.residual = {d_dt.data(), d_dm.data()};
+  composer.Backward(LoopSplatView::Of(m), grads, nullptr, out);
+
+  auto check = [&](std::vector<double>* params,
+                   const std::vector<double>& analytic, const char* name) {
+    double max_abs = 0;
+    for (double g : analytic) max_abs = std::max(max_abs, std::abs(g));
+    ASSERT_GT(max_abs, 0.0) << name;
+    for (size_t i = 0; i < params->size(); ++i) {
+      const double saved = (*params)[i];
+      const double h = 1e-6;
+      FrameComposer c;
+      (*params)[i] = saved + h;
+      const double plus = loss.Value(c.Compose(LoopSplatView::Of(m), frame));
+      (*params)[i] = saved - h;
+      const double minus = loss.Value(c.Compose(LoopSplatView::Of(m), frame));
+      (*params)[i] = saved;
+      const double numeric = (plus - minus) / (2 * h);
+      EXPECT_NEAR(analytic[i], numeric, 1e-6 * max_abs + 1e-8)
+          << name << "[" << i << "]";
+    }
+  };
+  check(&m.gaussians.means, d_means, "means");
+  check(&m.gaussians.opacity_logits, d_opacity, "opacity");
+  check(&m.gaussians.sh, d_sh, "sh");
+  check(&m.motion->mlp_params(), d_vm, "V mlp");
+  check(&m.motion->triplane_params(), d_vt, "V triplane");
+  check(&m.residual->mlp_params(), d_dm, "D mlp");
+  check(&m.residual->triplane_params(), d_dt, "D triplane");
+}
+
+}  // namespace
+}  // namespace es

@@ -1,0 +1,235 @@
+#include "solvers/joint_trainer.h"
+
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "core/input_error.h"
+#include "solvers/joint_checkpoint.h"
+
+namespace es {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr int kCycle = 4;
+constexpr int kFrames = 12;
+constexpr int kWidth = 32, kHeight = 24;
+constexpr int kNumStatic = 6, kNumDynamic = 4;
+// The true motion: every dynamic Gaussian moves this much per frame and
+// jumps back to its canonical position every kCycle frames.
+const Eigen::Vector3d kVelocity(0.06, 0.02, 0.0);
+
+Camera TinyCamera(int i) {
+  Camera c;
+  c.width = kWidth;
+  c.height = kHeight;
+  c.fx = c.fy = 30;
+  c.cx = kWidth / 2.0;
+  c.cy = kHeight / 2.0;
+  c.t_cw = {0.02 * std::sin(i), 0.01 * std::cos(i), 0.0};
+  return c;
+}
+
+// Static Gaussians on a back plane, dynamic ones in front of it.
+GaussianSet TrueCanonical() {
+  GaussianSet g;
+  g.sh_degree = 0;
+  g.Resize(kNumStatic + kNumDynamic);
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int i = 0; i < g.size(); ++i) {
+    const bool dynamic = i >= kNumStatic;
+    g.means[3 * i] = (dynamic ? 0.25 : 0.5) * u(rng) - (dynamic ? 0.1 : 0.0);
+    g.means[3 * i + 1] = (dynamic ? 0.2 : 0.4) * u(rng);
+    g.means[3 * i + 2] = dynamic ? 2.0 + 0.1 * (i - kNumStatic) : 3.0;
+    for (int a = 0; a < 3; ++a)
+      g.log_scales[3 * i + a] = std::log(dynamic ? 0.06 : 0.2);
+    g.opacity_logits[i] = dynamic ? 1.0 : 2.0;
+    for (int c = 0; c < 3; ++c) g.sh[3 * i + c] = 1.2 * u(rng);
+    g.dynamic_logits[i] = dynamic ? 3.0 : -3.0;
+  }
+  return g;
+}
+
+// Frames rendered from the true looping motion (all loops start at 0).
+std::vector<Frame> TrueFrames() {
+  const GaussianSet canonical = TrueCanonical();
+  Rasterizer rasterizer;
+  RenderResult render;
+  std::vector<Frame> frames(kFrames);
+  for (int i = 0; i < kFrames; ++i) {
+    GaussianSet g = canonical;
+    for (int n = kNumStatic; n < g.size(); ++n)
+      for (int j = 0; j < 3; ++j)
+        g.means[3 * n + j] += kVelocity[j] * (i % kCycle);
+    frames[i].camera = TinyCamera(i);
+    rasterizer.Forward(frames[i].camera, SplatView::Of(g), RenderOptions(),
+                       &render);
+    cv::Mat(kHeight, kWidth, CV_64FC3, render.rgb.data())
+        .convertTo(frames[i].image, CV_32FC3);
+  }
+  return frames;
+}
+
+JointTrainerOptions TinyOptions() {
+  JointTrainerOptions o;
+  o.iterations = 200;
+  o.cycle_length = kCycle;
+  o.random_start = false;
+  o.mask_weight = 0;
+  o.motion.triplane.resolution = 8;
+  o.motion.triplane.channels = 4;
+  o.motion.mlp_width = 16;
+  o.motion.velocity_scale = 0.05;
+  o.residual.triplane.resolution = 8;
+  o.residual.triplane.channels = 4;
+  o.residual.mlp_width = 16;
+  o.lr_motion_triplane = 1e-2;
+  o.lr_motion_mlp = 1e-2;
+  return o;
+}
+
+const std::vector<int> kTrain = {0, 1, 2, 4, 5, 7, 8, 9, 10};
+const std::vector<int> kTest = {3, 6, 11};
+
+TEST(JointTrainerTest, LearnsALoopingTranslation) {
+  const std::vector<Frame> frames = TrueFrames();
+  const JointTrainerOptions options = TinyOptions();
+  JointTrainer trainer(&frames, kTrain, options, TrueCanonical(),
+                       std::nullopt);
+  EXPECT_EQ(trainer.model().dynamic_index,
+            (std::vector<int>{6, 7, 8, 9}));
+  const LoopMetrics before = EvaluateLoopModel(
+      trainer.model(), frames, kTest, trainer.render_options());
+  auto mean_loss = [&trainer](int steps) {
+    double sum = 0;
+    for (int s = 0; s < steps; ++s) sum += trainer.Step().loss;
+    return sum / steps;
+  };
+  const double first = mean_loss(18);
+  mean_loss(options.iterations - 36);
+  const double last = mean_loss(18);
+  EXPECT_LT(last, 0.5 * first) << "first " << first << " last " << last;
+  const LoopMetrics after = EvaluateLoopModel(
+      trainer.model(), frames, kTest, trainer.render_options());
+  EXPECT_EQ(after.frames, 3);
+  EXPECT_TRUE(std::isfinite(after.psnr) && std::isfinite(after.ssim));
+  EXPECT_GT(after.psnr, before.psnr + 10) << "before " << before.psnr;
+  // V recovers the true velocity at the dynamic Gaussians.
+  const LoopModel& m = trainer.model();
+  std::vector<double> x0, v(3 * kNumDynamic);
+  for (int n : m.dynamic_index)
+    for (int j = 0; j < 3; ++j) x0.push_back(m.gaussians.means[3 * n + j]);
+  FieldWorkspace ws;
+  m.motion->Evaluate(m.motion->params(), kNumDynamic, x0.data(), v.data(),
+                     &ws);
+  Eigen::Vector3d mean_v = Eigen::Vector3d::Zero();
+  for (int k = 0; k < kNumDynamic; ++k) mean_v += Eigen::Vector3d(&v[3 * k]);
+  mean_v /= kNumDynamic;
+  EXPECT_LT((mean_v - kVelocity).norm(), 0.2 * kVelocity.norm())
+      << mean_v.transpose();
+}
+
+void ExpectSameModel(const LoopModel& a, const LoopModel& b) {
+  EXPECT_EQ(a.dynamic_index, b.dynamic_index);
+  EXPECT_EQ(a.start_times, b.start_times);
+  EXPECT_EQ(a.gaussians.means, b.gaussians.means);
+  EXPECT_EQ(a.gaussians.opacity_logits, b.gaussians.opacity_logits);
+  EXPECT_EQ(a.gaussians.sh, b.gaussians.sh);
+  const FieldParams pa = a.motion->params(), pb = b.motion->params();
+  for (int i = 0; i < a.motion->mlp().num_params(); ++i)
+    ASSERT_EQ(pa.mlp[i], pb.mlp[i]) << i;
+  const FieldParams ra = a.residual->params(), rb = b.residual->params();
+  for (int i = 0; i < a.residual->triplane().num_params(); ++i)
+    ASSERT_EQ(ra.triplane[i], rb.triplane[i]) << i;
+}
+
+TEST(JointTrainerTest, ResumeGivesTheUninterruptedResult) {
+  const std::vector<Frame> frames = TrueFrames();
+  JointTrainerOptions options = TinyOptions();
+  options.random_start = true;
+  options.iterations = 30;
+  JointTrainer straight(&frames, kTrain, options, TrueCanonical(),
+                        std::nullopt);
+  for (int i = 0; i < 30; ++i) straight.Step();
+
+  const std::string path =
+      (fs::path(::testing::TempDir()) /
+       ("es_joint_ckpt_" + std::to_string(getpid()) + ".bin"))
+          .string();
+  {
+    JointTrainer first(&frames, kTrain, options, TrueCanonical(),
+                       std::nullopt);
+    for (int i = 0; i < 13; ++i) first.Step();
+    WriteJointCheckpoint(first.Save(), path);
+  }
+  JointTrainer resumed(&frames, kTrain, options, TrueCanonical(),
+                       std::nullopt);
+  resumed.Restore(ReadJointCheckpoint(path), path);
+  EXPECT_EQ(resumed.iteration(), 13);
+  while (resumed.iteration() < 30) resumed.Step();
+  fs::remove(path);
+  ExpectSameModel(straight.model(), resumed.model());
+}
+
+TEST(JointTrainerTest, RefreshKeepsStartTimesOfGaussiansThatStay) {
+  const std::vector<Frame> frames = TrueFrames();
+  JointTrainerOptions options = TinyOptions();
+  options.random_start = true;
+  options.refresh_interval = 10;
+  JointTrainer trainer(&frames, kTrain, options, TrueCanonical(),
+                       std::nullopt);
+  const std::vector<int> times = trainer.model().start_times;
+  for (int t : times) EXPECT_TRUE(t >= 0 && t < kCycle);
+  JointCheckpoint c = trainer.Save();
+  c.iteration = 10;  // the next Step refreshes
+  c.gaussians.dynamic_logits[6] = -4;  // leaves the water
+  c.gaussians.dynamic_logits[2] = 4;   // joins it
+  trainer.Restore(c, "test");
+  trainer.Step();
+  const LoopModel& m = trainer.model();
+  ASSERT_EQ(m.dynamic_index, (std::vector<int>{2, 7, 8, 9}));
+  EXPECT_EQ(m.start_times[1], times[1]);
+  EXPECT_EQ(m.start_times[2], times[2]);
+  EXPECT_EQ(m.start_times[3], times[3]);
+  EXPECT_TRUE(m.start_times[0] >= 0 && m.start_times[0] < kCycle);
+}
+
+TEST(JointTrainerTest, AblationsTrainAndStayFinite) {
+  const std::vector<Frame> frames = TrueFrames();
+  for (int variant = 0; variant < 3; ++variant) {
+    JointTrainerOptions options = TinyOptions();
+    options.use_motion = variant != 0;
+    options.use_residual = variant != 1;
+    if (variant == 2) options.use_motion = options.use_residual = false;
+    JointTrainer trainer(&frames, kTrain, options, TrueCanonical(),
+                         std::nullopt);
+    EXPECT_EQ(trainer.model().motion.has_value(), options.use_motion);
+    EXPECT_EQ(trainer.model().residual.has_value(), options.use_residual);
+    for (int i = 0; i < 5; ++i)
+      EXPECT_TRUE(std::isfinite(trainer.Step().loss)) << variant;
+    const LoopMetrics m = EvaluateLoopModel(trainer.model(), frames, kTest,
+                                            trainer.render_options());
+    EXPECT_TRUE(std::isfinite(m.psnr)) << variant;
+  }
+}
+
+TEST(JointTrainerTest, MismatchedCheckpointIsAnInputError) {
+  const std::vector<Frame> frames = TrueFrames();
+  JointTrainerOptions options = TinyOptions();
+  JointTrainer full(&frames, kTrain, options, TrueCanonical(), std::nullopt);
+  options.use_residual = false;
+  JointTrainer no_residual(&frames, kTrain, options, TrueCanonical(),
+                           std::nullopt);
+  EXPECT_THROW(no_residual.Restore(full.Save(), "ckpt"), InputError);
+}
+
+}  // namespace
+}  // namespace es

@@ -1,0 +1,218 @@
+// The fast tiled rasterizer against the slow per-pixel reference twin
+// (tests/reference_rasterizer.h): forward images, and backward gradients
+// against the reference differentiated exactly with ceres::Jet.
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <ceres/jet.h>
+#include <gtest/gtest.h>
+
+#include "core/rasterizer.h"
+#include "tests/reference_rasterizer.h"
+
+namespace es {
+namespace {
+
+using reference::RandomScene;
+using reference::TestScene;
+
+const Eigen::Vector3d kBackground(0.3, 0.6, 0.1);
+
+RenderOptions Options(bool use_double) {
+  RenderOptions o;
+  o.use_double = use_double;
+  o.background = kBackground;
+  return o;
+}
+
+// Largest |a - b| over two arrays, and how many entries differ by more
+// than `tol`.
+int CountMismatches(const std::vector<double>& fast,
+                    const std::vector<double>& ref, double tol,
+                    double* max_diff) {
+  EXPECT_EQ(fast.size(), ref.size());
+  int bad = 0;
+  for (size_t i = 0; i < std::min(fast.size(), ref.size()); ++i) {
+    const double d = std::abs(fast[i] - ref[i]);
+    *max_diff = std::max(*max_diff, d);
+    if (d > tol) ++bad;
+  }
+  return bad;
+}
+
+// A scene with a stack of opaque Gaussians at the center, so transmittance
+// runs out, plus the usual random mix.
+TestScene StackedScene(unsigned seed, int degree) {
+  TestScene s = RandomScene(seed, 14, degree, 1);
+  const Eigen::Vector3d dir = s.camera.Unproject(20, 22, 1.0);
+  for (int k = 0; k < 8; ++k) {
+    s.Add(dir * (3 + 0.5 * k), Eigen::Vector3d(0.3, 0.2, 0.25),
+          Eigen::Vector4d(1, 0.1 * k, 0, 0), 2.5 + 0.3 * k);
+    const int n = s.count - 1, kc = NumShCoeffs(degree);
+    for (int c = 0; c < 3; ++c) s.sh[n * kc * 3 + c] = 0.5 * (c - k % 3);
+  }
+  return s;
+}
+
+class ReferenceForwardTest : public ::testing::TestWithParam<int> {};
+
+TEST_P(ReferenceForwardTest, DoubleMatchesReference) {
+  const int degree = GetParam();
+  for (unsigned seed = 0; seed < 3; ++seed) {
+    const TestScene s = seed == 2 ? StackedScene(seed, degree)
+                                  : RandomScene(seed + 10 * degree, 20,
+                                                degree, 2);
+    Rasterizer r;
+    RenderResult fast;
+    r.Forward(s.camera, s.View(), Options(true), &fast);
+    const auto ref =
+        reference::Render(s.camera, s.As<double>(), kBackground);
+    double max_diff = 0;
+    EXPECT_EQ(CountMismatches(fast.rgb, ref.rgb, 1e-10, &max_diff), 0);
+    EXPECT_EQ(CountMismatches(fast.alpha, ref.alpha, 1e-10, &max_diff), 0);
+    EXPECT_EQ(CountMismatches(fast.depth, ref.depth, 1e-9, &max_diff), 0);
+    EXPECT_EQ(CountMismatches(fast.extra, ref.extra, 1e-10, &max_diff), 0);
+    double peak = 0;
+    for (double a : ref.alpha) peak = std::max(peak, a);
+    EXPECT_GT(peak, 0.5) << "scene should show something";
+  }
+}
+
+TEST_P(ReferenceForwardTest, FloatMatchesReference) {
+  const int degree = GetParam();
+  for (unsigned seed = 0; seed < 3; ++seed) {
+    const TestScene s = seed == 2 ? StackedScene(seed, degree)
+                                  : RandomScene(seed + 10 * degree, 20,
+                                                degree, 2);
+    Rasterizer r;
+    RenderResult fast;
+    r.Forward(s.camera, s.View(), Options(false), &fast);
+    const auto ref =
+        reference::Render(s.camera, s.As<double>(), kBackground);
+    // Float may flip a decision exactly at a cut-off (alpha = 1/255,
+    // T = 1e-4) in a rare pixel; everywhere else it agrees to float
+    // rounding.
+    double max_diff = 0;
+    const int pixels = s.camera.width * s.camera.height;
+    EXPECT_LE(CountMismatches(fast.rgb, ref.rgb, 1e-5, &max_diff),
+              3 * pixels / 200);
+    EXPECT_LE(CountMismatches(fast.alpha, ref.alpha, 1e-5, &max_diff),
+              pixels / 200);
+    EXPECT_LT(max_diff, 0.05);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(ShDegrees, ReferenceForwardTest,
+                         ::testing::Values(0, 1, 2, 3));
+
+// Exact gradients of loss = sum weights * outputs of the reference, one
+// Gaussian at a time (its parameters are the Jet's infinitesimal parts).
+constexpr int kJetSize = 64;
+using Jet = ceres::Jet<double, kJetSize>;
+
+struct Weights {
+  std::vector<double> rgb, alpha, depth, extra;
+};
+
+Weights RandomWeights(const TestScene& s, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> uni(-1, 1);
+  const int pixels = s.camera.width * s.camera.height;
+  Weights w;
+  for (int i = 0; i < 3 * pixels; ++i) w.rgb.push_back(uni(rng));
+  for (int i = 0; i < pixels; ++i) w.alpha.push_back(uni(rng));
+  for (int i = 0; i < pixels; ++i) w.depth.push_back(0.2 * uni(rng));
+  for (int i = 0; i < pixels * s.num_extra; ++i) w.extra.push_back(uni(rng));
+  return w;
+}
+
+SplatGradients ReferenceGradients(const TestScene& s, const Weights& w) {
+  SplatGradients g;
+  g.Resize(s.count, s.sh_degree, s.num_extra);
+  const int sh_size = 3 * NumShCoeffs(s.sh_degree);
+  EXPECT_LE(11 + sh_size + s.num_extra, kJetSize);
+  for (int n = 0; n < s.count; ++n) {
+    reference::Splats<Jet> js = s.As<Jet>();
+    // Slots: means 0-2, log-scales 3-5, quats 6-9, opacity 10, SH, extras.
+    for (int i = 0; i < 3; ++i) js.means[3 * n + i].v[i] = 1;
+    for (int i = 0; i < 3; ++i) js.log_scales[3 * n + i].v[3 + i] = 1;
+    for (int i = 0; i < 4; ++i) js.quats[4 * n + i].v[6 + i] = 1;
+    js.opacity_logits[n].v[10] = 1;
+    for (int i = 0; i < sh_size; ++i) js.sh[sh_size * n + i].v[11 + i] = 1;
+    for (int e = 0; e < s.num_extra; ++e) {
+      js.extra[s.num_extra * n + e].v[11 + sh_size + e] = 1;
+    }
+    const auto img = reference::Render(s.camera, js, kBackground);
+    Jet loss(0);
+    for (size_t i = 0; i < w.rgb.size(); ++i) loss += w.rgb[i] * img.rgb[i];
+    for (size_t i = 0; i < w.alpha.size(); ++i) {
+      loss += w.alpha[i] * img.alpha[i];
+      loss += w.depth[i] * img.depth[i];
+    }
+    for (size_t i = 0; i < w.extra.size(); ++i) {
+      loss += w.extra[i] * img.extra[i];
+    }
+    for (int i = 0; i < 3; ++i) g.means[3 * n + i] = loss.v[i];
+    for (int i = 0; i < 3; ++i) g.log_scales[3 * n + i] = loss.v[3 + i];
+    for (int i = 0; i < 4; ++i) g.quats[4 * n + i] = loss.v[6 + i];
+    g.opacity_logits[n] = loss.v[10];
+    for (int i = 0; i < sh_size; ++i) g.sh[sh_size * n + i] = loss.v[11 + i];
+    for (int e = 0; e < s.num_extra; ++e) {
+      g.extra[s.num_extra * n + e] = loss.v[11 + sh_size + e];
+    }
+  }
+  return g;
+}
+
+// Entries of `fast` within rel_tol of `ref`, relative to the largest
+// reference entry of that parameter type.
+void ExpectGradientsClose(const std::vector<double>& fast,
+                          const std::vector<double>& ref, double rel_tol,
+                          const std::string& name) {
+  ASSERT_EQ(fast.size(), ref.size()) << name;
+  double scale = 0;
+  for (double v : ref) scale = std::max(scale, std::abs(v));
+  for (size_t i = 0; i < ref.size(); ++i) {
+    EXPECT_NEAR(fast[i], ref[i], rel_tol * scale) << name << "[" << i << "]";
+  }
+}
+
+class ReferenceBackwardTest : public ::testing::TestWithParam<int> {};
+
+TEST_P(ReferenceBackwardTest, MatchesReferenceJetGradients) {
+  const int degree = GetParam();
+  const TestScene s = degree == 2 ? StackedScene(4, degree)
+                                  : RandomScene(40 + degree, 10, degree, 1,
+                                                32, 24);
+  const Weights w = RandomWeights(s, 9);
+  const SplatGradients ref = ReferenceGradients(s, w);
+  for (bool use_double : {true, false}) {
+    SCOPED_TRACE(use_double ? "double" : "float");
+    Rasterizer r;
+    RenderResult out;
+    r.Forward(s.camera, s.View(), Options(use_double), &out);
+    SplatGradients g;
+    r.Backward({w.rgb.data(), w.alpha.data(), w.depth.data(),
+                w.extra.data()},
+               &g);
+    // Float: per-pixel float rounding, and T recovered by division.
+    const double tol = use_double ? 1e-9 : 2e-3;
+    ExpectGradientsClose(g.means, ref.means, tol, "means");
+    ExpectGradientsClose(g.log_scales, ref.log_scales, tol, "log_scales");
+    ExpectGradientsClose(g.quats, ref.quats, tol, "quats");
+    ExpectGradientsClose(g.opacity_logits, ref.opacity_logits, tol,
+                         "opacity_logits");
+    ExpectGradientsClose(g.sh, ref.sh, tol, "sh");
+    ExpectGradientsClose(g.extra, ref.extra, tol, "extra");
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(ShDegrees, ReferenceBackwardTest,
+                         ::testing::Values(0, 1, 2, 3));
+
+}  // namespace
+}  // namespace es

@@ -1,0 +1,223 @@
+#include "solvers/static_trainer.h"
+
+#include <gtest/gtest.h>
+#include <omp.h>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <opencv2/imgproc.hpp>
+#include <random>
+#include <set>
+
+#include "core/input_error.h"
+#include "core/knn_init.h"
+#include "solvers/checkpoint.h"
+#include "solvers/frame_sampler.h"
+#include "solvers/static_eval.h"
+
+namespace es {
+namespace {
+
+constexpr int kWidth = 64, kHeight = 48;
+
+Camera LookAt(const Eigen::Vector3d& center) {
+  Camera c;
+  c.width = kWidth;
+  c.height = kHeight;
+  c.fx = c.fy = 60;
+  c.cx = 32;
+  c.cy = 24;
+  const Eigen::Vector3d z = (-center).normalized();
+  const Eigen::Vector3d x = Eigen::Vector3d(0, 1, 0).cross(z).normalized();
+  const Eigen::Vector3d y = z.cross(x);
+  Eigen::Matrix3d r;
+  r.row(0) = x;
+  r.row(1) = y;
+  r.row(2) = z;
+  c.q_cw = Eigen::Quaterniond(r);
+  c.t_cw = -r * center;
+  return c;
+}
+
+// A slab of ~300 opaque Gaussians seen from 10 cameras on an arc; the
+// Gaussians with x > 0 are "water" and render the mask.
+struct SyntheticScene {
+  GaussianSet truth;
+  std::vector<Frame> frames;
+  std::vector<int> train, test;
+  std::vector<Eigen::Vector3d> points, colors;
+
+  SyntheticScene() {
+    std::mt19937 rng(1);
+    std::uniform_real_distribution<double> u(-1, 1);
+    std::normal_distribution<double> noise(0, 1);
+    truth.Resize(300);
+    for (int i = 0; i < 300; ++i) {
+      truth.means[3 * i] = 1.2 * u(rng);
+      truth.means[3 * i + 1] = 0.9 * u(rng);
+      truth.means[3 * i + 2] = 0.2 * u(rng);
+      for (int a = 0; a < 3; ++a)
+        truth.log_scales[3 * i + a] = std::log(0.12) + 0.3 * u(rng);
+      for (int a = 0; a < 4; ++a)
+        truth.quats[4 * i + a] = (a == 0) + 0.5 * u(rng);
+      truth.opacity_logits[i] = Logit(0.8);
+      Eigen::Vector3d color;
+      for (int c = 0; c < 3; ++c) {
+        color[c] = 0.5 + 0.4 * u(rng);
+        truth.sh[3 * i + c] = (color[c] - 0.5) / kShC0;
+      }
+      points.emplace_back(
+          Eigen::Vector3d::Map(&truth.means[3 * i]) +
+          0.03 * Eigen::Vector3d(noise(rng), noise(rng), noise(rng)));
+      colors.push_back(color);
+    }
+    std::vector<double> water(300);
+    for (int i = 0; i < 300; ++i) water[i] = truth.means[3 * i] > 0;
+    SplatView view = SplatView::Of(truth);
+    view.num_extra = 1;
+    view.extra = water.data();
+    Rasterizer rasterizer;
+    RenderResult render;
+    for (int k = 0; k < 10; ++k) {
+      const double angle = -0.5 + k * 0.11;
+      Frame f;
+      f.camera = LookAt(4.0 * Eigen::Vector3d(std::sin(angle), 0.15 * u(rng),
+                                              -std::cos(angle)));
+      rasterizer.Forward(f.camera, view, RenderOptions(), &render);
+      cv::Mat(kHeight, kWidth, CV_64FC3, render.rgb.data())
+          .convertTo(f.image, CV_32F);
+      cv::Mat(kHeight, kWidth, CV_64FC1, render.extra.data())
+          .convertTo(f.mask, CV_32F);
+      cv::threshold(f.mask, f.mask, 0.5, 1.0, cv::THRESH_BINARY);
+      frames.push_back(f);
+      (k == 3 || k == 7 ? test : train).push_back(k);
+    }
+  }
+};
+
+StaticTrainerOptions FastOptions(int iterations) {
+  StaticTrainerOptions o;
+  o.iterations = iterations;
+  o.max_sh_degree = 1;
+  o.sh_degree_interval = 500;
+  o.densify_options.from_iteration = 100;
+  o.densify_options.until_iteration = iterations / 2;
+  o.densify_options.interval = 100;
+  o.densify_options.opacity_reset_interval = 100000;
+  o.densify_options.max_gaussians = 1000;  // keeps the test fast
+  return o;
+}
+
+TEST(StaticTrainerTest, FitsASyntheticSceneAndItsMask) {
+  const SyntheticScene scene;
+  StaticTrainer trainer(&scene.frames, scene.train, FastOptions(1000),
+                        InitGaussiansFromPoints(scene.points, scene.colors, 0));
+  ASSERT_TRUE(trainer.uses_masks());
+  const StaticMetrics before = EvaluateStatic(
+      trainer.gaussians(), scene.frames, scene.test, trainer.render_options());
+  double first_loss = 0, last_loss = 0;
+  for (int i = 0; i < 1000; ++i) {
+    const IterationStats s = trainer.Step();
+    ASSERT_TRUE(std::isfinite(s.loss));
+    if (i < 50) first_loss += s.loss;
+    if (i >= 950) last_loss += s.loss;
+  }
+  EXPECT_LT(last_loss, 0.2 * first_loss);
+  const StaticMetrics after = EvaluateStatic(
+      trainer.gaussians(), scene.frames, scene.test, trainer.render_options());
+  std::printf(
+      "held-out PSNR %.2f -> %.2f dB, SSIM %.3f, water PSNR %.2f, "
+      "mask P/R %.3f/%.3f, %d Gaussians\n",
+      before.psnr, after.psnr, after.ssim, after.psnr_water,
+      after.mask_precision, after.mask_recall, trainer.gaussians().size());
+  EXPECT_GT(after.psnr, 30.0);
+  EXPECT_GT(after.ssim, 0.95);
+  EXPECT_GT(after.mask_precision, 0.9);
+  EXPECT_GT(after.mask_recall, 0.9);
+}
+
+TEST(StaticTrainerTest, ResumeFromCheckpointIsBitExact) {
+  // One thread: the rasterizer's parallel gradient sums are order-dependent.
+  const int threads = omp_get_max_threads();
+  omp_set_num_threads(1);
+  const SyntheticScene scene;
+  StaticTrainerOptions o = FastOptions(300);
+  o.sh_degree_interval = 100;
+  o.densify_options.from_iteration = 50;
+  o.densify_options.interval = 50;
+  o.densify_options.until_iteration = 250;
+  o.densify_options.opacity_reset_interval = 200;
+  o.densify_options.max_gaussians = 500;
+  const GaussianSet init =
+      InitGaussiansFromPoints(scene.points, scene.colors, 0);
+
+  StaticTrainer full(&scene.frames, scene.train, o, init);
+  for (int i = 0; i < 300; ++i) full.Step();
+
+  const std::string path =
+      std::string(ES_BINARY_DIR) + "/static_trainer_test.ckpt";
+  {
+    StaticTrainer first(&scene.frames, scene.train, o, init);
+    for (int i = 0; i < 150; ++i) first.Step();
+    WriteCheckpoint(first.Save(), path);
+  }  // "killed"
+  StaticTrainer resumed(&scene.frames, scene.train, o, init);
+  resumed.Restore(ReadCheckpoint(path));
+  EXPECT_EQ(resumed.iteration(), 150);
+  for (int i = 0; i < 150; ++i) resumed.Step();
+  omp_set_num_threads(threads);
+  std::remove(path.c_str());
+
+  const GaussianSet& a = full.gaussians();
+  const GaussianSet& b = resumed.gaussians();
+  EXPECT_NE(a.size(), init.size());  // densification happened
+  EXPECT_EQ(a.sh_degree, 2 > o.max_sh_degree ? o.max_sh_degree : 2);
+  EXPECT_EQ(a.means, b.means);
+  EXPECT_EQ(a.log_scales, b.log_scales);
+  EXPECT_EQ(a.quats, b.quats);
+  EXPECT_EQ(a.opacity_logits, b.opacity_logits);
+  EXPECT_EQ(a.sh, b.sh);
+  EXPECT_EQ(a.dynamic_logits, b.dynamic_logits);
+}
+
+TEST(CheckpointTest, BadFilesAreInputErrors) {
+  const std::string path = std::string(ES_BINARY_DIR) + "/checkpoint_test.ckpt";
+  EXPECT_THROW(ReadCheckpoint(path + ".missing"), InputError);
+  Checkpoint c;
+  c.gaussians.Resize(3);
+  c.adam_m = c.adam_v = c.gaussians;
+  c.grad_sum = c.grad_count = c.max_radius = {0, 0, 0};
+  c.iteration = 42;
+  WriteCheckpoint(c, path);
+  EXPECT_EQ(ReadCheckpoint(path).iteration, 42);
+  std::ifstream in(path, std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)),
+                    std::istreambuf_iterator<char>());
+  std::ofstream(path, std::ios::binary | std::ios::trunc)
+      .write(bytes.data(), bytes.size() / 2);
+  EXPECT_THROW(ReadCheckpoint(path), InputError);
+  std::remove(path.c_str());
+}
+
+TEST(FrameSamplerTest, EpochsArePermutationsAndStateRoundTrips) {
+  FrameSampler a({2, 4, 6, 8, 10}, 9), b({2, 4, 6, 8, 10}, 9);
+  std::vector<int> seq;
+  for (int epoch = 0; epoch < 3; ++epoch) {
+    std::set<int> seen;
+    for (int i = 0; i < 5; ++i) {
+      seq.push_back(a.Next());
+      seen.insert(seq.back());
+    }
+    EXPECT_EQ(seen, (std::set<int>{2, 4, 6, 8, 10}));
+  }
+  EXPECT_NE(std::vector<int>(seq.begin(), seq.begin() + 5),
+            std::vector<int>(seq.begin() + 5, seq.begin() + 10));
+  for (int i = 0; i < 7; ++i) EXPECT_EQ(b.Next(), seq[i]);
+  FrameSampler c({2, 4, 6, 8, 10}, 1234);
+  c.Restore(b.state());
+  for (int i = 7; i < 15; ++i) EXPECT_EQ(c.Next(), seq[i]);
+}
+
+}  // namespace
+}  // namespace es
