@@ -140,8 +140,8 @@ void FrameComposer::Backward(const LoopSplatView& model,
   const SplatView& c = model.canonical;
   const int m = model.num_dynamic;
   const int count = c.count;
-  const size_t sh_size = 3 * static_cast<size_t>(c.sh_degree + 1) *
-                         (c.sh_degree + 1) * count;
+  const size_t sh_size =
+      3 * static_cast<size_t>(NumShCoeffs(c.sh_degree)) * count;
   CHECK(backward_ready_ && static_cast<int>(cycle_index_.size()) == m)
       << "FrameComposer::Backward without a matching Compose";
   auto add = [](const std::vector<double>& g, size_t n, double* dst) {

@@ -542,6 +542,23 @@ long long Rasterizer::num_pair_evaluations() const {
   return state_->pair_evaluations;
 }
 
+void Rasterizer::Radii(std::vector<int>* radii) const {
+  const State& s = *state_;
+  radii->assign(s.splats.count, 0);
+  for (int n : s.order) (*radii)[n] = s.projected[n].radius;
+}
+
+void Rasterizer::Mean2dGradients(std::vector<double>* grads) const {
+  const State& s = *state_;
+  grads->assign(2 * static_cast<size_t>(s.splats.count), 0.0);
+  const size_t stride = kGradHead + s.num_features;
+  if (s.grad2d.size() != stride * s.order.size()) return;  // no Backward
+  for (size_t k = 0; k < s.order.size(); ++k) {
+    (*grads)[2 * s.order[k]] = s.grad2d[stride * k];
+    (*grads)[2 * s.order[k] + 1] = s.grad2d[stride * k + 1];
+  }
+}
+
 void Rasterizer::Forward(const Camera& camera, const SplatView& splats,
                          const RenderOptions& options, RenderResult* result) {
   CHECK(camera.width > 0 && camera.height > 0 && camera.fx > 0 &&
@@ -554,6 +571,7 @@ void Rasterizer::Forward(const Camera& camera, const SplatView& splats,
   s.splats = splats;
   s.options = options;
   s.num_features = 4 + splats.num_extra;
+  s.grad2d.clear();  // belongs to the previous Forward
   s.Project();
   s.Bin();
 

@@ -95,6 +95,13 @@ class Rasterizer {
   // Gaussian-pixel pairs the last Forward looked at (its work, for
   // benchmarks): each binned Gaussian's pixel box within each of its tiles.
   long long num_pair_evaluations() const;
+  // Per input Gaussian, from the last Forward: its screen radius in pixels,
+  // ceil(3 sqrt(largest eigenvalue of the 2D covariance)), 0 if culled.
+  void Radii(std::vector<int>* radii) const;
+  // Per input Gaussian, from the last Backward: d loss / d projected mean in
+  // pixels (u, v), 0 if culled: the view-space gradient 3DGS densification
+  // accumulates (2N).
+  void Mean2dGradients(std::vector<double>* grads) const;
 
  private:
   struct State;

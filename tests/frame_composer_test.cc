@@ -85,7 +85,8 @@ TEST(FrameComposerTest, ComposesAdvectedPositionsAndResidualOffsets) {
     for (int n : m.dynamic_index) dynamic[n] = true;
     for (int n = 0; n < g.size(); ++n) {
       if (dynamic[n]) continue;
-      for (int j = 0; j < 3; ++j) EXPECT_EQ(v.means[3 * n + j], g.means[3 * n + j]);
+      for (int j = 0; j < 3; ++j)
+        EXPECT_EQ(v.means[3 * n + j], g.means[3 * n + j]);
       EXPECT_EQ(v.opacity_logits[n], g.opacity_logits[n]);
       for (int i = 0; i < 3 * coeffs; ++i)
         EXPECT_EQ(v.sh[3 * coeffs * n + i], g.sh[3 * coeffs * n + i]);

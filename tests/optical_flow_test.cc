@@ -34,13 +34,15 @@ cv::Mat Interior(cv::Size size, int margin) {
 double TranslationEpe(FlowMethod method, bool backward) {
   const cv::Mat texture = RandomTexture(160, 120, 7);
   const cv::Vec2f shift(1.3f, -0.7f);
-  const cv::Mat truth(texture.size(), CV_32FC2, cv::Scalar(shift[0], shift[1]));
+  const cv::Mat truth(texture.size(), CV_32FC2,
+                      cv::Scalar(shift[0], shift[1]));
   const cv::Mat first = WarpByFlow(texture, truth);
   OpticalFlow flow(method);
   const FlowPair pair = flow.ComputePair(first, texture);
   const cv::Mat valid = Interior(texture.size(), 12);
   if (!backward) return MeanEndpointError(pair.forward, truth, valid);
-  const cv::Mat back(texture.size(), CV_32FC2, cv::Scalar(-shift[0], -shift[1]));
+  const cv::Mat back(texture.size(), CV_32FC2,
+                     cv::Scalar(-shift[0], -shift[1]));
   return MeanEndpointError(pair.backward, back, valid);
 }
 

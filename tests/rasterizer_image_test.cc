@@ -149,6 +149,45 @@ TEST_P(RasterizerPrecisionTest, StopsBeforeTransmittanceFallsBelowLimit) {
   EXPECT_NEAR(out.rgb[3 * p], 1 - t, 1e-6);
 }
 
+TEST_P(RasterizerPrecisionTest, ReportsRadiiAndViewSpaceGradients) {
+  TestScene s;
+  s.camera = FrontCamera(48, 40, 40);
+  // On the optical axis an isotropic Gaussian's footprint does not change
+  // to first order when it moves sideways, so d loss / d x = fx / z *
+  // d loss / d u exactly (SH degree 0: no view-dependent color).
+  s.Add(Eigen::Vector3d(0, 0, 4), Eigen::Vector3d::Constant(0.3),
+        Eigen::Vector4d(1, 0, 0, 0), 1.0);
+  s.Add(Eigen::Vector3d(0, 0, -4), Eigen::Vector3d::Constant(0.3),
+        Eigen::Vector4d(1, 0, 0, 0), 1.0);  // behind: culled
+  s.sh = {DcFor(0.8), DcFor(0.3), DcFor(0.5), 0, 0, 0};
+  Rasterizer r;
+  RenderResult out;
+  r.Forward(s.camera, s.View(), Options(), &out);
+  std::vector<int> radii;
+  r.Radii(&radii);
+  // cov2 = (40 * 0.3 / 4)^2 + 0.3 = 9.3 on both axes: r = ceil(3 sqrt(9.3)).
+  EXPECT_EQ(radii, std::vector<int>({10, 0}));
+  // Red rewarded right of the mean, green below it.
+  std::vector<double> d_rgb(out.rgb.size(), 0.0);
+  for (int i = 0; i < 40; ++i) {
+    for (int j = 0; j < 48; ++j) {
+      d_rgb[3 * (i * 48 + j)] = j >= 24 ? 1.0 : 0.0;
+      d_rgb[3 * (i * 48 + j) + 1] = i >= 20 ? 1.0 : 0.0;
+    }
+  }
+  SplatGradients g;
+  r.Backward({d_rgb.data(), nullptr, nullptr, nullptr}, &g);
+  std::vector<double> g2d;
+  r.Mean2dGradients(&g2d);
+  ASSERT_EQ(g2d.size(), 4u);
+  EXPECT_GT(g2d[0], 1e-2);  // moving right increases the loss
+  EXPECT_GT(g2d[1], 1e-2);  // moving down (y down) too
+  EXPECT_NEAR(g.means[0], 40.0 / 4 * g2d[0], 1e-5 * std::abs(g.means[0]));
+  EXPECT_NEAR(g.means[1], 40.0 / 4 * g2d[1], 1e-5 * std::abs(g.means[1]));
+  EXPECT_EQ(g2d[2], 0.0);
+  EXPECT_EQ(g2d[3], 0.0);
+}
+
 INSTANTIATE_TEST_SUITE_P(FloatAndDouble, RasterizerPrecisionTest,
                          ::testing::Values(false, true));
 
