@@ -5,96 +5,12 @@
 #include <fstream>
 
 #include "core/input_error.h"
+#include "solvers/checkpoint_io.h"
 
 namespace es {
 namespace {
 
 constexpr char kMagic[8] = {'E', 'S', 'J', 'C', 'K', 'P', 'T', '1'};
-
-class Writer {
- public:
-  explicit Writer(std::ofstream* out) : out_(out) {}
-  template <typename T>
-  void Pod(const T& v) {
-    out_->write(reinterpret_cast<const char*>(&v), sizeof(T));
-  }
-  template <typename T>
-  void Vector(const std::vector<T>& v) {
-    Pod<uint64_t>(v.size());
-    out_->write(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
-  }
-  void String(const std::string& s) {
-    Vector(std::vector<char>(s.begin(), s.end()));
-  }
-  void Vectors(const std::vector<std::vector<double>>& vs) {
-    Pod<uint64_t>(vs.size());
-    for (const auto& v : vs) Vector(v);
-  }
-  void Gaussians(const GaussianSet& g) {
-    Pod<int32_t>(g.sh_degree);
-    for (const auto* v : {&g.means, &g.log_scales, &g.quats,
-                          &g.opacity_logits, &g.sh, &g.dynamic_logits})
-      Vector(*v);
-  }
-
- private:
-  std::ofstream* out_;
-};
-
-class Reader {
- public:
-  Reader(std::ifstream* in, const std::string& path) : in_(in), path_(path) {}
-  template <typename T>
-  T Pod() {
-    T v;
-    Read(&v, sizeof(T));
-    return v;
-  }
-  template <typename T>
-  std::vector<T> Vector() {
-    const uint64_t n = Pod<uint64_t>();
-    if (n > (uint64_t{1} << 40) / sizeof(T)) Fail("implausible array size");
-    std::vector<T> v(n);
-    Read(v.data(), n * sizeof(T));
-    return v;
-  }
-  std::string String() {
-    const std::vector<char> c = Vector<char>();
-    return std::string(c.begin(), c.end());
-  }
-  std::vector<std::vector<double>> Vectors() {
-    const uint64_t n = Pod<uint64_t>();
-    if (n > 16) Fail("implausible number of field blocks");
-    std::vector<std::vector<double>> vs(n);
-    for (auto& v : vs) v = Vector<double>();
-    return vs;
-  }
-  GaussianSet Gaussians() {
-    GaussianSet g;
-    g.sh_degree = Pod<int32_t>();
-    if (g.sh_degree < 0 || g.sh_degree > kMaxShDegree) Fail("bad SH degree");
-    for (auto* v : {&g.means, &g.log_scales, &g.quats, &g.opacity_logits,
-                    &g.sh, &g.dynamic_logits})
-      *v = Vector<double>();
-    const size_t n = g.opacity_logits.size();
-    if (g.means.size() != 3 * n || g.log_scales.size() != 3 * n ||
-        g.quats.size() != 4 * n || g.sh.size() != 3 * n * g.sh_coeffs() ||
-        g.dynamic_logits.size() != n)
-      Fail("inconsistent Gaussian arrays");
-    return g;
-  }
-  [[noreturn]] void Fail(const std::string& what) {
-    throw InputError(path_ + ": not a valid joint checkpoint (" + what + ")");
-  }
-
- private:
-  void Read(void* dst, size_t bytes) {
-    in_->read(static_cast<char*>(dst), bytes);
-    if (!*in_) Fail("truncated");
-  }
-  std::ifstream* in_;
-  std::string path_;
-};
 
 bool SameShapes(const std::vector<std::vector<double>>& a,
                 const std::vector<std::vector<double>>& b) {
@@ -111,7 +27,7 @@ void WriteJointCheckpoint(const JointCheckpoint& c, const std::string& path) {
   {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
     if (!out) throw InputError(tmp + ": cannot open for writing");
-    Writer w(&out);
+    CheckpointWriter w(&out);
     out.write(kMagic, sizeof(kMagic));
     w.Pod<int64_t>(c.iteration);
     w.Gaussians(c.gaussians);
@@ -139,7 +55,7 @@ void WriteJointCheckpoint(const JointCheckpoint& c, const std::string& path) {
 JointCheckpoint ReadJointCheckpoint(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path + ": cannot open joint checkpoint");
-  Reader r(&in, path);
+  CheckpointReader r(&in, path, "joint checkpoint");
   char magic[sizeof(kMagic)];
   in.read(magic, sizeof(magic));
   if (!in || !std::equal(magic, magic + sizeof(magic), kMagic))
