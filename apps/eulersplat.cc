@@ -6,7 +6,8 @@
 //
 //   eulersplat --scene DIR --out DIR [--preset quick|paper]
 //
-// OUT/static/          Stage 1 (static.ply) and Stage 2 (motion_field.bin)
+// OUT/static/          Stage 1 (static.ply) and Stage 2 (motion_field.bin);
+//                      --static_dir puts them elsewhere (shared ablations)
 // OUT/model/           Stage 3, the looping model (es_train)
 // OUT/animate/         looping video along the input trajectory, with tracks
 // OUT/animate_fixed/   fixed-view video and its x-t slice
@@ -24,6 +25,7 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -58,6 +60,14 @@ DEFINE_int32(animate_frames, -1, "Frames of each animation (-1: 4 L).");
 DEFINE_double(dynamic_threshold, 0.2, "sigmoid(dynamic_logit) above which a "
               "Gaussian is water.");
 DEFINE_bool(white_background, false, "Train and render on white.");
+DEFINE_string(static_dir, "", "Where Stage 1 and the flow init live (default "
+              "OUT/static). Runs that name the same folder share one static "
+              "model and one pretrained V, as ablations should.");
+DEFINE_string(train_flags, "", "Extra flags for es_train, space-separated, "
+              "e.g. \"--no_residual\" or \"--no_random_start --seed 3\" "
+              "(ablations).");
+DEFINE_bool(animate, true, "Render the looping videos and contact sheet "
+            "(off: train and evaluate only).");
 DEFINE_string(colmap_script, "", "Pose script run when sparse/0 is missing "
               "(default: scripts/colmap_poses.sh of the source tree this "
               "binary was built in).");
@@ -224,12 +234,12 @@ void WriteContactSheet(const fs::path& out, int cycle_length) {
 // What every stage of one run shares.
 struct Pipeline {
   Preset preset;
-  fs::path scene, out;
+  fs::path scene, out, static_folder;
   bool has_masks = false;
   std::vector<std::string> common;      // --scene, --image_scale
   std::vector<std::string> background;  // --white_background or nothing
 
-  fs::path static_dir() const { return out / "static"; }
+  fs::path static_dir() const { return static_folder; }
   fs::path static_ply() const { return static_dir() / "static.ply"; }
   fs::path model_dir() const { return out / "model"; }
   fs::path eval_dir() const { return out / "eval"; }
@@ -314,6 +324,9 @@ void JointStage(const Pipeline& run) {
        std::to_string(p.residual_width)},
       true);
   if (!run.has_masks) args.insert(args.end(), {"--mask_weight", "0"});
+  // Later flags win in gflags, so --train_flags can override the preset's.
+  std::istringstream extra(FLAGS_train_flags);
+  for (std::string flag; extra >> flag;) args.push_back(flag);
   RunOrThrow("[joint]", "es_train", args);
 }
 
@@ -400,6 +413,8 @@ int Main() {
   }
   run.scene = FLAGS_scene;
   run.out = FLAGS_out;
+  run.static_folder =
+      FLAGS_static_dir.empty() ? run.out / "static" : fs::path(FLAGS_static_dir);
   if (!fs::is_directory(run.scene)) {
     throw es::InputError(FLAGS_scene + ": no such directory");
   }
@@ -421,20 +436,22 @@ int Main() {
   if (!HasDynamicGaussians(run)) return 0;
   FlowStage(run);
   JointStage(run);
-  AnimateStage(run);
+  if (FLAGS_animate) AnimateStage(run);
   EvalStage(run);
-  WriteContactSheet(run.out, FLAGS_cycle_length);
+  if (FLAGS_animate) WriteContactSheet(run.out, FLAGS_cycle_length);
 
   const double seconds = std::chrono::duration<double>(
                              std::chrono::steady_clock::now() - start)
                              .count();
-  std::printf("\n[eulersplat] done in %.0f s\n"
-              "  looping video  %s\n  fixed view     %s\n"
-              "  metrics        %s\n  contact sheet  %s\n",
-              seconds, (run.out / "animate" / "animation.mp4").c_str(),
-              (run.out / "animate_fixed" / "animation.mp4").c_str(),
-              (run.eval_dir() / "eval.json").c_str(),
-              (run.out / "contact_sheet.png").c_str());
+  std::printf("\n[eulersplat] done in %.0f s\n  metrics        %s\n",
+              seconds, (run.eval_dir() / "eval.json").c_str());
+  if (FLAGS_animate) {
+    std::printf("  looping video  %s\n  fixed view     %s\n"
+                "  contact sheet  %s\n",
+                (run.out / "animate" / "animation.mp4").c_str(),
+                (run.out / "animate_fixed" / "animation.mp4").c_str(),
+                (run.out / "contact_sheet.png").c_str());
+  }
   return 0;
 }
 
