@@ -65,6 +65,23 @@ Eigen::Vector3d UnprojectToWorld(const Camera& camera, double x, double y,
   return camera.R().transpose() * (x_cam - camera.t_cw);
 }
 
+// Where the ray of `camera` through index coords (x, y) meets the plane
+// through `point` with normal `normal`; nullopt when the ray runs (nearly)
+// parallel to the plane or meets it behind the camera.
+std::optional<Eigen::Vector3d> IntersectPlane(const Camera& camera, double x,
+                                              double y,
+                                              const Eigen::Vector3d& point,
+                                              const Eigen::Vector3d& normal) {
+  const Eigen::Vector3d center = camera.Center();
+  const Eigen::Vector3d dir =
+      camera.R().transpose() * camera.Unproject(x + 0.5, y + 0.5, 1.0);
+  const double denom = normal.dot(dir);
+  if (std::abs(denom) < 1e-6 * dir.norm()) return std::nullopt;
+  const double s = normal.dot(point - center) / denom;
+  if (!(s > 0)) return std::nullopt;
+  return center + s * dir;
+}
+
 double SecondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() -
                                        start)
@@ -153,20 +170,35 @@ void LiftFlow(const LiftingView& first, const LiftingView& second,
         ++s.not_water;
         continue;
       }
-      const DepthCheck d1 =
-          CheckDepth(second.depth, x1, y1, options.max_rel_depth_jump);
-      if (d1 == DepthCheck::kNoDepth) { ++s.no_depth; continue; }
-      if (d1 == DepthCheck::kEdge) { ++s.depth_edge; continue; }
-
       const Eigen::Vector3d p0 = UnprojectToWorld(
           *first.camera, x, y, first.depth.at<float>(y, x));
-      const Eigen::Vector3d p1 = UnprojectToWorld(
-          *second.camera, x1, y1, Bilinear<float>(second.depth, x1, y1));
+      Eigen::Vector3d p1;
+      if (options.second_end == SecondEnd::kFacingPlane) {
+        const std::optional<Eigen::Vector3d> hit = IntersectPlane(
+            *second.camera, x1, y1, p0,
+            (p0 - first.camera->Center()).normalized());
+        if (!hit) { ++s.no_depth; continue; }
+        p1 = *hit;
+      } else {
+        const DepthCheck d1 =
+            CheckDepth(second.depth, x1, y1, options.max_rel_depth_jump);
+        if (d1 == DepthCheck::kNoDepth) { ++s.no_depth; continue; }
+        if (d1 == DepthCheck::kEdge) { ++s.depth_edge; continue; }
+        p1 = UnprojectToWorld(*second.camera, x1, y1,
+                              Bilinear<float>(second.depth, x1, y1));
+      }
       samples->push_back({p0, p1 - p0});
       ++s.accepted;
     }
   }
   if (stats != nullptr) stats->Add(s);
+}
+
+SecondEnd ParseSecondEnd(const std::string& name) {
+  if (name == "plane") return SecondEnd::kFacingPlane;
+  if (name == "depth") return SecondEnd::kRenderedDepth;
+  throw InputError("unknown second end '" + name +
+                   "'; available: plane, depth");
 }
 
 WaterSource ParseWaterSource(const std::string& name) {

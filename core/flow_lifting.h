@@ -31,8 +31,25 @@ cv::Mat ExpectedDepthMap(const RenderResult& render, double min_alpha = 0.5);
 cv::Mat NormalizedExtraMap(const RenderResult& render, int channel,
                            double min_alpha = 0.5);
 
+// Where the second end x' of a sample lies on the ray of frame i + 1
+// through p + f(p).
+enum class SecondEnd {
+  // Where that ray meets the plane through x facing camera i: the sample
+  // has no motion along camera i's line of sight, which 2D flow does not
+  // observe. Default: differencing two rendered depths of a time-averaged
+  // water surface turns its roughness into large spurious motion along the
+  // ray (measured on es_synth water: most of the lifted samples' error).
+  kFacingPlane,
+  // At the static model's rendered depth of frame i + 1 there: keeps
+  // motion toward / away from the camera where that depth is reliable.
+  kRenderedDepth,
+};
+// Flag spellings plane, depth; Parse throws InputError on others.
+SecondEnd ParseSecondEnd(const std::string& name);
+
 struct LiftingOptions {
   int stride = 2;                  // sample every stride-th pixel and row
+  SecondEnd second_end = SecondEnd::kFacingPlane;
   double max_fb_error_px = 1.0;    // |f(x) + b(x + f(x))| above this: reject
   // (max - min) / min of the depth in the 3x3 neighbourhood above this:
   // the pixel straddles an occluding edge, its depth is a blend; reject.
@@ -63,9 +80,10 @@ struct LiftingView {
 };
 
 // Lifts the flow between frames `first` (i) and `second` (i + 1) to 3D:
-// x = unproject(p, depth_i) and x' = unproject(p + f(p), depth_{i+1}
-// bilinear) in the second camera, sample (x, x' - x). Appends the accepted
-// samples to *samples; adds the counts to *stats when not null.
+// x = unproject(p, depth_i), x' on the second camera's ray through p + f(p)
+// as options.second_end says, sample (x, x' - x). second.depth is only
+// read for kRenderedDepth. Appends the accepted samples to *samples; adds
+// the counts to *stats when not null.
 void LiftFlow(const LiftingView& first, const LiftingView& second,
               const FlowPair& flow, const LiftingOptions& options,
               std::vector<SceneFlowSample>* samples, LiftingStats* stats);

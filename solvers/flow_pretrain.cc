@@ -264,16 +264,19 @@ FlowPretrainReport PretrainMotionField(
   for (const SceneFlowSample& s : samples) target_sq += s.v.squaredNorm();
   report.target_rms = std::sqrt(target_sq / samples.size());
   report.initial_rmse = FitRmse(*field, samples);
+  // The fits below take the TV weight in the data term's units.
+  FlowPretrainOptions fit = options;
+  fit.tv_weight = options.tv_weight * target_sq / samples.size();
   const Stopwatch clock;
   switch (options.solver) {
     case PretrainSolver::kAdam:
-      report.iterations = FitWithAdam(samples, options, clock, field);
+      report.iterations = FitWithAdam(samples, fit, clock, field);
       break;
     case PretrainSolver::kLbfgs:
-      report.iterations = FitWithLbfgs(samples, options, clock, field);
+      report.iterations = FitWithLbfgs(samples, fit, clock, field);
       break;
     case PretrainSolver::kLm:
-      report.iterations = FitWithLm(samples, options, clock, field);
+      report.iterations = FitWithLm(samples, fit, clock, field);
       break;
   }
   report.seconds = clock.seconds();

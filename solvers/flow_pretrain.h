@@ -35,8 +35,12 @@ struct FlowPretrainOptions {
   double final_lr_factor = 0.1;
   double adam_eps = 1e-15;
   // Total variation on the planes (Triplane::TotalVariation), Adam and
-  // LBFGS: texels no sample touches stay smooth instead of at their noise.
-  double tv_weight = 0.0;
+  // LBFGS: texels no sample touches follow their neighbours instead of
+  // keeping their initial noise, so V extrapolates smoothly to water the
+  // flow did not reach. Relative to the mean squared target speed, so the
+  // balance with the data term does not depend on the scene's units or
+  // speeds.
+  double tv_weight = 1.0;
   int lbfgs_max_samples = 200000;  // LBFGS evaluates all of these per step
   // LM refuses problems whose dense Jacobian exceeds this many values.
   int64_t lm_max_jacobian_values = 50000000;

@@ -7,6 +7,7 @@
 
 #include <Eigen/Core>
 
+#include "core/flow_lifting.h"
 #include "core/motion_field.h"
 
 namespace es {
@@ -26,6 +27,11 @@ struct MotionGtMetrics {
 MotionGtMetrics EvaluateMotionGt(const MotionField& field,
                                  const std::vector<Eigen::Vector3d>& points,
                                  const VelocityFunction& truth);
+
+// The same error for the lifted scene-flow samples themselves (sample v
+// against the truth at sample x): what the pretraining is given.
+MotionGtMetrics EvaluateSamplesGt(const std::vector<SceneFlowSample>& samples,
+                                  const VelocityFunction& truth);
 
 // The synthetic scenes' ground truth, DIR/gt/velocity_grid.bin
 // (core/synth_velocity_grid.h), sampled trilinearly. HasMotionGt says

@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
 
+#include "core/input_error.h"
+
 namespace es {
 namespace {
 
@@ -128,6 +130,7 @@ TEST(FlowLiftingTest, ExactFlowRecoversPlaneTranslation) {
   const LiftingView second{&v.b, PlaneDepth(v.b, moved), Ones(v.b)};
   LiftingOptions options;
   options.stride = 1;
+  options.second_end = SecondEnd::kRenderedDepth;
   std::vector<SceneFlowSample> samples;
   LiftingStats stats;
   LiftFlow(first, second, flow, options, &samples, &stats);
@@ -156,9 +159,11 @@ TEST(FlowLiftingTest, EstimatedFlowRecoversPlaneTranslation) {
   const FlowPair flow = estimator.ComputePair(image_a, image_b);
   const LiftingView first{&v.a, PlaneDepth(v.a, v.plane), Ones(v.a)};
   const LiftingView second{&v.b, PlaneDepth(v.b, moved), Ones(v.b)};
+  LiftingOptions options;
+  options.second_end = SecondEnd::kRenderedDepth;
   std::vector<SceneFlowSample> samples;
   LiftingStats stats;
-  LiftFlow(first, second, flow, LiftingOptions(), &samples, &stats);
+  LiftFlow(first, second, flow, options, &samples, &stats);
 
   ASSERT_GT(stats.accepted, stats.candidates / 2);
   Eigen::Vector3d mean = Eigen::Vector3d::Zero();
@@ -172,6 +177,47 @@ TEST(FlowLiftingTest, EstimatedFlowRecoversPlaneTranslation) {
                    errors.end());
   EXPECT_LT((mean - v.motion).norm(), 0.05 * v.motion.norm());
   EXPECT_LT(errors[errors.size() / 2], 0.15 * v.motion.norm());
+}
+
+// Each point of the plane moves by the part of v.motion across camera a's
+// line of sight, which is all 2D flow observes: the facing-plane lift must
+// recover exactly that, without reading the second frame's depth.
+TEST(FlowLiftingTest, FacingPlaneRecoversMotionAcrossTheLineOfSight) {
+  const TwoViews v = MakeTwoViews(64, 48, 60);
+  const Eigen::Vector3d center = v.a.Center();
+  auto across = [&](const Eigen::Vector3d& x) -> Eigen::Vector3d {
+    const Eigen::Vector3d ray = (x - center).normalized();
+    return v.motion - v.motion.dot(ray) * ray;
+  };
+  FlowPair flow;
+  flow.forward.create(48, 64, CV_32FC2);
+  for (int y = 0; y < 48; ++y) {
+    for (int x = 0; x < 64; ++x) {
+      const Eigen::Vector3d p = v.plane.Intersect(v.a, x, y);
+      const Eigen::Vector2d uv = v.b.Project(v.b.WorldToCamera(p + across(p)));
+      flow.forward.at<cv::Vec2f>(y, x) =
+          cv::Vec2f(uv.x() - 0.5 - x, uv.y() - 0.5 - y);
+    }
+  }
+  flow.backward = -flow.forward;  // only read by the round-trip check
+  const cv::Mat no_depth(48, 64, CV_32FC1, cv::Scalar(0));
+  const LiftingView first{&v.a, PlaneDepth(v.a, v.plane), Ones(v.a)};
+  const LiftingView second{&v.b, no_depth, Ones(v.b)};
+  LiftingOptions options;
+  options.stride = 1;
+  options.max_fb_error_px = 1e9;
+  ASSERT_EQ(options.second_end, SecondEnd::kFacingPlane);  // the default
+  std::vector<SceneFlowSample> samples;
+  LiftingStats stats;
+  LiftFlow(first, second, flow, options, &samples, &stats);
+
+  EXPECT_EQ(stats.no_depth + stats.depth_edge, 0);
+  EXPECT_GT(stats.accepted, 64 * 48 * 3 / 4);
+  for (const SceneFlowSample& s : samples) {
+    EXPECT_NEAR(v.plane.normal.dot(s.x), v.plane.offset, 1e-6);
+    EXPECT_NEAR(s.v.dot((s.x - center).normalized()), 0.0, 1e-9);
+    EXPECT_LT((s.v - across(s.x)).norm(), 1e-4 * v.motion.norm());
+  }
 }
 
 // A static camera looking at a background wall (depth 4) with a foreground
@@ -222,6 +268,7 @@ TEST(FlowLiftingTest, RejectsInconsistentFlowAtOcclusions) {
   flow.backward.colRange(14, 18) = cv::Scalar(0, 0);
   LiftingOptions options;
   options.stride = 1;
+  options.second_end = SecondEnd::kRenderedDepth;  // x' on the wall too
   std::vector<SceneFlowSample> samples;
   LiftingStats stats;
   LiftFlow(view, view, flow, options, &samples, &stats);
@@ -271,6 +318,12 @@ TEST(FlowLiftingTest, PixelsWithoutSurfaceAreNotLifted) {
   EXPECT_EQ(stats.no_depth, 6 * 16);
   EXPECT_EQ(stats.depth_edge, 16);  // row 6 touches the empty row 5
   EXPECT_EQ(stats.accepted, 5 * 16);
+}
+
+TEST(FlowLiftingTest, ParsesSecondEnd) {
+  EXPECT_EQ(ParseSecondEnd("plane"), SecondEnd::kFacingPlane);
+  EXPECT_EQ(ParseSecondEnd("depth"), SecondEnd::kRenderedDepth);
+  EXPECT_THROW(ParseSecondEnd("ray"), InputError);
 }
 
 TEST(FlowLiftingTest, DepthMapDividesByAlphaAndMasksEmptyPixels) {

@@ -114,6 +114,19 @@ TEST(FlowPretrainTest, TotalVariationSmoothsUntouchedTexels) {
   EXPECT_LT(tv[1], 0.5 * tv[0]);
 }
 
+TEST(MotionGtTest, EndpointErrorOfSamples) {
+  std::vector<SceneFlowSample> samples = SamplesOf(50, 8);
+  MotionGtMetrics exact = EvaluateSamplesGt(samples, TrueVelocity);
+  EXPECT_EQ(exact.num_points, 50);
+  EXPECT_EQ(exact.epe, 0.0);
+  EXPECT_GT(exact.mean_speed, 0.0);
+  // Samples at half speed are off by half the speed.
+  for (SceneFlowSample& s : samples) s.v *= 0.5;
+  const MotionGtMetrics half = EvaluateSamplesGt(samples, TrueVelocity);
+  EXPECT_NEAR(half.rel_epe, 0.5, 1e-12);
+  EXPECT_EQ(EvaluateSamplesGt({}, TrueVelocity).num_points, 0);
+}
+
 TEST(MotionGtTest, EndpointErrorOfFittedAndZeroFields) {
   std::vector<Eigen::Vector3d> points;
   for (const SceneFlowSample& s : SamplesOf(400, 6)) points.push_back(s.x);
