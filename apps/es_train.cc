@@ -62,8 +62,10 @@ DEFINE_double(lr_opacity, 0.05, "Opacity-logit learning rate.");
 DEFINE_double(lr_sh_dc, 2.5e-3, "SH DC learning rate.");
 DEFINE_double(lr_sh_rest, 1.25e-4, "Higher SH bands learning rate.");
 DEFINE_double(lr_dynamic, 0.05, "Dynamic-logit learning rate.");
-DEFINE_double(lr_motion_triplane, 5e-3, "V triplane learning rate.");
-DEFINE_double(lr_motion_mlp, 1e-3, "V MLP learning rate.");
+DEFINE_double(lr_motion_triplane, 5e-4,
+              "V triplane learning rate (fine-tuning the flow-initialized "
+              "field: 10x lower measured better PSNR and motion error).");
+DEFINE_double(lr_motion_mlp, 1e-4, "V MLP learning rate.");
 DEFINE_double(lr_residual_triplane, 5e-3, "D triplane learning rate.");
 DEFINE_double(lr_residual_mlp, 1e-3, "D MLP learning rate.");
 DEFINE_double(field_lr_final_factor, 0.1,

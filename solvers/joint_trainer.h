@@ -44,8 +44,8 @@ struct JointTrainerOptions {
   double lr_sh_dc = 2.5e-3;
   double lr_sh_rest = 2.5e-3 / 20;
   double lr_dynamic = 0.05;
-  double lr_motion_triplane = 5e-3;
-  double lr_motion_mlp = 1e-3;
+  double lr_motion_triplane = 5e-4;
+  double lr_motion_mlp = 1e-4;
   double lr_residual_triplane = 5e-3;
   double lr_residual_mlp = 1e-3;
   double field_lr_final_factor = 0.1;
