@@ -43,7 +43,10 @@ DEFINE_double(dynamic_threshold, 0.2,
               "Dynamic probability above which a Gaussian counts as water.");
 DEFINE_bool(densify, true, "Adaptive density control (clone/split/prune).");
 DEFINE_int32(densify_from, 500, "First densification iteration.");
-DEFINE_int32(densify_until, 15000, "Last densification iteration.");
+DEFINE_int32(densify_until, 15000,
+             "Last densification iteration; densification also stops at "
+             "half of --iterations (3DGS: 15k of 30k) so the run ends on a "
+             "settled model.");
 DEFINE_int32(densify_interval, 100, "Densify every this many iterations.");
 DEFINE_int32(opacity_reset_interval, 3000,
              "Reset opacities every this many iterations (0: never).");

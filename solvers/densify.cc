@@ -7,13 +7,9 @@
 #include <cmath>
 #include <numeric>
 
-#include "core/rasterizer.h"
-
 namespace es {
 namespace {
 
-// Screen radius in standard deviations, as the rasterizer's 3-sigma extent.
-constexpr double kRadiusSigmas = 3.0;
 // A split Gaussian becomes this many, each scaled down by 1 / (0.8 * count).
 constexpr int kSplitCount = 2;
 
@@ -30,28 +26,17 @@ void DensityStats::Reset(int n) {
   max_radius.assign(n, 0.0);
 }
 
-void DensityStats::AddView(const Camera& camera, const GaussianSet& g,
-                           const double* d_means) {
-  CHECK_EQ(size(), g.size());
-  const Eigen::Matrix3d r = camera.R();
-  const double half_w = 0.5 * camera.width, half_h = 0.5 * camera.height;
-  const double f = std::max(camera.fx, camera.fy);
-#pragma omp parallel for schedule(static)
-  for (int i = 0; i < g.size(); ++i) {
-    const Eigen::Vector3d x =
-        camera.WorldToCamera(Eigen::Vector3d::Map(&g.means[3 * i]));
-    if (!(x.z() > kNearPlane)) continue;
-    const double radius = kRadiusSigmas * MaxScale(g, i) * f / x.z();
-    const Eigen::Vector2d uv = camera.Project(x);
-    if (uv.x() < -radius || uv.x() > camera.width + radius ||
-        uv.y() < -radius || uv.y() > camera.height + radius)
-      continue;
-    const Eigen::Vector3d d = r * Eigen::Vector3d::Map(&d_means[3 * i]);
-    const double gu = d.x() * x.z() / camera.fx * half_w;
-    const double gv = d.y() * x.z() / camera.fy * half_h;
-    grad_sum[i] += std::sqrt(gu * gu + gv * gv);
+void DensityStats::AddView(int width, int height, const std::vector<int>& radii,
+                           const std::vector<double>& mean2d_grads) {
+  CHECK_EQ(static_cast<int>(radii.size()), size());
+  CHECK_EQ(mean2d_grads.size(), 2 * radii.size());
+  const double half_w = 0.5 * width, half_h = 0.5 * height;
+  for (int i = 0; i < size(); ++i) {
+    if (radii[i] <= 0) continue;
+    grad_sum[i] += std::hypot(mean2d_grads[2 * i] * half_w,
+                              mean2d_grads[2 * i + 1] * half_h);
     count[i] += 1;
-    max_radius[i] = std::max(max_radius[i], radius);
+    max_radius[i] = std::max(max_radius[i], static_cast<double>(radii[i]));
   }
 }
 

@@ -4,7 +4,6 @@
 #include <random>
 #include <vector>
 
-#include "core/camera.h"
 #include "core/gaussians.h"
 #include "solvers/adam.h"
 
@@ -13,11 +12,11 @@ namespace es {
 // Adaptive density control, 3DGS schedule and thresholds.
 struct DensifyOptions {
   int from_iteration = 500;
-  int until_iteration = 15000;
+  int until_iteration = 15000;  // and at most half of the run (trainer)
   int interval = 100;
-  int opacity_reset_interval = 3000;
-  double grad_threshold = 2e-4;  // mean view-space (NDC) gradient norm
-  double percent_dense = 0.01;   // clone below, split above this * extent
+  int opacity_reset_interval = 3000;  // only while densifying
+  double grad_threshold = 2e-4;       // mean view-space (NDC) gradient norm
+  double percent_dense = 0.01;        // clone below, split above this * extent
   double min_opacity = 0.005;
   double max_screen_radius = 20;  // px, after the first opacity reset
   double max_world_scale = 0.1;   // * extent, after the first opacity reset
@@ -28,13 +27,13 @@ struct DensifyOptions {
 class DensityStats {
  public:
   void Reset(int count);
-  // Adds one rendered view. `d_means` is d loss / d means (3N) of that view.
-  // The view-space gradient is d loss / d (projected mean) in NDC units, as
-  // 3DGS accumulates it; the rasterizer does not expose it, so it is taken
-  // from the world-space gradient's component parallel to the image plane:
-  // d loss / d u = (R d_means)_x z / fx (exact for pure image-plane motion).
-  void AddView(const Camera& camera, const GaussianSet& g,
-               const double* d_means);
+  // Adds one rendered view from the rasterizer's outputs for it: `radii`
+  // (N, px, 0 where culled; Rasterizer::Radii) and `mean2d_grads` (2N,
+  // d loss / d projected mean in pixels; Rasterizer::Mean2dGradients). As
+  // 3DGS, only Gaussians with a positive radius count, and the accumulated
+  // view-space gradient is in NDC units: the pixel gradient times W/2, H/2.
+  void AddView(int width, int height, const std::vector<int>& radii,
+               const std::vector<double>& mean2d_grads);
 
   void Filter(const std::vector<bool>& keep);
   void AppendZeros(int count);

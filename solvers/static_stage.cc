@@ -1,5 +1,6 @@
 #include "solvers/static_stage.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -69,21 +70,47 @@ void WriteMetrics(const StaticStageResult& r, const std::string& path) {
 
 }  // namespace
 
+Scene LoadStaticScene(const std::string& scene_dir,
+                      const SceneOptions& options) {
+  Scene scene = LoadScene(scene_dir, options);
+  if (scene.train.empty()) throw InputError(scene_dir + ": no training frames");
+  if (scene.points.empty())
+    throw InputError(scene_dir + ": points3D is empty; nothing to seed");
+  return scene;
+}
+
+std::unique_ptr<StaticTrainer> MakeStaticTrainer(
+    const Scene& scene, const StaticTrainerOptions& options) {
+  return std::make_unique<StaticTrainer>(
+      &scene.frames, scene.train, options,
+      InitGaussiansFromPoints(scene.points, scene.point_colors, 0));
+}
+
+GaussianSet StaticModel(const StaticTrainer& trainer) {
+  GaussianSet model = trainer.gaussians();
+  if (!trainer.uses_masks())
+    std::fill(model.dynamic_logits.begin(), model.dynamic_logits.end(),
+              Logit(kStaticProbability));
+  return model;
+}
+
+StaticMetrics EvaluateHeldOut(const StaticTrainer& trainer,
+                              const Scene& scene) {
+  return EvaluateStatic(StaticModel(trainer), scene.frames, scene.test,
+                        trainer.render_options());
+}
+
 StaticStageResult RunStaticStage(const StaticStageOptions& o) {
   Validate(o);
   const std::string checkpoint_path = o.out_dir + "/checkpoint.bin";
   Checkpoint checkpoint;
   if (o.resume) checkpoint = ReadCheckpoint(checkpoint_path);
-  const Scene scene = LoadScene(o.scene_dir, o.scene);
-  if (scene.train.empty())
-    throw InputError(o.scene_dir + ": no training frames");
-  if (scene.points.empty())
-    throw InputError(o.scene_dir + ": points3D is empty; nothing to seed");
+  const Scene scene = LoadStaticScene(o.scene_dir, o.scene);
   std::filesystem::create_directories(o.out_dir);
 
-  StaticTrainer trainer(
-      &scene.frames, scene.train, o.trainer,
-      InitGaussiansFromPoints(scene.points, scene.point_colors, 0));
+  const std::unique_ptr<StaticTrainer> trainer_owner =
+      MakeStaticTrainer(scene, o.trainer);
+  StaticTrainer& trainer = *trainer_owner;
   if (o.resume) {
     if (checkpoint.gaussians.sh_degree > o.trainer.max_sh_degree)
       throw InputError(checkpoint_path + ": SH degree " +
@@ -136,10 +163,7 @@ StaticStageResult RunStaticStage(const StaticStageOptions& o) {
   r.iterations_per_second =
       (trainer.iteration() - first) / std::max(r.seconds, 1e-9);
 
-  GaussianSet model = trainer.gaussians();
-  if (!trainer.uses_masks())
-    std::fill(model.dynamic_logits.begin(), model.dynamic_logits.end(),
-              Logit(kStaticProbability));
+  const GaussianSet model = StaticModel(trainer);
   r.test =
       EvaluateStatic(model, scene.frames, scene.test, trainer.render_options());
   r.num_gaussians = model.size();

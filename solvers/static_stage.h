@@ -1,6 +1,7 @@
 #ifndef EULERSPLAT_SOLVERS_STATIC_STAGE_H_
 #define EULERSPLAT_SOLVERS_STATIC_STAGE_H_
 
+#include <memory>
 #include <string>
 
 #include "core/scene.h"
@@ -27,6 +28,25 @@ struct StaticStageResult {
   double seconds = 0;  // training time of this run (excludes loading)
   double iterations_per_second = 0;
 };
+
+// The pieces of Stage 1 shared by es_static and bench_static.
+
+// Loads a scene Stage 1 can train on; throws InputError if it has no
+// training frames or no points to seed from.
+Scene LoadStaticScene(const std::string& scene_dir,
+                      const SceneOptions& options);
+
+// A trainer on the scene's training split, seeded from its points (3-NN
+// scales). `scene` must outlive it.
+std::unique_ptr<StaticTrainer> MakeStaticTrainer(
+    const Scene& scene, const StaticTrainerOptions& options);
+
+// The model as Stage 1 writes and evaluates it: without masks, every
+// dynamic logit is set well below any threshold (no Gaussian is water).
+GaussianSet StaticModel(const StaticTrainer& trainer);
+
+// Held-out metrics of StaticModel(trainer) on the scene's test split.
+StaticMetrics EvaluateHeldOut(const StaticTrainer& trainer, const Scene& scene);
 
 // Stage 1: loads the scene, seeds Gaussians from its points (3-NN scales),
 // trains on the training split (resuming if asked), evaluates on the

@@ -114,8 +114,19 @@ IterationStats StaticTrainer::Step() {
   out.mask = cost_.last_mask();
 
   const DensifyOptions& d = options_.densify_options;
-  const bool densifying = options_.densify && iteration_ < d.until_iteration;
-  if (densifying) stats_.AddView(frame.camera, g_, grad_.means.data());
+  // As 3DGS (15k of 30k), the second half of a run only refines: a model
+  // evaluated right after a clone / split step is measurably worse.
+  const bool densifying =
+      options_.densify &&
+      iteration_ < std::min<int64_t>(d.until_iteration, options_.iterations / 2);
+  if (densifying) {
+    // The cost's Backward ran on rasterizer_ with d loss / d image, so these
+    // are this view's exact screen-space statistics.
+    rasterizer_.Radii(&radii_);
+    rasterizer_.Mean2dGradients(&mean2d_grads_);
+    stats_.AddView(frame.camera.width, frame.camera.height, radii_,
+                   mean2d_grads_);
+  }
   adam_.Step(LearningRates(), grad_, &g_);
   ++iteration_;
 
@@ -124,6 +135,7 @@ IterationStats StaticTrainer::Step() {
     DensifyAndPrune(d, extent_, iteration_ > d.opacity_reset_interval, &rng_,
                     &g_, &adam_, &stats_);
   }
+  // Only while densifying, so at least half the run re-learns opacities.
   if (densifying && d.opacity_reset_interval > 0 &&
       iteration_ % d.opacity_reset_interval == 0) {
     ResetOpacity(kResetOpacity, &g_, &adam_);

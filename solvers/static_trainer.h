@@ -88,8 +88,10 @@ class StaticTrainer {
   DensityStats stats_;
   FrameSampler sampler_;
   std::mt19937_64 rng_;
-  Rasterizer rasterizer_;
+  Rasterizer rasterizer_;  // the cost renders with it; densify reads it
   SplatRenderCost cost_;
+  std::vector<int> radii_;            // of the last view, reused
+  std::vector<double> mean2d_grads_;  // of the last view, reused
   int64_t iteration_ = 0;
 };
 

@@ -6,6 +6,7 @@
 #include <random>
 
 #include "core/knn_init.h"
+#include "core/rasterizer.h"
 
 namespace es {
 namespace {
@@ -111,24 +112,62 @@ TEST(DensifyTest, ResetOpacityCapsAndClearsMoments) {
   EXPECT_EQ(f.adam.m().opacity_logits[0], 0.0);
 }
 
-TEST(DensifyTest, ViewGradientIsImagePlaneComponentInNdc) {
-  GaussianSet g = TwoGaussians();
+TEST(DensifyTest, AccumulatesRasterizerViewSpaceGradientInNdc) {
+  // A non-square view, so swapping the W/2 and H/2 factors would show.
   Camera cam;
-  cam.width = 100, cam.height = 80;
-  cam.fx = cam.fy = 50, cam.cx = 50, cam.cy = 40;
+  cam.width = 64, cam.height = 40;
+  cam.fx = cam.fy = 40, cam.cx = 32, cam.cy = 20;
+  GaussianSet g;
+  g.sh_degree = 0;
+  g.Resize(3);
+  g.means = {0,  0, 4,    // on the optical axis
+             20, 0, 4,    // far right of the image: culled
+             0,  0, -4};  // behind the camera: culled
+  g.log_scales.assign(9, std::log(0.3));
+  g.opacity_logits.assign(3, Logit(0.9));
+  g.sh.assign(9, 0.4);
+  Rasterizer rasterizer;
+  RenderOptions options;
+  options.use_double = true;
+  RenderResult out;
+  rasterizer.Forward(cam, SplatView::Of(g), options, &out);
+  // Red rewarded right of the mean and green below it: both components of
+  // the screen-space gradient are non-zero.
+  std::vector<double> d_rgb(out.rgb.size(), 0.0);
+  for (int i = 0; i < cam.height; ++i)
+    for (int j = 0; j < cam.width; ++j) {
+      d_rgb[3 * (i * cam.width + j)] = j >= 32 ? 1.0 : 0.0;
+      d_rgb[3 * (i * cam.width + j) + 1] = i >= 20 ? 0.5 : 0.0;
+    }
+  SplatGradients grads;
+  rasterizer.Backward({d_rgb.data(), nullptr, nullptr, nullptr}, &grads);
+  std::vector<int> radii;
+  std::vector<double> mean2d;
+  rasterizer.Radii(&radii);
+  rasterizer.Mean2dGradients(&mean2d);
+  ASSERT_GT(radii[0], 0);
+  ASSERT_GT(std::abs(mean2d[0]), 1e-3);
+  ASSERT_GT(std::abs(mean2d[1]), 1e-3);
+
   DensityStats stats;
-  stats.Reset(2);
-  // Gaussian 0 at depth 5: moving it by dx moves its image by fx dx / z, so
-  // d/du = d/dx * z / fx; NDC scales by W / 2. Depth gradient is ignored.
-  const std::vector<double> d_means = {0.01, 0.0, 7.0, 0.0, 0.0, 0.0};
-  stats.AddView(cam, g, d_means.data());
-  EXPECT_NEAR(stats.grad_sum[0], 0.01 * 5 / 50 * 50, 1e-15);
-  EXPECT_EQ(stats.count[0], 1);
-  EXPECT_EQ(stats.count[1], 1);
-  EXPECT_NEAR(stats.max_radius[0], 3 * 0.05 * 50 / 5, 1e-12);
-  cam.t_cw = {0, 0, -10};  // now both are behind the camera
-  stats.AddView(cam, g, d_means.data());
-  EXPECT_EQ(stats.count[0], 1);
+  stats.Reset(3);
+  stats.AddView(cam.width, cam.height, radii, mean2d);
+  stats.AddView(cam.width, cam.height, radii, mean2d);
+  // On the axis an isotropic footprint does not change to first order when
+  // the Gaussian moves sideways, so d loss / d u = z / fx * d loss / d x:
+  // the NDC gradient follows from the world gradient independently.
+  const double ndc_u = grads.means[0] * 4 / cam.fx * cam.width / 2;
+  const double ndc_v = grads.means[1] * 4 / cam.fy * cam.height / 2;
+  EXPECT_NEAR(stats.MeanGrad(0), std::hypot(ndc_u, ndc_v),
+              1e-9 * std::hypot(ndc_u, ndc_v));
+  EXPECT_EQ(stats.count[0], 2);
+  EXPECT_EQ(stats.max_radius[0], radii[0]);
+  for (int i : {1, 2}) {
+    EXPECT_EQ(radii[i], 0) << i;
+    EXPECT_EQ(stats.count[i], 0) << i;
+    EXPECT_EQ(stats.grad_sum[i], 0) << i;
+    EXPECT_EQ(stats.MeanGrad(i), 0) << i;
+  }
 }
 
 TEST(KnnInitTest, MatchesBruteForceAndSeedsAttributes) {

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <omp.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -146,8 +147,11 @@ TEST(StaticTrainerTest, ResumeFromCheckpointIsBitExact) {
   o.sh_degree_interval = 100;
   o.densify_options.from_iteration = 50;
   o.densify_options.interval = 50;
+  // Densification stops at half of the run (150); the checkpoint at 120
+  // falls between densify steps, so the restored statistics feed the one at
+  // 150, and the opacity reset at 100 is before it.
   o.densify_options.until_iteration = 250;
-  o.densify_options.opacity_reset_interval = 200;
+  o.densify_options.opacity_reset_interval = 100;
   o.densify_options.max_gaussians = 500;
   const GaussianSet init =
       InitGaussiansFromPoints(scene.points, scene.colors, 0);
@@ -159,13 +163,13 @@ TEST(StaticTrainerTest, ResumeFromCheckpointIsBitExact) {
       std::string(ES_BINARY_DIR) + "/static_trainer_test.ckpt";
   {
     StaticTrainer first(&scene.frames, scene.train, o, init);
-    for (int i = 0; i < 150; ++i) first.Step();
+    for (int i = 0; i < 120; ++i) first.Step();
     WriteCheckpoint(first.Save(), path);
   }  // "killed"
   StaticTrainer resumed(&scene.frames, scene.train, o, init);
   resumed.Restore(ReadCheckpoint(path));
-  EXPECT_EQ(resumed.iteration(), 150);
-  for (int i = 0; i < 150; ++i) resumed.Step();
+  EXPECT_EQ(resumed.iteration(), 120);
+  for (int i = 0; i < 180; ++i) resumed.Step();
   omp_set_num_threads(threads);
   std::remove(path.c_str());
 
@@ -179,6 +183,29 @@ TEST(StaticTrainerTest, ResumeFromCheckpointIsBitExact) {
   EXPECT_EQ(a.opacity_logits, b.opacity_logits);
   EXPECT_EQ(a.sh, b.sh);
   EXPECT_EQ(a.dynamic_logits, b.dynamic_logits);
+}
+
+double MaxOpacity(const GaussianSet& g) {
+  double m = 0;
+  for (double logit : g.opacity_logits) m = std::max(m, Sigmoid(logit));
+  return m;
+}
+
+TEST(StaticTrainerTest, ResetsOpacityOnlyInTheFirstHalfOfTheRun) {
+  const SyntheticScene scene;
+  StaticTrainerOptions o = FastOptions(200);
+  o.densify_options.from_iteration = 1000;  // resets only, no clone/split
+  o.densify_options.until_iteration = 1000;
+  o.densify_options.opacity_reset_interval = 100;
+  StaticTrainer trainer(&scene.frames, scene.train, o,
+                        InitGaussiansFromPoints(scene.points, scene.colors, 0));
+  for (int i = 0; i < 100; ++i) trainer.Step();
+  // Iteration 100 is still in the first half: it resets.
+  EXPECT_LE(MaxOpacity(trainer.gaussians()), 0.01 + 1e-12);
+  for (int i = 0; i < 100; ++i) trainer.Step();
+  // Densification (and with it the reset) stops at half of the run, so the
+  // last iteration does not leave the model transparent.
+  EXPECT_GT(MaxOpacity(trainer.gaussians()), 0.05);
 }
 
 TEST(CheckpointTest, BadFilesAreInputErrors) {
