@@ -1,13 +1,16 @@
 #ifndef EULERSPLAT_SOLVERS_CHECKPOINT_IO_H_
 #define EULERSPLAT_SOLVERS_CHECKPOINT_IO_H_
 
+#include <algorithm>
 #include <cstdint>
+#include <cstdio>
 #include <fstream>
 #include <string>
 #include <vector>
 
 #include "core/gaussians.h"
 #include "core/input_error.h"
+#include "solvers/frame_sampler.h"
 
 namespace es {
 
@@ -34,9 +37,14 @@ class CheckpointWriter {
   }
   void Gaussians(const GaussianSet& g) {
     Pod<int32_t>(g.sh_degree);
-    for (const auto* v : {&g.means, &g.log_scales, &g.quats,
-                          &g.opacity_logits, &g.sh, &g.dynamic_logits})
+    for (const auto* v : {&g.means, &g.log_scales, &g.quats, &g.opacity_logits,
+                          &g.sh, &g.dynamic_logits})
       Vector(*v);
+  }
+  void Sampler(const FrameSampler::State& s) {
+    String(s.rng);
+    Vector(s.order);
+    Pod<int32_t>(s.position);
   }
 
  private:
@@ -79,8 +87,8 @@ class CheckpointReader {
     GaussianSet g;
     g.sh_degree = Pod<int32_t>();
     if (g.sh_degree < 0 || g.sh_degree > kMaxShDegree) Fail("bad SH degree");
-    for (auto* v : {&g.means, &g.log_scales, &g.quats, &g.opacity_logits,
-                    &g.sh, &g.dynamic_logits})
+    for (auto* v : {&g.means, &g.log_scales, &g.quats, &g.opacity_logits, &g.sh,
+                    &g.dynamic_logits})
       *v = Vector<double>();
     const size_t n = g.opacity_logits.size();
     if (g.means.size() != 3 * n || g.log_scales.size() != 3 * n ||
@@ -88,6 +96,15 @@ class CheckpointReader {
         g.dynamic_logits.size() != n)
       Fail("inconsistent Gaussian arrays");
     return g;
+  }
+  FrameSampler::State Sampler() {
+    FrameSampler::State s;
+    s.rng = String();
+    s.order = Vector<int>();
+    s.position = Pod<int32_t>();
+    if (s.position < 0 || s.position > static_cast<int>(s.order.size()))
+      Fail("frame sampler position out of range");
+    return s;
   }
   [[noreturn]] void Fail(const std::string& what) {
     throw InputError(path_ + ": not a valid " + kind_ + " (" + what + ")");
@@ -101,6 +118,46 @@ class CheckpointReader {
   std::ifstream* in_;
   std::string path_, kind_;
 };
+
+// Every checkpoint file starts with an 8-byte tag naming its kind and
+// version.
+using CheckpointMagic = char[8];
+
+// Writes PATH atomically: `write_records(CheckpointWriter&)` fills PATH.tmp,
+// which then replaces PATH, so a run killed mid-write keeps its previous
+// checkpoint.
+template <typename WriteRecords>
+void WriteCheckpointFile(const std::string& path, const CheckpointMagic& magic,
+                         WriteRecords write_records) {
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) throw InputError(tmp + ": cannot open for writing");
+    out.write(magic, sizeof(CheckpointMagic));
+    CheckpointWriter writer(&out);
+    write_records(writer);
+    out.flush();
+    if (!out) throw InputError(tmp + ": write failed");
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0)
+    throw InputError(path + ": cannot rename " + tmp + " over it");
+}
+
+// Opens PATH, checks its tag and returns `read_records(CheckpointReader&)`;
+// problems throw InputError naming PATH and `kind`.
+template <typename ReadRecords>
+auto ReadCheckpointFile(const std::string& path, const std::string& kind,
+                        const CheckpointMagic& magic,
+                        ReadRecords read_records) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path + ": cannot open " + kind);
+  CheckpointReader reader(&in, path, kind);
+  CheckpointMagic tag;
+  in.read(tag, sizeof(tag));
+  if (!in || !std::equal(tag, tag + sizeof(tag), magic))
+    reader.Fail("wrong magic or version");
+  return read_records(reader);
+}
 
 }  // namespace es
 

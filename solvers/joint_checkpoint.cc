@@ -1,16 +1,11 @@
 #include "solvers/joint_checkpoint.h"
 
-#include <algorithm>
-#include <cstdio>
-#include <fstream>
-
-#include "core/input_error.h"
 #include "solvers/checkpoint_io.h"
 
 namespace es {
 namespace {
 
-constexpr char kMagic[8] = {'E', 'S', 'J', 'C', 'K', 'P', 'T', '1'};
+constexpr CheckpointMagic kMagic = {'E', 'S', 'J', 'C', 'K', 'P', 'T', '1'};
 
 bool SameShapes(const std::vector<std::vector<double>>& a,
                 const std::vector<std::vector<double>>& b) {
@@ -23,12 +18,7 @@ bool SameShapes(const std::vector<std::vector<double>>& a,
 }  // namespace
 
 void WriteJointCheckpoint(const JointCheckpoint& c, const std::string& path) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw InputError(tmp + ": cannot open for writing");
-    CheckpointWriter w(&out);
-    out.write(kMagic, sizeof(kMagic));
+  WriteCheckpointFile(path, kMagic, [&c](CheckpointWriter& w) {
     w.Pod<int64_t>(c.iteration);
     w.Gaussians(c.gaussians);
     w.Gaussians(c.adam_m);
@@ -41,57 +31,43 @@ void WriteJointCheckpoint(const JointCheckpoint& c, const std::string& path) {
     w.Vectors(c.field_v);
     w.Vector(c.field_boxes);
     w.Pod<int64_t>(c.field_step);
-    w.String(c.sampler.rng);
-    w.Vector(c.sampler.order);
-    w.Pod<int32_t>(c.sampler.position);
+    w.Sampler(c.sampler);
     w.String(c.rng);
-    out.flush();
-    if (!out) throw InputError(tmp + ": write failed");
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0)
-    throw InputError(path + ": cannot rename " + tmp + " over it");
+  });
 }
 
 JointCheckpoint ReadJointCheckpoint(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path + ": cannot open joint checkpoint");
-  CheckpointReader r(&in, path, "joint checkpoint");
-  char magic[sizeof(kMagic)];
-  in.read(magic, sizeof(magic));
-  if (!in || !std::equal(magic, magic + sizeof(magic), kMagic))
-    r.Fail("wrong magic or version");
-  JointCheckpoint c;
-  c.iteration = r.Pod<int64_t>();
-  c.gaussians = r.Gaussians();
-  c.adam_m = r.Gaussians();
-  c.adam_v = r.Gaussians();
-  c.adam_step = r.Pod<int64_t>();
-  c.dynamic_index = r.Vector<int>();
-  c.start_times = r.Vector<int>();
-  c.field_params = r.Vectors();
-  c.field_m = r.Vectors();
-  c.field_v = r.Vectors();
-  c.field_boxes = r.Vector<double>();
-  c.field_step = r.Pod<int64_t>();
-  c.sampler.rng = r.String();
-  c.sampler.order = r.Vector<int>();
-  c.sampler.position = r.Pod<int32_t>();
-  c.rng = r.String();
-  const int n = c.gaussians.size();
-  if (c.adam_m.size() != n || c.adam_v.size() != n ||
-      c.dynamic_index.size() != c.start_times.size() ||
-      !SameShapes(c.field_params, c.field_m) ||
-      !SameShapes(c.field_params, c.field_v) ||
-      c.field_boxes.size() != 3 * c.field_params.size() ||
-      c.sampler.position < 0 ||
-      c.sampler.position > static_cast<int>(c.sampler.order.size()))
-    r.Fail("inconsistent sizes");
-  for (size_t k = 0; k < c.dynamic_index.size(); ++k) {
-    if (c.dynamic_index[k] < 0 || c.dynamic_index[k] >= n ||
-        (k > 0 && c.dynamic_index[k] <= c.dynamic_index[k - 1]))
-      r.Fail("dynamic indices out of range or not ascending");
-  }
-  return c;
+  return ReadCheckpointFile(
+      path, "joint checkpoint", kMagic, [](CheckpointReader& r) {
+        JointCheckpoint c;
+        c.iteration = r.Pod<int64_t>();
+        c.gaussians = r.Gaussians();
+        c.adam_m = r.Gaussians();
+        c.adam_v = r.Gaussians();
+        c.adam_step = r.Pod<int64_t>();
+        c.dynamic_index = r.Vector<int>();
+        c.start_times = r.Vector<int>();
+        c.field_params = r.Vectors();
+        c.field_m = r.Vectors();
+        c.field_v = r.Vectors();
+        c.field_boxes = r.Vector<double>();
+        c.field_step = r.Pod<int64_t>();
+        c.sampler = r.Sampler();
+        c.rng = r.String();
+        const int n = c.gaussians.size();
+        if (c.adam_m.size() != n || c.adam_v.size() != n ||
+            c.dynamic_index.size() != c.start_times.size() ||
+            !SameShapes(c.field_params, c.field_m) ||
+            !SameShapes(c.field_params, c.field_v) ||
+            c.field_boxes.size() != 3 * c.field_params.size())
+          r.Fail("inconsistent sizes");
+        for (size_t k = 0; k < c.dynamic_index.size(); ++k) {
+          if (c.dynamic_index[k] < 0 || c.dynamic_index[k] >= n ||
+              (k > 0 && c.dynamic_index[k] <= c.dynamic_index[k - 1]))
+            r.Fail("dynamic indices out of range or not ascending");
+        }
+        return c;
+      });
 }
 
 }  // namespace es
