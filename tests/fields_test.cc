@@ -8,46 +8,13 @@
 
 #include "core/motion_field.h"
 #include "core/residual_field.h"
+#include "tests/central_differences.h"
 
 namespace es {
 namespace {
 
-constexpr double kStep = 1e-6;
-constexpr double kTolerance = 1e-4;
-
-double NumericDerivative(const std::function<double()>& f, double* value) {
-  const double saved = *value;
-  *value = saved + kStep;
-  const double plus = f();
-  *value = saved - kStep;
-  const double minus = f();
-  *value = saved;
-  return (plus - minus) / (2 * kStep);
-}
-
-void ExpectGradientsNear(const std::vector<double>& analytic,
-                         const std::function<double()>& loss,
-                         std::vector<double>* values, const char* what) {
-  ASSERT_EQ(analytic.size(), values->size());
-  double largest = 0.0;
-  for (size_t i = 0; i < values->size(); ++i) {
-    const double numeric = NumericDerivative(loss, &(*values)[i]);
-    largest = std::max(largest, std::abs(numeric));
-    EXPECT_LE(std::abs(analytic[i] - numeric),
-              kTolerance * std::max(1.0, std::abs(numeric)))
-        << what << "[" << i << "] analytic " << analytic[i] << " numeric "
-        << numeric;
-  }
-  EXPECT_GT(largest, 1e-3) << what << ": the check must see a gradient";
-}
-
-std::vector<double> Uniform(int size, double lo, double hi, uint32_t seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> uniform(lo, hi);
-  std::vector<double> v(size);
-  for (double& x : v) x = uniform(rng);
-  return v;
-}
+using central_differences::ExpectGradientsNear;
+using central_differences::Uniform;
 
 const Eigen::Vector3d kBoxMin(-2.0, -1.0, 0.0);
 const Eigen::Vector3d kBoxMax(2.0, 1.0, 3.0);

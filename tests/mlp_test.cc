@@ -7,37 +7,14 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/central_differences.h"
+
 namespace es {
 namespace {
 
-constexpr double kStep = 1e-6;
-constexpr double kTolerance = 1e-4;
-
-double NumericDerivative(const std::function<double()>& f, double* value) {
-  const double saved = *value;
-  *value = saved + kStep;
-  const double plus = f();
-  *value = saved - kStep;
-  const double minus = f();
-  *value = saved;
-  return (plus - minus) / (2 * kStep);
-}
-
-void ExpectRelativeNear(double analytic, double numeric, const char* what,
-                        int index) {
-  EXPECT_LE(std::abs(analytic - numeric),
-            kTolerance * std::max(1.0, std::abs(numeric)))
-      << what << "[" << index << "] analytic " << analytic << " numeric "
-      << numeric;
-}
-
-std::vector<double> Uniform(int size, uint32_t seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
-  std::vector<double> v(size);
-  for (double& x : v) x = uniform(rng);
-  return v;
-}
+using central_differences::ExpectRelativeNear;
+using central_differences::NumericDerivative;
+using central_differences::Uniform;
 
 class MlpGradientTest : public ::testing::TestWithParam<int> {};
 
@@ -47,11 +24,11 @@ TEST_P(MlpGradientTest, MatchesCentralDifferences) {
   std::vector<double> params(mlp.num_params());
   mlp.Initialize(11, 1.0, params.data());
   // Non-zero biases so their gradients are exercised off the origin.
-  const std::vector<double> noise = Uniform(mlp.num_params(), 12);
+  const std::vector<double> noise = Uniform(mlp.num_params(), -1.0, 1.0, 12);
   for (size_t i = 0; i < params.size(); ++i) params[i] += 0.1 * noise[i];
   const int n = 7;
-  std::vector<double> input = Uniform(n * 5, 13);
-  const std::vector<double> weights = Uniform(n * 3, 14);
+  std::vector<double> input = Uniform(n * 5, -1.0, 1.0, 13);
+  const std::vector<double> weights = Uniform(n * 3, -1.0, 1.0, 14);
 
   MlpWorkspace ws;
   std::vector<double> out(n * 3);
@@ -84,8 +61,8 @@ TEST(MlpTest, LargeBatchesMatchSmallBatches) {
   std::vector<double> params(mlp.num_params());
   mlp.Initialize(21, 1.0, params.data());
   const int n = 2000, part = 100;
-  const std::vector<double> input = Uniform(n * 6, 22);
-  const std::vector<double> d_out = Uniform(n * 4, 23);
+  const std::vector<double> input = Uniform(n * 6, -1.0, 1.0, 22);
+  const std::vector<double> d_out = Uniform(n * 4, -1.0, 1.0, 23);
   MlpWorkspace ws;
   std::vector<double> out(n * 4), d_params(params.size(), 0.0),
       d_input(n * 6, 0.0);
@@ -130,7 +107,7 @@ TEST(MlpTest, SmallLastLayerGivesNearZeroOutput) {
   std::vector<double> params(mlp.num_params());
   mlp.Initialize(1, 1e-3, params.data());
   const int n = 100;
-  const std::vector<double> input = Uniform(n * 12, 2);
+  const std::vector<double> input = Uniform(n * 12, -1.0, 1.0, 2);
   std::vector<double> out(n * 3);
   MlpWorkspace ws;
   mlp.Forward(params.data(), n, input.data(), out.data(), &ws);
@@ -142,8 +119,8 @@ TEST(MlpTest, WorkspaceIsReusedAtTheSameBatchSize) {
   std::vector<double> params(mlp.num_params());
   mlp.Initialize(1, 1.0, params.data());
   const int n = 9;
-  const std::vector<double> input = Uniform(n * 4, 3);
-  const std::vector<double> d_out = Uniform(n * 3, 4);
+  const std::vector<double> input = Uniform(n * 4, -1.0, 1.0, 3);
+  const std::vector<double> d_out = Uniform(n * 3, -1.0, 1.0, 4);
   std::vector<double> out(n * 3), d_params(params.size());
   MlpWorkspace ws;
   mlp.Forward(params.data(), n, input.data(), out.data(), &ws);

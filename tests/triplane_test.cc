@@ -8,30 +8,13 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/central_differences.h"
+
 namespace es {
 namespace {
 
-constexpr double kStep = 1e-6;
-constexpr double kTolerance = 1e-4;
-
-// Central-difference derivative of f with respect to *value.
-double NumericDerivative(const std::function<double()>& f, double* value) {
-  const double saved = *value;
-  *value = saved + kStep;
-  const double plus = f();
-  *value = saved - kStep;
-  const double minus = f();
-  *value = saved;
-  return (plus - minus) / (2 * kStep);
-}
-
-void ExpectRelativeNear(double analytic, double numeric, const char* what,
-                        int index) {
-  EXPECT_LE(std::abs(analytic - numeric),
-            kTolerance * std::max(1.0, std::abs(numeric)))
-      << what << "[" << index << "] analytic " << analytic << " numeric "
-      << numeric;
-}
+using central_differences::ExpectRelativeNear;
+using central_differences::NumericDerivative;
 
 Triplane MakeTriplane(PlaneCombination combination) {
   TriplaneOptions options;
