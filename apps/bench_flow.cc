@@ -14,6 +14,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "core/optical_flow.h"
+#include "core/random_texture.h"
 #include "costs/scene_flow_cost.h"
 #include "solvers/flow_pretrain.h"
 
@@ -22,19 +23,6 @@ namespace {
 
 constexpr int kWidth = 320, kHeight = 240;
 constexpr int kMargin = 16;  // border band where warping replicates pixels
-
-// A smooth random RGB texture in [0, 1] with detail at two scales.
-cv::Mat RandomTexture(int width, int height, uint64_t seed) {
-  cv::RNG rng(seed);
-  cv::Mat fine(height, width, CV_32FC3), coarse(height, width, CV_32FC3);
-  rng.fill(fine, cv::RNG::UNIFORM, 0.0, 1.0);
-  rng.fill(coarse, cv::RNG::UNIFORM, 0.0, 1.0);
-  cv::GaussianBlur(fine, fine, cv::Size(0, 0), 1.5);
-  cv::GaussianBlur(coarse, coarse, cv::Size(0, 0), 6.0);
-  cv::Mat texture = fine + coarse;
-  cv::normalize(texture, texture, 0.0, 1.0, cv::NORM_MINMAX);
-  return texture;
-}
 
 // A smooth flow of up to ~4 px: a swirl plus a drift, like water between
 // two frames.
@@ -53,7 +41,7 @@ cv::Mat SmoothFlow(int width, int height) {
 struct FlowPairFixture {
   cv::Mat first, second, truth, interior;
   FlowPairFixture() {
-    second = RandomTexture(kWidth, kHeight, 3);
+    second = TwoScaleTexture(kWidth, kHeight, 3, 3);
     truth = SmoothFlow(kWidth, kHeight);
     first = WarpByFlow(second, truth);
     interior = cv::Mat(truth.size(), CV_8UC1, cv::Scalar(0));

@@ -7,6 +7,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "core/input_error.h"
+#include "core/random_texture.h"
 
 namespace es {
 namespace {
@@ -86,18 +87,6 @@ cv::Mat RenderPlane(const Camera& camera, const Plane& plane,
   return image;
 }
 
-cv::Mat RandomTexture(int size, uint64_t seed) {
-  cv::RNG rng(seed);
-  cv::Mat fine(size, size, CV_32FC1), coarse(size, size, CV_32FC1);
-  rng.fill(fine, cv::RNG::UNIFORM, 0.0, 1.0);
-  rng.fill(coarse, cv::RNG::UNIFORM, 0.0, 1.0);
-  cv::GaussianBlur(fine, fine, cv::Size(0, 0), 1.5);
-  cv::GaussianBlur(coarse, coarse, cv::Size(0, 0), 6.0);
-  cv::Mat texture = fine + coarse;
-  cv::normalize(texture, texture, 0.0, 1.0, cv::NORM_MINMAX);
-  return texture;
-}
-
 struct TwoViews {
   Camera a, b;
   Plane plane;
@@ -151,7 +140,7 @@ TEST(FlowLiftingTest, ExactFlowRecoversPlaneTranslation) {
 TEST(FlowLiftingTest, EstimatedFlowRecoversPlaneTranslation) {
   const TwoViews v = MakeTwoViews(160, 120, 150);
   const Plane moved = v.plane.Moved(v.motion);
-  const cv::Mat texture = RandomTexture(512, 11);
+  const cv::Mat texture = TwoScaleTexture(512, 512, 1, 11);
   const cv::Mat image_a = RenderPlane(v.a, v.plane, Eigen::Vector3d::Zero(),
                                       texture, 120.0);
   const cv::Mat image_b = RenderPlane(v.b, moved, v.motion, texture, 120.0);

@@ -4,23 +4,10 @@
 #include <opencv2/imgproc.hpp>
 
 #include "core/input_error.h"
+#include "core/random_texture.h"
 
 namespace es {
 namespace {
-
-// A smooth random RGB texture in [0, 1] with detail at two scales, so every
-// pyramid level of the estimators sees structure.
-cv::Mat RandomTexture(int width, int height, uint64_t seed) {
-  cv::RNG rng(seed);
-  cv::Mat fine(height, width, CV_32FC3), coarse(height, width, CV_32FC3);
-  rng.fill(fine, cv::RNG::UNIFORM, 0.0, 1.0);
-  rng.fill(coarse, cv::RNG::UNIFORM, 0.0, 1.0);
-  cv::GaussianBlur(fine, fine, cv::Size(0, 0), 1.5);
-  cv::GaussianBlur(coarse, coarse, cv::Size(0, 0), 6.0);
-  cv::Mat texture = fine + coarse;
-  cv::normalize(texture, texture, 0.0, 1.0, cv::NORM_MINMAX);
-  return texture;
-}
 
 // Pixels at least `margin` from the border: the shift brings replicated
 // border pixels in there.
@@ -32,7 +19,7 @@ cv::Mat Interior(cv::Size size, int margin) {
 }
 
 double TranslationEpe(FlowMethod method, bool backward) {
-  const cv::Mat texture = RandomTexture(160, 120, 7);
+  const cv::Mat texture = TwoScaleTexture(160, 120, 3, 7);
   const cv::Vec2f shift(1.3f, -0.7f);
   const cv::Mat truth(texture.size(), CV_32FC2,
                       cv::Scalar(shift[0], shift[1]));
@@ -64,7 +51,7 @@ TEST(OpticalFlowTest, ContribMethodRecoversShiftWhenAvailable) {
 }
 
 TEST(OpticalFlowTest, WarpByZeroFlowIsIdentity) {
-  const cv::Mat texture = RandomTexture(40, 30, 3);
+  const cv::Mat texture = TwoScaleTexture(40, 30, 3, 3);
   const cv::Mat zero(texture.size(), CV_32FC2, cv::Scalar(0, 0));
   EXPECT_EQ(cv::norm(WarpByFlow(texture, zero), texture, cv::NORM_INF), 0.0);
 }
