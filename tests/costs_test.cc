@@ -12,64 +12,16 @@
 #include "costs/photometric_cost.h"
 #include "costs/scalar_loss.h"
 #include "costs/splat_render_cost.h"
+#include "tests/splat_probe_scene.h"
 
 namespace es {
 namespace {
 
-constexpr int kWidth = 24, kHeight = 20;
-
-Frame TinyFrame() {
-  Frame f;
-  f.camera.width = kWidth;
-  f.camera.height = kHeight;
-  f.camera.fx = f.camera.fy = 20;
-  f.camera.cx = 12;
-  f.camera.cy = 10;
-  f.camera.q_cw = Eigen::Quaterniond(
-      Eigen::AngleAxisd(0.1, Eigen::Vector3d(0.3, 1, 0).normalized()));
-  f.camera.t_cw = {0.1, -0.05, 0.2};
-  std::mt19937 rng(11);
-  std::uniform_real_distribution<float> u(0.f, 1.f);
-  f.image.create(kHeight, kWidth, CV_32FC3);
-  for (int i = 0; i < kHeight; ++i)
-    for (int j = 0; j < kWidth; ++j)
-      f.image.at<cv::Vec3f>(i, j) = {0.2f + 0.5f * u(rng), 0.4f, 0.05f * j};
-  f.mask = cv::Mat(kHeight, kWidth, CV_32FC1, cv::Scalar(0.f));
-  f.mask.rowRange(10, kHeight).setTo(1.f);
-  return f;
-}
-
-// Six Gaussians of SH degree 1 in front of the camera, opacities and sizes
-// away from the rasterizer's clamps so the loss is smooth at the probe
-// (opacity < 0.35 keeps alpha below 1/255 outside the 3-sigma tiles).
-GaussianSet SixGaussians() {
-  GaussianSet g;
-  g.sh_degree = 1;
-  g.Resize(6);
-  std::mt19937 rng(3);
-  std::uniform_real_distribution<double> u(-1, 1);
-  for (int i = 0; i < 6; ++i) {
-    g.means[3 * i] = 0.5 * u(rng);
-    g.means[3 * i + 1] = 0.4 * u(rng);
-    // Well-separated depths: a depth-order swap is a true discontinuity.
-    g.means[3 * i + 2] = 2.5 + 0.2 * i;
-    for (int a = 0; a < 3; ++a)
-      g.log_scales[3 * i + a] = std::log(0.25) + 0.3 * u(rng);
-    for (int a = 0; a < 4; ++a) g.quats[4 * i + a] = (a == 0) + 0.3 * u(rng);
-    g.opacity_logits[i] = -1.2 + 0.3 * u(rng);
-    for (int k = 0; k < 12; ++k)
-      g.sh[12 * i + k] = (k < 3 ? 0.8 : 0.3) * u(rng);
-    g.dynamic_logits[i] = u(rng);
-  }
-  return g;
-}
-
-RenderOptions DoubleOptions() {
-  RenderOptions o;
-  o.use_double = true;
-  o.background = {0.1, 0.2, 0.3};
-  return o;
-}
+using probe_scene::DoubleOptions;
+using probe_scene::SixGaussians;
+using probe_scene::TinyFrame;
+using probe_scene::kHeight;
+using probe_scene::kWidth;
 
 bool Probe(const ceres::CostFunction& cost, GaussianSet* g, std::string* log) {
   // Ridders' default first step (1% of the value) moves a splat by a good
