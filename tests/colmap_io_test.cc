@@ -1,7 +1,5 @@
 #include "core/colmap_io.h"
 
-#include <unistd.h>
-
 #include <cstdint>
 #include <cstdlib>
 #include <filesystem>
@@ -12,24 +10,14 @@
 #include <gtest/gtest.h>
 
 #include "core/input_error.h"
+#include "tests/temp_dir_test.h"
 
 namespace es {
 namespace {
 
 namespace fs = std::filesystem;
 
-class ColmapIoTest : public ::testing::Test {
- protected:
-  void SetUp() override {
-    dir_ = fs::path(::testing::TempDir()) /
-           ("es_colmap_" + std::to_string(getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  fs::path dir_;
-};
+class ColmapIoTest : public TempDirTest {};
 
 // Two cameras (one distorted), three images with 2D points, five 3D points
 // whose tracks agree with the images' 2D points. Values are chosen so that

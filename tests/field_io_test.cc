@@ -1,7 +1,5 @@
 #include "core/field_io.h"
 
-#include <unistd.h>
-
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -10,27 +8,14 @@
 #include <gtest/gtest.h>
 
 #include "core/input_error.h"
+#include "tests/temp_dir_test.h"
 
 namespace es {
 namespace {
 
 namespace fs = std::filesystem;
 
-class FieldIoTest : public ::testing::Test {
- protected:
-  void SetUp() override {
-    dir_ = fs::path(::testing::TempDir()) /
-           ("es_field_io_" + std::to_string(getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string Path(const std::string& name) const {
-    return (dir_ / name).string();
-  }
-  fs::path dir_;
-};
+class FieldIoTest : public TempDirTest {};
 
 // Non-default options everywhere, so a field that drops one is caught.
 MotionField SmallMotion() {

@@ -1,7 +1,5 @@
 #include "core/loop_model.h"
 
-#include <unistd.h>
-
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -10,26 +8,14 @@
 #include <gtest/gtest.h>
 
 #include "core/input_error.h"
+#include "tests/temp_dir_test.h"
 
 namespace es {
 namespace {
 
 namespace fs = std::filesystem;
 
-class LoopModelTest : public ::testing::Test {
- protected:
-  void SetUp() override {
-    dir_ = fs::path(::testing::TempDir()) /
-           ("es_loop_model_" + std::to_string(getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string Path(const std::string& name) const {
-    return (dir_ / name).string();
-  }
-  fs::path dir_;
-};
+class LoopModelTest : public TempDirTest {};
 
 // Values exactly representable in float32, so the PLY round trip is exact.
 LoopModel SmallModel() {

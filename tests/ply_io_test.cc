@@ -1,7 +1,5 @@
 #include "core/ply_io.h"
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -17,28 +15,14 @@
 #include <gtest/gtest.h>
 
 #include "core/input_error.h"
+#include "tests/temp_dir_test.h"
 
 namespace es {
 namespace {
 
 namespace fs = std::filesystem;
 
-// A fresh directory per test, removed when the test ends.
-class PlyIoTest : public ::testing::Test {
- protected:
-  void SetUp() override {
-    dir_ = fs::path(::testing::TempDir()) /
-           ("es_ply_" + std::to_string(getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string Path(const std::string& name) const {
-    return (dir_ / name).string();
-  }
-  fs::path dir_;
-};
+class PlyIoTest : public TempDirTest {};
 
 // Random Gaussians whose values are exactly representable in float32.
 GaussianSet RandomGaussians(int n, int degree, uint32_t seed) {

@@ -1,7 +1,5 @@
 #include "core/scene.h"
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -16,6 +14,7 @@
 #include "core/colmap_io.h"
 #include "core/input_error.h"
 #include "core/split.h"
+#include "tests/temp_dir_test.h"
 
 namespace es {
 namespace {
@@ -41,16 +40,12 @@ uint8_t MaskPixel(int f, int i, int j) {
   return j < kWidth / 3 ? 0 : j < 2 * kWidth / 3 ? 128 : 255;
 }
 
-class SceneTest : public ::testing::Test {
+class SceneTest : public TempDirTest {
  protected:
   void SetUp() override {
-    dir_ = fs::path(::testing::TempDir()) /
-           ("es_scene_" + std::to_string(getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
+    TempDirTest::SetUp();
     fs::create_directories(dir_ / "images");
   }
-  void TearDown() override { fs::remove_all(dir_); }
 
   // A PINHOLE scene of n frames whose image ids run opposite to name order,
   // with masks and two 3D points.
@@ -110,7 +105,6 @@ class SceneTest : public ::testing::Test {
     }
   }
 
-  fs::path dir_;
   ColmapModel model_;
 };
 
