@@ -26,7 +26,7 @@ while [[ $# -gt 0 ]]; do
     --preset) preset=$2; shift 2 ;;
     --seeds) seeds=$2; shift 2 ;;
     --) shift; break ;;
-    -h|--help) sed -n '2,13p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,14p' "$0"; exit 0 ;;
     *) echo "ablations.sh: unknown argument '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
