@@ -13,10 +13,10 @@
 #include <ceres/ceres.h>
 #include <opencv2/imgproc.hpp>
 
-#include "core/optical_flow.h"
-#include "core/random_texture.h"
+#include "core/flow/optical_flow.h"
 #include "costs/scene_flow_cost.h"
-#include "solvers/flow_pretrain.h"
+#include "solvers/train/flow_pretrain.h"
+#include "synth/random_texture.h"
 
 namespace es {
 namespace {

@@ -12,9 +12,11 @@
 
 #include <benchmark/benchmark.h>
 
-#include "core/looping.h"
-#include "core/motion_field.h"
-#include "core/residual_field.h"
+#include "core/fields/motion_field.h"
+#include "core/fields/residual_field.h"
+#include "core/loop/cycle_time.h"
+#include "core/loop/euler_chain.h"
+#include "core/loop/loop_animator.h"
 
 namespace es {
 namespace {

@@ -20,9 +20,9 @@
 #include <string>
 #include <vector>
 
-#include "core/app_main.h"
-#include "core/input_error.h"
-#include "solvers/static_stage.h"
+#include "apps/common/app_main.h"
+#include "core/io/input_error.h"
+#include "solvers/train/static_stage.h"
 
 DEFINE_string(scene, "out/default_scene",
               "Scene directory (images/, masks/, sparse/0/); "

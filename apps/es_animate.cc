@@ -20,15 +20,15 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
-#include "core/app_main.h"
-#include "core/camera_path.h"
-#include "core/input_error.h"
-#include "core/loop_model.h"
-#include "core/loop_renderer.h"
-#include "core/scene.h"
-#include "core/tracks.h"
-#include "core/video_writer.h"
-#include "core/xt_slice.h"
+#include "apps/common/app_main.h"
+#include "core/io/input_error.h"
+#include "core/io/scene.h"
+#include "core/loop/loop_renderer.h"
+#include "core/model/loop_model.h"
+#include "core/viz/camera_path.h"
+#include "core/viz/tracks.h"
+#include "core/viz/video_writer.h"
+#include "core/viz/xt_slice.h"
 
 DEFINE_string(model, "", "Trained looping model directory (es_train --out).");
 DEFINE_string(scene, "", "Scene directory the model was trained on "

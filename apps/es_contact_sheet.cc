@@ -9,9 +9,9 @@
 #include <gflags/gflags.h>
 #include <opencv2/imgcodecs.hpp>
 
-#include "core/app_main.h"
-#include "core/input_error.h"
-#include "core/synth_contact_sheet.h"
+#include "apps/common/app_main.h"
+#include "core/io/input_error.h"
+#include "core/viz/contact_sheet.h"
 
 DEFINE_string(scene, "", "Scene directory (with images/ and masks/).");
 DEFINE_string(out, "", "Output PNG file.");

@@ -15,13 +15,13 @@
 
 #include <gflags/gflags.h>
 
-#include "core/app_main.h"
-#include "core/input_error.h"
-#include "core/loop_model.h"
-#include "core/scene.h"
-#include "solvers/joint_trainer.h"
-#include "solvers/loop_evaluation.h"
-#include "solvers/motion_gt.h"
+#include "apps/common/app_main.h"
+#include "core/io/input_error.h"
+#include "core/io/scene.h"
+#include "core/model/loop_model.h"
+#include "solvers/eval/loop_evaluation.h"
+#include "solvers/eval/motion_gt.h"
+#include "solvers/train/joint_trainer.h"
 
 DEFINE_string(model, "", "Trained looping model directory (es_train --out).");
 DEFINE_string(scene, "", "Scene directory the model was trained on.");

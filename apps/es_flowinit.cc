@@ -11,15 +11,15 @@
 
 #include <gflags/gflags.h>
 
-#include "core/app_main.h"
-#include "core/field_io.h"
-#include "core/flow_lifting.h"
-#include "core/input_error.h"
-#include "core/ply_io.h"
-#include "core/scene.h"
-#include "solvers/flow_pretrain.h"
-#include "solvers/joint_trainer.h"
-#include "solvers/motion_gt.h"
+#include "apps/common/app_main.h"
+#include "core/flow/flow_lifting.h"
+#include "core/io/field_io.h"
+#include "core/io/input_error.h"
+#include "core/io/ply_io.h"
+#include "core/io/scene.h"
+#include "solvers/eval/motion_gt.h"
+#include "solvers/train/flow_pretrain.h"
+#include "solvers/train/joint_trainer.h"
 
 DEFINE_string(scene, "", "Scene directory (images/, sparse/0/, masks/).");
 DEFINE_string(static, "",
@@ -286,7 +286,7 @@ int main(int argc, char** argv) {
       "Lifts the flow between adjacent training frames to 3D with the static "
       "model's rendered depth, keeps water pixels (masks/, or the model's "
       "dynamic channel), pretrains V on them and writes <out>/"
-      "motion_field.bin (core/field_io.h) and <out>/flow_metrics.json "
+      "motion_field.bin (core/io/field_io.h) and <out>/flow_metrics.json "
       "(num_samples, seconds, fit_rmse, ...; epe_gt and rel_epe_gt when the "
       "scene has gt/). Exits 1 and writes nothing when the model has no "
       "dynamic Gaussians or no sample survives.",

@@ -6,12 +6,14 @@
 
 #include <gflags/gflags.h>
 
-#include "core/app_main.h"
-#include "core/colmap_io.h"
-#include "core/input_error.h"
-#include "core/ply_io.h"
-#include "core/raster_io.h"
-#include "core/rasterizer.h"
+#include "apps/common/app_main.h"
+#include "apps/common/parse_color.h"
+#include "core/io/colmap_io.h"
+#include "core/io/input_error.h"
+#include "core/io/pinhole_camera.h"
+#include "core/io/ply_io.h"
+#include "core/render/rasterizer.h"
+#include "core/viz/render_png.h"
 
 DEFINE_string(ply, "", "3DGS PLY file to render (standard layout).");
 DEFINE_string(sparse, "",

@@ -9,8 +9,8 @@
 
 #include <gflags/gflags.h>
 
-#include "core/app_main.h"
-#include "solvers/static_stage.h"
+#include "apps/common/app_main.h"
+#include "solvers/train/static_stage.h"
 
 DEFINE_string(scene, "", "Scene directory (images/, masks/, sparse/0/).");
 DEFINE_string(out, "", "Output directory (created).");

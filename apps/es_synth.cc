@@ -12,10 +12,10 @@
 
 #include <gflags/gflags.h>
 
-#include "core/app_main.h"
-#include "core/input_error.h"
-#include "core/synth_scene.h"
-#include "core/synth_writer.h"
+#include "apps/common/app_main.h"
+#include "core/io/input_error.h"
+#include "synth/scene.h"
+#include "synth/writer.h"
 
 DEFINE_string(out, "", "Output scene directory (created).");
 DEFINE_string(preset, "waterfall", "Scene: waterfall, stream or fountain.");

@@ -12,14 +12,14 @@
 
 #include <gflags/gflags.h>
 
-#include "core/app_main.h"
-#include "core/field_io.h"
-#include "core/input_error.h"
-#include "core/loop_model.h"
-#include "core/ply_io.h"
-#include "core/scene.h"
-#include "solvers/joint_checkpoint.h"
-#include "solvers/joint_trainer.h"
+#include "apps/common/app_main.h"
+#include "core/io/field_io.h"
+#include "core/io/input_error.h"
+#include "core/io/ply_io.h"
+#include "core/io/scene.h"
+#include "core/model/loop_model.h"
+#include "solvers/checkpoint/joint_checkpoint.h"
+#include "solvers/train/joint_trainer.h"
 
 DEFINE_string(scene, "", "Scene directory (images/, masks/, sparse/0/).");
 DEFINE_string(init, "",

@@ -33,12 +33,12 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "core/app_main.h"
-#include "core/colmap_io.h"
-#include "core/input_error.h"
-#include "core/ply_io.h"
-#include "core/video_writer.h"
-#include "solvers/joint_trainer.h"
+#include "apps/common/app_main.h"
+#include "core/io/colmap_io.h"
+#include "core/io/input_error.h"
+#include "core/io/ply_io.h"
+#include "core/viz/video_writer.h"
+#include "solvers/train/joint_trainer.h"
 
 DEFINE_string(scene, "", "Scene directory: images/ (or a video), optional "
               "masks/, sparse/0/ (made with COLMAP if missing).");

@@ -4,8 +4,8 @@
 
 #include <glog/logging.h>
 
-#include "costs/mask_bce_cost.h"
-#include "costs/photometric_cost.h"
+#include "costs/mask_bce_loss.h"
+#include "costs/photometric_loss.h"
 #include "costs/scalar_loss.h"
 #include "costs/splat_render_cost.h"
 

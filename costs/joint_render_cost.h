@@ -6,10 +6,10 @@
 
 #include <ceres/cost_function.h>
 
-#include "core/frame_composer.h"
-#include "core/loop_model.h"
-#include "core/rasterizer.h"
-#include "core/scene.h"
+#include "core/io/scene.h"
+#include "core/loop/frame_composer.h"
+#include "core/model/loop_model.h"
+#include "core/render/rasterizer.h"
 #include "costs/residual_l2_cost.h"
 
 namespace es {
@@ -61,7 +61,7 @@ std::vector<double*> JointBlocks(LoopModel* model);
 
 // The joint-training loss of one frame i: the looping model is composed at
 // frame i (Alg. 1 advection of the dynamic Gaussians by V to their cycle
-// index, plus D's position, opacity and SH offsets; core/frame_composer.h),
+// index, plus D's position, opacity and SH offsets; core/loop/frame_composer.h),
 // rendered once, and scored by every enabled term,
 //   l = w_p photometric + w_m BCE(dynamic channel, mask) + w_r D L2,
 // exposed as one residual sqrt(2 l + eps) (costs/scalar_loss.h). The

@@ -4,7 +4,7 @@
 
 #include <glog/logging.h>
 
-#include "core/looping.h"
+#include "core/loop/cycle_time.h"
 #include "costs/scalar_loss.h"
 
 namespace es {

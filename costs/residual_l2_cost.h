@@ -5,7 +5,7 @@
 
 #include <ceres/cost_function.h>
 
-#include "core/residual_field.h"
+#include "core/fields/residual_field.h"
 
 namespace es {
 

@@ -5,8 +5,8 @@
 
 #include <ceres/cost_function.h>
 
-#include "core/flow_lifting.h"
-#include "core/motion_field.h"
+#include "core/fields/motion_field.h"
+#include "core/flow/flow_lifting.h"
 
 namespace es {
 

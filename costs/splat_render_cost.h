@@ -6,9 +6,9 @@
 #include <memory>
 #include <vector>
 
-#include "core/gaussians.h"
-#include "core/rasterizer.h"
-#include "core/scene.h"
+#include "core/io/scene.h"
+#include "core/model/gaussians.h"
+#include "core/render/rasterizer.h"
 
 namespace es {
 

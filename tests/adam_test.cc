@@ -1,11 +1,11 @@
-#include "solvers/adam.h"
+#include "solvers/optim/adam.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <vector>
 
-#include "solvers/lr_schedule.h"
+#include "solvers/optim/lr_schedule.h"
 
 namespace es {
 namespace {

@@ -10,14 +10,15 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/videoio.hpp>
 
-#include "core/camera_path.h"
-#include "core/input_error.h"
-#include "core/loop_model.h"
-#include "core/loop_renderer.h"
-#include "core/tracks.h"
-#include "core/video_writer.h"
-#include "core/xt_slice.h"
-#include "solvers/loop_evaluation.h"
+#include "core/io/input_error.h"
+#include "core/loop/cycle_time.h"
+#include "core/loop/loop_renderer.h"
+#include "core/model/loop_model.h"
+#include "core/viz/camera_path.h"
+#include "core/viz/tracks.h"
+#include "core/viz/video_writer.h"
+#include "core/viz/xt_slice.h"
+#include "solvers/eval/loop_evaluation.h"
 
 namespace es {
 namespace {

@@ -1,4 +1,4 @@
-#include "core/camera_path.h"
+#include "core/viz/camera_path.h"
 
 #include <algorithm>
 #include <cmath>
@@ -6,7 +6,7 @@
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
-#include "core/input_error.h"
+#include "core/io/input_error.h"
 
 namespace es {
 namespace {

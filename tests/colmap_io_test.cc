@@ -1,4 +1,4 @@
-#include "core/colmap_io.h"
+#include "core/io/colmap_io.h"
 
 #include <cstdint>
 #include <cstdlib>
@@ -9,7 +9,7 @@
 
 #include <gtest/gtest.h>
 
-#include "core/input_error.h"
+#include "core/io/input_error.h"
 #include "tests/temp_dir_test.h"
 
 namespace es {

@@ -7,9 +7,9 @@
 #include <random>
 #include <vector>
 
-#include "core/image_metrics.h"
-#include "costs/mask_bce_cost.h"
-#include "costs/photometric_cost.h"
+#include "core/metrics/image_metrics.h"
+#include "costs/mask_bce_loss.h"
+#include "costs/photometric_loss.h"
 #include "costs/scalar_loss.h"
 #include "costs/splat_render_cost.h"
 #include "tests/splat_probe_scene.h"

@@ -1,12 +1,12 @@
-#include "solvers/densify.h"
+#include "solvers/train/densify.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <random>
 
-#include "core/knn_init.h"
-#include "core/rasterizer.h"
+#include "core/model/gaussian_init.h"
+#include "core/render/rasterizer.h"
 
 namespace es {
 namespace {

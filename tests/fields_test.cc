@@ -6,8 +6,9 @@
 
 #include <gtest/gtest.h>
 
-#include "core/motion_field.h"
-#include "core/residual_field.h"
+#include "core/fields/motion_field.h"
+#include "core/fields/residual_field.h"
+#include "core/loop/cycle_time.h"
 #include "tests/central_differences.h"
 
 namespace es {

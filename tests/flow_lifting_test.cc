@@ -1,4 +1,4 @@
-#include "core/flow_lifting.h"
+#include "core/flow/flow_lifting.h"
 
 #include <algorithm>
 #include <cmath>
@@ -6,8 +6,8 @@
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
 
-#include "core/input_error.h"
-#include "core/random_texture.h"
+#include "core/io/input_error.h"
+#include "synth/random_texture.h"
 
 namespace es {
 namespace {

@@ -1,12 +1,12 @@
-#include "solvers/flow_pretrain.h"
+#include "solvers/train/flow_pretrain.h"
 
 #include <cmath>
 #include <random>
 
 #include <gtest/gtest.h>
 
-#include "core/input_error.h"
-#include "solvers/motion_gt.h"
+#include "core/io/input_error.h"
+#include "solvers/eval/motion_gt.h"
 
 namespace es {
 namespace {

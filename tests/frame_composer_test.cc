@@ -1,4 +1,4 @@
-#include "core/frame_composer.h"
+#include "core/loop/frame_composer.h"
 
 #include <cmath>
 #include <random>
@@ -6,7 +6,9 @@
 
 #include <gtest/gtest.h>
 
-#include "core/looping.h"
+#include "core/loop/cycle_time.h"
+#include "core/loop/euler_chain.h"
+#include "core/loop/loop_animator.h"
 
 namespace es {
 namespace {

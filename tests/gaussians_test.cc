@@ -1,4 +1,4 @@
-#include "core/gaussians.h"
+#include "core/model/gaussians.h"
 
 #include <vector>
 

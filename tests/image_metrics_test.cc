@@ -1,4 +1,4 @@
-#include "core/image_metrics.h"
+#include "core/metrics/image_metrics.h"
 
 #include <gtest/gtest.h>
 

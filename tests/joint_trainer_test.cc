@@ -1,4 +1,4 @@
-#include "solvers/joint_trainer.h"
+#include "solvers/train/joint_trainer.h"
 
 #include <unistd.h>
 
@@ -12,8 +12,8 @@
 
 #include <opencv2/imgproc.hpp>
 
-#include "core/input_error.h"
-#include "solvers/joint_checkpoint.h"
+#include "core/io/input_error.h"
+#include "solvers/checkpoint/joint_checkpoint.h"
 
 namespace es {
 namespace {

@@ -1,4 +1,4 @@
-#include "core/loop_seam.h"
+#include "core/metrics/loop_seam.h"
 
 #include <cmath>
 #include <random>

@@ -1,4 +1,4 @@
-#include "core/mlp.h"
+#include "core/fields/mlp.h"
 
 #include <cmath>
 #include <functional>

@@ -1,10 +1,10 @@
-#include "core/optical_flow.h"
+#include "core/flow/optical_flow.h"
 
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
 
-#include "core/input_error.h"
-#include "core/random_texture.h"
+#include "core/io/input_error.h"
+#include "synth/random_texture.h"
 
 namespace es {
 namespace {

@@ -1,4 +1,4 @@
-#include "core/ply_io.h"
+#include "core/io/ply_io.h"
 
 #include <algorithm>
 #include <cmath>
@@ -14,7 +14,7 @@
 
 #include <gtest/gtest.h>
 
-#include "core/input_error.h"
+#include "core/io/input_error.h"
 #include "tests/temp_dir_test.h"
 
 namespace es {

@@ -8,7 +8,7 @@
 #include <gtest/gtest.h>
 #include <omp.h>
 
-#include "core/rasterizer.h"
+#include "core/render/rasterizer.h"
 #include "tests/reference_rasterizer.h"
 
 namespace es {

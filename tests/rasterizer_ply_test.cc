@@ -11,8 +11,8 @@
 
 #include <gtest/gtest.h>
 
-#include "core/ply_io.h"
-#include "core/rasterizer.h"
+#include "core/io/ply_io.h"
+#include "core/render/rasterizer.h"
 
 namespace es {
 namespace {

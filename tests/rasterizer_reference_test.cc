@@ -11,7 +11,7 @@
 #include <ceres/jet.h>
 #include <gtest/gtest.h>
 
-#include "core/rasterizer.h"
+#include "core/render/rasterizer.h"
 #include "tests/reference_rasterizer.h"
 
 namespace es {

@@ -16,9 +16,9 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
-#include "core/camera.h"
-#include "core/gaussians.h"
-#include "core/rasterizer.h"
+#include "core/model/camera.h"
+#include "core/model/gaussians.h"
+#include "core/render/rasterizer.h"
 
 namespace es {
 namespace reference {

@@ -1,4 +1,4 @@
-#include "core/scene.h"
+#include "core/io/scene.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -11,9 +11,9 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/videoio.hpp>
 
-#include "core/colmap_io.h"
-#include "core/input_error.h"
-#include "core/split.h"
+#include "core/io/colmap_io.h"
+#include "core/io/input_error.h"
+#include "core/io/split.h"
 #include "tests/temp_dir_test.h"
 
 namespace es {

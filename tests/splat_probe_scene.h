@@ -11,9 +11,9 @@
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
 
-#include "core/gaussians.h"
-#include "core/rasterizer.h"
-#include "core/scene.h"
+#include "core/io/scene.h"
+#include "core/model/gaussians.h"
+#include "core/render/rasterizer.h"
 
 namespace es {
 namespace probe_scene {

@@ -1,4 +1,4 @@
-#include "solvers/static_trainer.h"
+#include "solvers/train/static_trainer.h"
 
 #include <gtest/gtest.h>
 #include <omp.h>
@@ -11,11 +11,11 @@
 #include <random>
 #include <set>
 
-#include "core/input_error.h"
-#include "core/knn_init.h"
-#include "solvers/checkpoint.h"
-#include "solvers/frame_sampler.h"
-#include "solvers/static_eval.h"
+#include "core/io/input_error.h"
+#include "core/model/gaussian_init.h"
+#include "solvers/checkpoint/checkpoint.h"
+#include "solvers/eval/static_eval.h"
+#include "solvers/train/frame_sampler.h"
 
 namespace es {
 namespace {

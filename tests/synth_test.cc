@@ -10,16 +10,16 @@
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
 
-#include "core/colmap_io.h"
-#include "core/input_error.h"
-#include "core/rasterizer.h"
-#include "core/scene.h"
-#include "core/synth_camera.h"
-#include "core/synth_preset.h"
-#include "core/synth_scene.h"
-#include "core/synth_velocity_grid.h"
-#include "core/synth_water.h"
-#include "core/synth_writer.h"
+#include "core/io/colmap_io.h"
+#include "core/io/input_error.h"
+#include "core/io/scene.h"
+#include "core/render/rasterizer.h"
+#include "synth/camera.h"
+#include "synth/preset.h"
+#include "synth/scene.h"
+#include "synth/velocity_grid.h"
+#include "synth/water.h"
+#include "synth/writer.h"
 
 namespace es {
 namespace {

@@ -1,4 +1,4 @@
-#include "core/triplane.h"
+#include "core/fields/triplane.h"
 
 #include <cmath>
 #include <functional>

@@ -1,0 +1,159 @@
+#include "core/fields/mlp.h"
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+#include <glog/logging.h>
+#include <omp.h>
+
+namespace es {
+namespace {
+
+using ConstMap = Eigen::Map<const RowMatrix>;
+using Map = Eigen::Map<RowMatrix>;
+using ConstVecMap = Eigen::Map<const Eigen::VectorXd>;
+
+// Rows per chunk: a chunk's activations of all layers stay in L2 cache.
+constexpr int kChunkRows = 512;
+
+}  // namespace
+
+Mlp::Mlp(int input_dim, int width, int depth, int output_dim)
+    : input_dim_(input_dim),
+      width_(width),
+      depth_(depth),
+      output_dim_(output_dim) {
+  CHECK_GE(input_dim, 1);
+  CHECK_GE(output_dim, 1);
+  CHECK_GE(depth, 0);
+  CHECK(depth == 0 || width >= 1);
+  offsets_.push_back(0);
+  for (int l = 0; l <= depth_; ++l) {
+    offsets_.push_back(offsets_.back() + layer_out(l) * (layer_in(l) + 1));
+  }
+}
+
+void Mlp::Initialize(uint32_t seed, double last_layer_scale,
+                     double* params) const {
+  std::mt19937 rng(seed);
+  for (int l = 0; l <= depth_; ++l) {
+    double bound = std::sqrt(6.0 / layer_in(l));
+    if (l == depth_) bound *= last_layer_scale;
+    std::uniform_real_distribution<double> uniform(-bound, bound);
+    double* w = params + offsets_[l];
+    const int num_weights = layer_out(l) * layer_in(l);
+    for (int i = 0; i < num_weights; ++i) w[i] = uniform(rng);
+    for (int i = 0; i < layer_out(l); ++i) w[num_weights + i] = 0.0;
+  }
+}
+
+void Mlp::Forward(const double* params, int n, const double* input, double* out,
+                  MlpWorkspace* ws) const {
+  ws->batch = n;
+  ws->input = input;
+  ws->hidden.resize(depth_);
+  for (RowMatrix& h : ws->hidden) h.resize(n, width_);
+  const int chunks = (n + kChunkRows - 1) / kChunkRows;
+#pragma omp parallel for schedule(static) if (chunks > 1)
+  for (int c = 0; c < chunks; ++c) {
+    const int r0 = c * kChunkRows;
+    ForwardRows(params, r0, std::min(kChunkRows, n - r0), input, out, ws);
+  }
+}
+
+void Mlp::ForwardRows(const double* params, int r0, int rows,
+                      const double* input, double* out,
+                      MlpWorkspace* ws) const {
+  for (int l = 0; l <= depth_; ++l) {
+    const int in = layer_in(l), o = layer_out(l);
+    ConstMap w(params + offsets_[l], o, in);
+    ConstVecMap b(params + offsets_[l] + o * in, o);
+    ConstMap a(
+        l == 0 ? input + static_cast<size_t>(r0) * in
+               : ws->hidden[l - 1].data() + static_cast<size_t>(r0) * width_,
+        rows, in);
+    Map y(l == depth_ ? out + static_cast<size_t>(r0) * o
+                      : ws->hidden[l].data() + static_cast<size_t>(r0) * o,
+          rows, o);
+    y.noalias() = a * w.transpose();
+    y.rowwise() += b.transpose();
+    if (l < depth_) y = y.cwiseMax(0.0);
+  }
+}
+
+void Mlp::Backward(const double* params, const double* d_out, double* d_params,
+                   double* d_input, MlpWorkspace* ws) const {
+  const int n = ws->batch;
+  CHECK(ws->input != nullptr) << "Mlp::Backward before Forward";
+  if (depth_ > 0) {
+    ws->grad.resize(n, width_);
+    ws->grad_prev.resize(n, width_);
+  }
+  const int chunks = (n + kChunkRows - 1) / kChunkRows;
+  const int threads = chunks > 1 ? omp_get_max_threads() : 1;
+  // Zeroed here, not by their threads: the team may get fewer threads.
+  if (d_params != nullptr) {
+    ws->thread_grads.resize(threads - 1);
+    for (std::vector<double>& g : ws->thread_grads) {
+      g.assign(num_params(), 0.0);
+    }
+  }
+#pragma omp parallel num_threads(threads)
+  {
+    const int id = omp_get_thread_num();
+    double* grads = d_params;
+    if (d_params != nullptr && id > 0) grads = ws->thread_grads[id - 1].data();
+#pragma omp for schedule(static)
+    for (int c = 0; c < chunks; ++c) {
+      const int r0 = c * kChunkRows;
+      BackwardRows(params, r0, std::min(kChunkRows, n - r0), d_out, grads,
+                   d_input, ws);
+    }
+  }
+  if (d_params == nullptr) return;
+  Eigen::Map<Eigen::VectorXd> total(d_params, num_params());
+  for (int t = 0; t + 1 < threads; ++t) {
+    total += Eigen::Map<const Eigen::VectorXd>(ws->thread_grads[t].data(),
+                                               num_params());
+  }
+}
+
+void Mlp::BackwardRows(const double* params, int r0, int rows,
+                       const double* d_out, double* d_params, double* d_input,
+                       MlpWorkspace* ws) const {
+  // Layer by layer from the output; `g` is dL/d(layer output), written into
+  // grad and grad_prev alternately.
+  const double* g_data = d_out + static_cast<size_t>(r0) * output_dim_;
+  RowMatrix* buffers[2] = {&ws->grad, &ws->grad_prev};
+  for (int l = depth_; l >= 0; --l) {
+    const int in = layer_in(l), o = layer_out(l);
+    ConstMap g(g_data, rows, o);
+    ConstMap w(params + offsets_[l], o, in);
+    ConstMap a(
+        l == 0 ? ws->input + static_cast<size_t>(r0) * in
+               : ws->hidden[l - 1].data() + static_cast<size_t>(r0) * width_,
+        rows, in);
+    if (d_params != nullptr) {
+      Map dw(d_params + offsets_[l], o, in);
+      dw.noalias() += g.transpose() * a;
+      Eigen::Map<Eigen::VectorXd> db(d_params + offsets_[l] + o * in, o);
+      db += g.colwise().sum().transpose();
+    }
+    if (l == 0) {
+      if (d_input != nullptr) {
+        Map(d_input + static_cast<size_t>(r0) * in, rows, in).noalias() +=
+            g * w;
+      }
+      break;
+    }
+    // Through the ReLU of the previous layer: zero where it was inactive.
+    double* next = buffers[l % 2]->data() + static_cast<size_t>(r0) * in;
+    Map g_prev(next, rows, in);
+    g_prev.noalias() = g * w;
+    g_prev = (a.array() > 0.0).select(g_prev, 0.0);
+    g_data = next;
+  }
+}
+
+}  // namespace es

@@ -1,0 +1,76 @@
+#ifndef EULERSPLAT_CORE_FIELDS_MLP_H_
+#define EULERSPLAT_CORE_FIELDS_MLP_H_
+
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace es {
+
+using RowMatrix =
+    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+// Activations kept by Mlp::Forward for Mlp::Backward, and the backward
+// scratch. Reused across calls: no allocation after the first call at a
+// given batch size.
+struct MlpWorkspace {
+  int batch = 0;
+  const double* input = nullptr;  // not owned; must outlive Backward
+  std::vector<RowMatrix> hidden;  // post-ReLU activations, one per layer
+  RowMatrix grad, grad_prev;      // dL/d(layer output), alternating layers
+  // Parameter gradients of threads other than the first, summed at the end.
+  std::vector<std::vector<double>> thread_grads;
+};
+
+// Fully connected network: `depth` hidden layers of `width` ReLU units and a
+// linear output layer. Batched over rows (batch x features, row-major): the
+// batch is cut into chunks of rows that go through all layers while they
+// sit in cache, chunks in parallel (OpenMP), each layer an Eigen product.
+//
+// Weights are ONE contiguous double array (a Ceres parameter block). Layer
+// l = 0 .. depth maps in_l -> out_l (in_0 = input_dim, out_depth =
+// output_dim, width otherwise) and stores W_l (out_l x in_l, row-major) then
+// b_l (out_l), layer after layer.
+class Mlp {
+ public:
+  Mlp(int input_dim, int width, int depth, int output_dim);
+
+  int input_dim() const { return input_dim_; }
+  int output_dim() const { return output_dim_; }
+  int width() const { return width_; }
+  int depth() const { return depth_; }
+  int num_params() const { return offsets_.back(); }
+
+  // Kaiming-uniform weights (bound sqrt(6 / in), seeded), zero biases; the
+  // output layer's weights are multiplied by last_layer_scale so a new
+  // network outputs nearly zero.
+  void Initialize(uint32_t seed, double last_layer_scale, double* params) const;
+
+  // out (n x output_dim) = MLP(input (n x input_dim)). Keeps the input
+  // pointer and the activations in *ws for Backward.
+  void Forward(const double* params, int n, const double* input, double* out,
+               MlpWorkspace* ws) const;
+
+  // Backward of the last Forward on *ws: given d_out (n x output_dim),
+  // accumulates dL/dparams into d_params and dL/dinput into d_input
+  // (n x input_dim). Either may be nullptr.
+  void Backward(const double* params, const double* d_out, double* d_params,
+                double* d_input, MlpWorkspace* ws) const;
+
+ private:
+  // One chunk of rows [r0, r0 + rows) of Forward / Backward.
+  void ForwardRows(const double* params, int r0, int rows, const double* input,
+                   double* out, MlpWorkspace* ws) const;
+  void BackwardRows(const double* params, int r0, int rows, const double* d_out,
+                    double* d_params, double* d_input, MlpWorkspace* ws) const;
+  int layer_in(int l) const { return l == 0 ? input_dim_ : width_; }
+  int layer_out(int l) const { return l == depth_ ? output_dim_ : width_; }
+
+  int input_dim_, width_, depth_, output_dim_;
+  std::vector<int> offsets_;  // start of W_l; offsets_.back() = total size
+};
+
+}  // namespace es
+
+#endif  // EULERSPLAT_CORE_FIELDS_MLP_H_

@@ -1,0 +1,132 @@
+#ifndef EULERSPLAT_CORE_FLOW_FLOW_LIFTING_H_
+#define EULERSPLAT_CORE_FLOW_FLOW_LIFTING_H_
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+
+#include "core/flow/optical_flow.h"
+#include "core/io/scene.h"
+#include "core/model/camera.h"
+#include "core/render/rasterizer.h"
+
+namespace es {
+
+// A pseudo ground-truth scene-flow pair for pretraining V: the point x (world)
+// seen in water at frame i moves by v (world units per frame) to frame i + 1.
+struct SceneFlowSample {
+  Eigen::Vector3d x;
+  Eigen::Vector3d v;
+};
+
+// Expected depth (camera z) of the visible surface, depth / alpha, as
+// CV_32FC1; 0 marks pixels whose alpha is below min_alpha (no surface).
+cv::Mat ExpectedDepthMap(const RenderResult& render, double min_alpha = 0.5);
+// Extra channel `channel` normalized by alpha (the per-pixel average of a
+// per-Gaussian quantity, e.g. the dynamic probability), CV_32FC1; 0 where
+// alpha is below min_alpha.
+cv::Mat NormalizedExtraMap(const RenderResult& render, int channel,
+                           double min_alpha = 0.5);
+
+// Where the second end x' of a sample lies on the ray of frame i + 1
+// through p + f(p).
+enum class SecondEnd {
+  // Where that ray meets the plane through x facing camera i: the sample
+  // has no motion along camera i's line of sight, which 2D flow does not
+  // observe. Default: differencing two rendered depths of a time-averaged
+  // water surface turns its roughness into large spurious motion along the
+  // ray (measured on es_synth water: most of the lifted samples' error).
+  kFacingPlane,
+  // At the static model's rendered depth of frame i + 1 there: keeps
+  // motion toward / away from the camera where that depth is reliable.
+  kRenderedDepth,
+};
+// Flag spellings plane, depth; Parse throws InputError on others.
+SecondEnd ParseSecondEnd(const std::string& name);
+
+struct LiftingOptions {
+  int stride = 2;                  // sample every stride-th pixel and row
+  SecondEnd second_end = SecondEnd::kFacingPlane;
+  double max_fb_error_px = 1.0;    // |f(x) + b(x + f(x))| above this: reject
+  // (max - min) / min of the depth in the 3x3 neighbourhood above this:
+  // the pixel straddles an occluding edge, its depth is a blend; reject.
+  double max_rel_depth_jump = 0.05;
+  double water_threshold = 0.5;    // water mask value that counts as water
+};
+
+// Why candidates were dropped (a candidate is a water pixel of frame i on the
+// stride grid).
+struct LiftingStats {
+  long candidates = 0;
+  long no_depth = 0;        // no surface at either end
+  long depth_edge = 0;      // depth discontinuity at either end
+  long outside = 0;         // flow leaves the image
+  long inconsistent = 0;    // forward-backward check failed
+  long not_water = 0;       // lands outside the water of frame i + 1
+  long accepted = 0;
+
+  void Add(const LiftingStats& other);
+};
+
+// One frame's inputs: its camera, expected depth (ExpectedDepthMap layout)
+// and water mask (CV_32FC1 in [0, 1]), all the same size.
+struct LiftingView {
+  const Camera* camera = nullptr;
+  cv::Mat depth;
+  cv::Mat water;
+};
+
+// Lifts the flow between frames `first` (i) and `second` (i + 1) to 3D:
+// x = unproject(p, depth_i), x' on the second camera's ray through p + f(p)
+// as options.second_end says, sample (x, x' - x). second.depth is only
+// read for kRenderedDepth. Appends the accepted samples to *samples; adds
+// the counts to *stats when not null.
+void LiftFlow(const LiftingView& first, const LiftingView& second,
+              const FlowPair& flow, const LiftingOptions& options,
+              std::vector<SceneFlowSample>* samples, LiftingStats* stats);
+
+// Where the water pixels come from.
+enum class WaterSource {
+  kAuto,   // the scene's masks if it has them, else the model
+  kMasks,  // masks/ (InputError if the scene has none)
+  kModel,  // the static model's rendered dynamic probability
+};
+// Flag spellings auto, masks, model; Parse throws InputError on others.
+WaterSource ParseWaterSource(const std::string& name);
+
+struct SceneFlowOptions {
+  FlowMethod method = FlowMethod::kDisMedium;
+  LiftingOptions lifting;
+  double min_alpha = 0.5;  // depth is valid where the rendered alpha reaches
+  WaterSource water = WaterSource::kAuto;
+  // Held-out frames stay unseen unless this is set.
+  bool use_test_frames = false;
+  // Called after each frame pair with its index, the pair count, the two
+  // image names and the samples it gave.
+  std::function<void(int, int, const std::string&, const std::string&,
+                     long)>
+      progress;
+};
+
+struct SceneFlowResult {
+  std::vector<SceneFlowSample> samples;
+  LiftingStats stats;
+  int num_pairs = 0;       // adjacent (in time) frame pairs lifted
+  bool used_masks = false;
+  double render_seconds = 0, flow_seconds = 0, lift_seconds = 0;
+};
+
+// Stage 2's sample collection: for every pair of adjacent frames (i, i + 1)
+// both used for training, renders the static model's expected depth (and,
+// without masks, its dynamic probability) at both frames, computes the flow
+// both ways and lifts it. Throws InputError when masks are asked for but
+// missing, or no frame pair is usable.
+SceneFlowResult LiftSceneFlow(const Scene& scene, const GaussianSet& model,
+                              const SceneFlowOptions& options);
+
+}  // namespace es
+
+#endif  // EULERSPLAT_CORE_FLOW_FLOW_LIFTING_H_

@@ -1,0 +1,216 @@
+#include "core/io/field_io.h"
+
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <vector>
+
+#include "core/io/input_error.h"
+
+namespace es {
+namespace {
+
+constexpr char kMotionMagic[] = "eulersplat motion field v1\n";
+constexpr char kResidualMagic[] = "eulersplat residual field v1\n";
+
+class Writer {
+ public:
+  explicit Writer(const std::string& path)
+      : path_(path), tmp_(path + ".tmp"), out_(tmp_, std::ios::binary) {
+    if (!out_) throw InputError(path_ + ": cannot open for writing");
+  }
+  void Raw(const void* data, size_t bytes) {
+    out_.write(static_cast<const char*>(data), bytes);
+  }
+  void Int(int32_t v) { Raw(&v, sizeof(v)); }
+  void Real(double v) { Raw(&v, sizeof(v)); }
+  void Array(const double* v, int64_t n) {
+    Raw(&n, sizeof(n));
+    Raw(v, n * sizeof(double));
+  }
+  void Commit() {
+    out_.close();
+    if (!out_) throw InputError(path_ + ": write failed");
+    std::filesystem::rename(tmp_, path_);
+  }
+
+ private:
+  std::string path_, tmp_;
+  std::ofstream out_;
+};
+
+class Reader {
+ public:
+  explicit Reader(const std::string& path) : path_(path), in_(path, std::ios::binary) {
+    if (!in_) throw InputError(path_ + ": cannot open field file");
+  }
+  void Magic(const char* magic) {
+    std::string line(std::char_traits<char>::length(magic), '\0');
+    in_.read(line.data(), line.size());
+    if (!in_ || line != magic)
+      throw InputError(path_ + ": not a field file of this kind (expected '" +
+                       std::string(magic, line.size() - 1) + "')");
+  }
+  void Raw(void* data, size_t bytes) {
+    in_.read(static_cast<char*>(data), bytes);
+    if (!in_) throw InputError(path_ + ": truncated field file");
+  }
+  int32_t Int() {
+    int32_t v;
+    Raw(&v, sizeof(v));
+    return v;
+  }
+  double Real() {
+    double v;
+    Raw(&v, sizeof(v));
+    if (!std::isfinite(v)) throw InputError(path_ + ": non-finite value");
+    return v;
+  }
+  void Array(int expected, std::vector<double>* v, const char* what) {
+    int64_t n;
+    Raw(&n, sizeof(n));
+    if (n != expected)
+      throw InputError(path_ + ": " + what + " has " + std::to_string(n) +
+                       " parameters, options imply " + std::to_string(expected));
+    v->resize(n);
+    Raw(v->data(), n * sizeof(double));
+    for (double x : *v)
+      if (!std::isfinite(x))
+        throw InputError(path_ + ": non-finite " + what + " parameter");
+  }
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string path_;
+  std::ifstream in_;
+};
+
+void WriteTriplaneOptions(const TriplaneOptions& o, Writer* w) {
+  w->Int(o.resolution);
+  w->Int(o.channels);
+  w->Int(static_cast<int32_t>(o.combination));
+  w->Real(o.init_noise);
+}
+
+TriplaneOptions ReadTriplaneOptions(Reader* r) {
+  TriplaneOptions o;
+  o.resolution = r->Int();
+  o.channels = r->Int();
+  const int combination = r->Int();
+  o.init_noise = r->Real();
+  if (o.resolution < 2 || o.resolution > 4096 || o.channels < 1 ||
+      o.channels > 1024 || combination < 0 || combination > 2)
+    throw InputError(r->path() + ": invalid triplane options");
+  o.combination = static_cast<PlaneCombination>(combination);
+  return o;
+}
+
+void WriteBox(const Triplane& t, Writer* w) {
+  for (int i = 0; i < 3; ++i) w->Real(t.box_min()[i]);
+  for (int i = 0; i < 3; ++i) w->Real(t.box_max()[i]);
+}
+
+void ReadBox(Reader* r, Eigen::Vector3d* lo, Eigen::Vector3d* hi) {
+  for (int i = 0; i < 3; ++i) (*lo)[i] = r->Real();
+  for (int i = 0; i < 3; ++i) (*hi)[i] = r->Real();
+  if (((*hi - *lo).array() <= 0).any())
+    throw InputError(r->path() + ": empty bounding box");
+}
+
+void WriteParams(const FieldParams& p, const Triplane& t, const Mlp& m,
+                 Writer* w) {
+  w->Array(p.triplane, t.num_params());
+  w->Array(p.mlp, m.num_params());
+}
+
+void CheckMlpShape(int width, int depth, const Reader& r) {
+  if (width < 1 || width > 4096 || depth < 0 || depth > 64)
+    throw InputError(r.path() + ": invalid MLP shape");
+}
+
+}  // namespace
+
+void SaveMotionField(const MotionField& field, const std::string& path) {
+  Writer w(path);
+  w.Raw(kMotionMagic, sizeof(kMotionMagic) - 1);
+  const MotionFieldOptions& o = field.options();
+  WriteTriplaneOptions(o.triplane, &w);
+  w.Int(o.mlp_width);
+  w.Int(o.mlp_depth);
+  w.Real(o.velocity_scale);
+  w.Real(o.last_layer_init_scale);
+  w.Int(static_cast<int32_t>(o.seed));
+  WriteBox(field.triplane(), &w);
+  WriteParams(field.params(), field.triplane(), field.mlp(), &w);
+  w.Commit();
+}
+
+MotionField LoadMotionField(const std::string& path) {
+  Reader r(path);
+  r.Magic(kMotionMagic);
+  MotionFieldOptions o;
+  o.triplane = ReadTriplaneOptions(&r);
+  o.mlp_width = r.Int();
+  o.mlp_depth = r.Int();
+  CheckMlpShape(o.mlp_width, o.mlp_depth, r);
+  o.velocity_scale = r.Real();
+  o.last_layer_init_scale = r.Real();
+  o.seed = static_cast<uint32_t>(r.Int());
+  Eigen::Vector3d lo, hi;
+  ReadBox(&r, &lo, &hi);
+  MotionField field(o);
+  field.SetBox(lo, hi);
+  r.Array(field.triplane().num_params(), &field.triplane_params(), "triplane");
+  r.Array(field.mlp().num_params(), &field.mlp_params(), "MLP");
+  return field;
+}
+
+void SaveResidualField(const ResidualField& field, const std::string& path) {
+  Writer w(path);
+  w.Raw(kResidualMagic, sizeof(kResidualMagic) - 1);
+  const ResidualFieldOptions& o = field.options();
+  WriteTriplaneOptions(o.triplane, &w);
+  w.Int(o.cycle_length);
+  w.Int(o.t_frequencies);
+  w.Int(o.p_frequencies);
+  w.Int(o.max_cycles);
+  w.Int(o.mlp_width);
+  w.Int(o.mlp_depth);
+  w.Real(o.position_scale);
+  w.Real(o.last_layer_init_scale);
+  w.Int(static_cast<int32_t>(o.seed));
+  WriteBox(field.triplane(), &w);
+  WriteParams(field.params(), field.triplane(), field.mlp(), &w);
+  w.Commit();
+}
+
+ResidualField LoadResidualField(const std::string& path) {
+  Reader r(path);
+  r.Magic(kResidualMagic);
+  ResidualFieldOptions o;
+  o.triplane = ReadTriplaneOptions(&r);
+  o.cycle_length = r.Int();
+  o.t_frequencies = r.Int();
+  o.p_frequencies = r.Int();
+  o.max_cycles = r.Int();
+  if (o.cycle_length < 1 || o.t_frequencies < 0 || o.t_frequencies > 64 ||
+      o.p_frequencies < 0 || o.p_frequencies > 64 || o.max_cycles < 1)
+    throw InputError(path + ": invalid residual field options");
+  o.mlp_width = r.Int();
+  o.mlp_depth = r.Int();
+  CheckMlpShape(o.mlp_width, o.mlp_depth, r);
+  o.position_scale = r.Real();
+  o.last_layer_init_scale = r.Real();
+  o.seed = static_cast<uint32_t>(r.Int());
+  Eigen::Vector3d lo, hi;
+  ReadBox(&r, &lo, &hi);
+  ResidualField field(o);
+  field.SetBox(lo, hi);
+  r.Array(field.triplane().num_params(), &field.triplane_params(), "triplane");
+  r.Array(field.mlp().num_params(), &field.mlp_params(), "MLP");
+  return field;
+}
+
+}  // namespace es

@@ -1,0 +1,162 @@
+#include "core/loop/euler_chain.h"
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+#include <glog/logging.h>
+
+namespace es {
+namespace {
+
+enum class StepKind { kPlain, kClamped, kNonFinite };
+
+// The stress rule of EulerOptions: writes the step taken for velocity v.
+StepKind SafeStep(const double* v, double max_step, double* step) {
+  if (!std::isfinite(v[0]) || !std::isfinite(v[1]) || !std::isfinite(v[2])) {
+    step[0] = step[1] = step[2] = 0.0;
+    return StepKind::kNonFinite;
+  }
+  const double norm = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+  // Finite components can still overflow the norm: treat that as clamped.
+  if (norm > max_step) {
+    const double s = std::isfinite(norm) ? max_step / norm : 0.0;
+    for (int j = 0; j < 3; ++j) step[j] = v[j] * s;
+    return StepKind::kClamped;
+  }
+  for (int j = 0; j < 3; ++j) step[j] = v[j];
+  return StepKind::kPlain;
+}
+
+// d_v = J^T g for the step function of SafeStep at v.
+void SafeStepBackward(const double* v, double max_step, const double* g,
+                      double* d_v) {
+  double step[3];
+  switch (SafeStep(v, max_step, step)) {
+    case StepKind::kPlain:
+      for (int j = 0; j < 3; ++j) d_v[j] = g[j];
+      return;
+    case StepKind::kNonFinite:
+      d_v[0] = d_v[1] = d_v[2] = 0.0;
+      return;
+    case StepKind::kClamped: {
+      const double norm2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
+      const double norm = std::sqrt(norm2);
+      if (!std::isfinite(norm)) {
+        d_v[0] = d_v[1] = d_v[2] = 0.0;
+        return;
+      }
+      // (max_step / |v|) (I - v v^T / |v|^2) g
+      const double vg = v[0] * g[0] + v[1] * g[1] + v[2] * g[2];
+      for (int j = 0; j < 3; ++j) {
+        d_v[j] = max_step / norm * (g[j] - v[j] * vg / norm2);
+      }
+      return;
+    }
+  }
+}
+
+void Count(StepKind kind, EulerStats* stats) {
+  if (kind == StepKind::kClamped) ++stats->clamped_steps;
+  if (kind == StepKind::kNonFinite) ++stats->nonfinite_velocities;
+}
+
+}  // namespace
+
+void TakeSafeStep(const double* v, double max_step, double* x,
+                  EulerStats* stats) {
+  double step[3];
+  Count(SafeStep(v, max_step, step), stats);
+  for (int j = 0; j < 3; ++j) x[j] += step[j];
+}
+
+EulerChain::EulerChain(const MotionField* field, const EulerOptions& options)
+    : field_(field), options_(options) {
+  CHECK(field_ != nullptr);
+  CHECK_GT(options_.max_step_fraction, 0.0);
+}
+
+double EulerChain::max_step() const {
+  return options_.max_step_fraction * field_->box_diagonal();
+}
+
+void EulerChain::Forward(const FieldParams& params, int n, const double* x0,
+                         const int* steps, double* x_out) {
+  n_ = n;
+  stats_ = EulerStats();
+  int max_steps = 0;
+  for (int k = 0; k < n; ++k) {
+    CHECK_GE(steps[k], 0);
+    max_steps = std::max(max_steps, steps[k]);
+  }
+  // Counting sort by step count, largest first.
+  std::vector<int> count(max_steps + 2, 0);
+  for (int k = 0; k < n; ++k) ++count[max_steps - steps[k] + 1];
+  for (int s = 1; s <= max_steps + 1; ++s) count[s] += count[s - 1];
+  order_.resize(n);
+  for (int k = 0; k < n; ++k) order_[count[max_steps - steps[k]]++] = k;
+  active_.assign(max_steps, 0);
+  for (int k = 0; k < n; ++k) {
+    for (int s = 0; s < steps[k]; ++s) ++active_[s];
+  }
+  offset_.assign(max_steps + 1, 0);
+  for (int s = 0; s < max_steps; ++s) {
+    offset_[s + 1] = offset_[s] + 3 * static_cast<size_t>(active_[s]);
+  }
+  trajectory_.resize(offset_[max_steps]);
+
+  const int first = max_steps > 0 ? active_[0] : 0;
+  for (int k = 0; k < n; ++k) {
+    const double* src = x0 + 3 * order_[k];
+    double* dst = k < first ? &trajectory_[3 * k] : x_out + 3 * order_[k];
+    std::copy(src, src + 3, dst);
+  }
+  const double limit = max_step();
+  for (int s = 0; s < max_steps; ++s) {
+    const int m = active_[s];
+    const int m_next = s + 1 < max_steps ? active_[s + 1] : 0;
+    const double* xs = &trajectory_[offset_[s]];
+    velocity_.resize(3 * static_cast<size_t>(m));
+    field_->Evaluate(params, m, xs, velocity_.data(), &workspace_);
+    stats_.velocity_evaluations += m;
+    for (int k = 0; k < m; ++k) {
+      double step[3];
+      Count(SafeStep(&velocity_[3 * k], limit, step), &stats_);
+      double* dst = k < m_next ? &trajectory_[offset_[s + 1] + 3 * k]
+                               : x_out + 3 * order_[k];
+      for (int j = 0; j < 3; ++j) dst[j] = xs[3 * k + j] + step[j];
+    }
+  }
+}
+
+void EulerChain::Backward(const FieldParams& params, const double* d_x_out,
+                          const FieldGradients& grads, double* d_x0) {
+  gradient_.resize(3 * static_cast<size_t>(n_));
+  for (int k = 0; k < n_; ++k) {
+    std::copy(d_x_out + 3 * order_[k], d_x_out + 3 * order_[k] + 3,
+              &gradient_[3 * k]);
+  }
+  const double limit = max_step();
+  // x_{s+1} = x_s + c(V(x_s)): g_s = g_{s+1} + dV^T J_c^T g_{s+1}.
+  for (int s = static_cast<int>(active_.size()) - 1; s >= 0; --s) {
+    const int m = active_[s];
+    const double* xs = &trajectory_[offset_[s]];
+    velocity_.resize(3 * static_cast<size_t>(m));
+    field_->Evaluate(params, m, xs, velocity_.data(), &workspace_);
+    step_gradient_.resize(3 * static_cast<size_t>(m));
+    for (int k = 0; k < m; ++k) {
+      SafeStepBackward(&velocity_[3 * k], limit, &gradient_[3 * k],
+                       &step_gradient_[3 * k]);
+    }
+    d_x_.assign(3 * static_cast<size_t>(m), 0.0);
+    field_->Backward(params, step_gradient_.data(), grads, d_x_.data(),
+                     &workspace_);
+    for (int i = 0; i < 3 * m; ++i) gradient_[i] += d_x_[i];
+  }
+  if (d_x0 == nullptr) return;
+  for (int k = 0; k < n_; ++k) {
+    for (int j = 0; j < 3; ++j) d_x0[3 * order_[k] + j] += gradient_[3 * k + j];
+  }
+}
+
+}  // namespace es

@@ -1,0 +1,115 @@
+#ifndef EULERSPLAT_CORE_LOOP_FRAME_COMPOSER_H_
+#define EULERSPLAT_CORE_LOOP_FRAME_COMPOSER_H_
+
+#include <optional>
+#include <vector>
+
+#include "core/fields/motion_field.h"
+#include "core/fields/residual_field.h"
+#include "core/loop/euler_chain.h"
+#include "core/model/loop_model.h"
+#include "core/render/rasterizer.h"
+
+namespace es {
+
+// Read-only view of a looping model's parameter blocks: the canonical
+// splats, which of them are dynamic and when their loops start, and the
+// fields V and D (structure + parameter pointers, which may be the model's
+// own arrays or the ones Ceres hands a cost function).
+struct LoopSplatView {
+  SplatView canonical;           // all Gaussians; extra is passed through
+  int num_dynamic = 0;
+  const int* dynamic_index = nullptr;  // num_dynamic ascending indices
+  const int* start_times = nullptr;    // num_dynamic, in [0, cycle_length)
+  int cycle_length = 15;
+  const MotionField* motion = nullptr;  // nullptr: dynamic ones don't flow
+  FieldParams motion_params;
+  const ResidualField* residual = nullptr;  // nullptr: no residual offsets
+  FieldParams residual_params;
+
+  // View of a model with its own parameter arrays (no extra channel).
+  static LoopSplatView Of(const LoopModel& model);
+};
+
+// Gradient accumulators (+=) for the blocks of a LoopSplatView, sized like
+// them; nullptr skips a block.
+struct LoopSplatGradients {
+  double* means = nullptr;
+  double* log_scales = nullptr;
+  double* quats = nullptr;
+  double* opacity_logits = nullptr;
+  double* sh = nullptr;
+  FieldGradients motion;
+  FieldGradients residual;
+};
+
+// Builds the splats to render at a frame from a looping model. Static
+// Gaussians are copied unchanged. Dynamic Gaussian k (canonical index
+// dynamic_index[k], start time t0_k) at frame i has cycle index
+// t = CycleIndex(i, t0_k, L) and cycle number p = CycleNumber(i, t0_k, L):
+//   position = EulerChain(x0, t steps of V)  + D(x0, t, p)[position]
+//   opacity  = canonical logit               + D(x0, t, p)[opacity]
+//   sh[k']   = canonical sh[k']              + D(x0, t, p)[sh k'],
+//              for k' < min(K, 16) (K = the model's SH coefficients)
+// with the V term x0 when there is no motion field and no D terms when
+// there is no residual field. V and D are evaluated on the dynamic
+// Gaussians only, in batches. Owns the composed arrays; the returned view
+// (log-scales, quaternions and extra point at the canonical arrays) stays
+// valid until the next Compose* call. Not thread-safe.
+class FrameComposer {
+ public:
+  explicit FrameComposer(const EulerOptions& euler_options = {});
+
+  // Training / evaluation: frame i, Alg. 1 from the canonical positions,
+  // t and p from the true frame index. Keeps what Backward needs.
+  const SplatView& Compose(const LoopSplatView& model, int frame);
+
+  // Animation (Alg. 2): dynamic positions already advected elsewhere
+  // (num_dynamic x 3, in dynamic order, e.g. LoopAnimator::positions()),
+  // their cycle indices, and one cycle number for all (0 at inference).
+  // D is still evaluated at the canonical positions. Forward only.
+  const SplatView& ComposeAdvected(const LoopSplatView& model,
+                                   const double* positions,
+                                   const int* cycle_indices,
+                                   int cycle_number);
+
+  // Backward of the last Compose (same model view): maps d loss / d
+  // composed splats to the canonical blocks (the dynamic positions through
+  // both the Euler chain and D's dependence on x0), V's parameters (through
+  // EulerChain::Backward) and D's parameters (through
+  // ResidualField::Backward). d_residuals (num_dynamic x kResidualDim,
+  // nullable) is added to the gradient of D's outputs, for losses on them
+  // (e.g. the residual L2 term).
+  void Backward(const LoopSplatView& model, const SplatGradients& grads,
+                const double* d_residuals, const LoopSplatGradients& out);
+
+  // D's outputs of the last Compose* (num_dynamic x kResidualDim; empty
+  // without a residual field) and the cycle indices / numbers used.
+  const std::vector<double>& residuals() const { return residuals_; }
+  const std::vector<int>& cycle_indices() const { return cycle_index_; }
+  const std::vector<int>& cycle_numbers() const { return cycle_number_; }
+  // Euler-chain counts of the last Compose.
+  const EulerStats& euler_stats() const { return euler_stats_; }
+
+ private:
+  // Shared tail of both Compose* entries: D, then the composed arrays from
+  // the dynamic positions in positions_.
+  const SplatView& Assemble(const LoopSplatView& model);
+  EulerChain* ChainFor(const MotionField* field);
+
+  EulerOptions euler_options_;
+  std::optional<EulerChain> chain_;
+  const MotionField* chain_field_ = nullptr;
+  FieldWorkspace residual_ws_;
+  EulerStats euler_stats_;
+  bool backward_ready_ = false;  // the last Compose* was Compose
+  std::vector<double> canonical_, positions_, residuals_;
+  std::vector<int> cycle_index_, cycle_number_;
+  std::vector<double> means_, opacity_logits_, sh_;
+  std::vector<double> d_positions_, d_residuals_, d_x0_;
+  SplatView view_;
+};
+
+}  // namespace es
+
+#endif  // EULERSPLAT_CORE_LOOP_FRAME_COMPOSER_H_

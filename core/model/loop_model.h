@@ -1,0 +1,42 @@
+#ifndef EULERSPLAT_CORE_MODEL_LOOP_MODEL_H_
+#define EULERSPLAT_CORE_MODEL_LOOP_MODEL_H_
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/fields/motion_field.h"
+#include "core/fields/residual_field.h"
+#include "core/model/gaussians.h"
+
+namespace es {
+
+// A trained looping 4D scene: canonical Gaussians, which of them are water
+// (dynamic), their loop start times, the velocity field V and the residual
+// field D. Static Gaussians are rendered as they are; dynamic Gaussian
+// dynamic_index[k] starts its loop at frame start_times[k].
+struct LoopModel {
+  GaussianSet gaussians;          // canonical, static and dynamic
+  std::vector<int> dynamic_index; // ascending indices into gaussians
+  std::vector<int> start_times;   // one per dynamic Gaussian, in [0, L)
+  int cycle_length = 15;          // L
+  std::optional<MotionField> motion;     // absent: --no_motion_field
+  std::optional<ResidualField> residual; // absent: --no_residual
+
+  int num_dynamic() const { return static_cast<int>(dynamic_index.size()); }
+};
+
+// A model directory holds (all written atomically, temp file + rename):
+//   canonical.ply        GaussianSet, standard 3DGS layout + dynamic_logit
+//   loop.txt             "cycle_length L", "num_dynamic K", then K lines
+//                        "<gaussian index> <start time>"
+//   motion_field.bin     core/io/field_io.h, if the model has V
+//   residual_field.bin   core/io/field_io.h, if the model has D
+void SaveLoopModel(const LoopModel& model, const std::string& dir);
+// Throws InputError naming the file for anything missing or inconsistent
+// (indices out of range or not ascending, start times outside [0, L)).
+LoopModel LoadLoopModel(const std::string& dir);
+
+}  // namespace es
+
+#endif  // EULERSPLAT_CORE_MODEL_LOOP_MODEL_H_

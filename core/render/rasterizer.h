@@ -1,0 +1,113 @@
+#ifndef EULERSPLAT_CORE_RENDER_RASTERIZER_H_
+#define EULERSPLAT_CORE_RENDER_RASTERIZER_H_
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/model/camera.h"
+#include "core/model/gaussians.h"
+
+namespace es {
+
+// Conventions shared with the 3DGS / gsplat ecosystem (see DESIGN.md).
+constexpr double kCovarianceDilation = 0.3;   // px^2 added to the 2D covariance
+constexpr double kNearPlane = 0.01;           // cull z <= this
+constexpr double kMaxAlpha = 0.99;            // keeps 1 - alpha invertible
+constexpr double kMinAlpha = 1.0 / 255.0;     // below one 8-bit level: skip
+constexpr double kMinTransmittance = 1e-4;    // stop before T falls below
+constexpr int kTileSize = 16;
+
+// Read-only views of the splat attributes to render (layouts as in
+// GaussianSet). `means` may point at advected positions rather than the
+// canonical ones.
+struct SplatView {
+  int count = 0;
+  int sh_degree = 0;
+  const double* means = nullptr;           // 3N
+  const double* log_scales = nullptr;      // 3N
+  const double* quats = nullptr;           // 4N, w x y z
+  const double* opacity_logits = nullptr;  // N
+  const double* sh = nullptr;              // 3KN, [n][k][rgb]
+  int num_extra = 0;                       // extra channels per Gaussian
+  const double* extra = nullptr;           // N * num_extra, [n][e]
+
+  // All attributes of g, no extra channels.
+  static SplatView Of(const GaussianSet& g);
+};
+
+struct RenderOptions {
+  Eigen::Vector3d background = Eigen::Vector3d::Zero();
+  bool use_double = false;  // compute the inner loops in double (for tests)
+};
+
+// Row-major images, H x W (x channels).
+struct RenderResult {
+  int width = 0, height = 0;
+  std::vector<double> rgb;    // H*W*3, includes background * T_final
+  std::vector<double> alpha;  // H*W, 1 - T_final
+  std::vector<double> depth;  // H*W, sum_i w_i z_i (divide by alpha for the
+                              // expected depth of the visible surface)
+  std::vector<double> extra;  // H*W*E, sum_i w_i extra_i (no background)
+};
+
+// Image-space gradients of a loss; nullptr means zero.
+struct RenderGradients {
+  const double* d_rgb = nullptr;
+  const double* d_alpha = nullptr;
+  const double* d_depth = nullptr;
+  const double* d_extra = nullptr;
+};
+
+// Gradients with respect to the SplatView arrays (same sizes and layouts).
+struct SplatGradients {
+  std::vector<double> means, log_scales, quats, opacity_logits, sh, extra;
+  void Resize(int count, int sh_degree, int num_extra);
+};
+
+// Expected depth of the visible surface, depth / alpha, where alpha >
+// min_alpha and 0 elsewhere (H*W).
+std::vector<double> ExpectedDepth(const RenderResult& result,
+                                  double min_alpha = 1e-3);
+
+// Tile-based EWA splatting, forward and analytic backward, parallel over
+// tiles (OpenMP). Keeps the per-Gaussian and per-pixel state of the last
+// Forward (and its buffers, reused to avoid allocation), so Backward must
+// follow Forward on the same object with the same camera, splats and
+// options; the arrays the SplatView points at must stay alive and unchanged
+// in between. Conventions: see core/render/raster_project.h (projection, culling,
+// FOV clamp) and core/rasterizer.cc (compositing); the test twin is
+// tests/reference_rasterizer.h.
+class Rasterizer {
+ public:
+  Rasterizer();
+  ~Rasterizer();
+  Rasterizer(const Rasterizer&) = delete;
+  Rasterizer& operator=(const Rasterizer&) = delete;
+
+  void Forward(const Camera& camera, const SplatView& splats,
+               const RenderOptions& options, RenderResult* result);
+  // Overwrites *grads with d loss / d splat attributes.
+  void Backward(const RenderGradients& image_grads, SplatGradients* grads);
+
+  // Number of Gaussians that survived culling in the last Forward.
+  int num_visible() const;
+  // Gaussian-pixel pairs the last Forward looked at (its work, for
+  // benchmarks): each binned Gaussian's pixel box within each of its tiles.
+  long long num_pair_evaluations() const;
+  // Per input Gaussian, from the last Forward: its screen radius in pixels,
+  // ceil(3 sqrt(largest eigenvalue of the 2D covariance)), 0 if culled.
+  void Radii(std::vector<int>* radii) const;
+  // Per input Gaussian, from the last Backward: d loss / d projected mean in
+  // pixels (u, v), 0 if culled: the view-space gradient 3DGS densification
+  // accumulates (2N).
+  void Mean2dGradients(std::vector<double>* grads) const;
+
+ private:
+  struct State;
+  State* state_;
+};
+
+}  // namespace es
+
+#endif  // EULERSPLAT_CORE_RENDER_RASTERIZER_H_

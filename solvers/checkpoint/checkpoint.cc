@@ -1,0 +1,50 @@
+#include "solvers/checkpoint/checkpoint.h"
+
+#include "solvers/checkpoint/checkpoint_io.h"
+
+namespace es {
+namespace {
+
+constexpr CheckpointMagic kMagic = {'E', 'S', 'C', 'K', 'P', 'T', '0', '1'};
+
+}  // namespace
+
+void WriteCheckpoint(const Checkpoint& c, const std::string& path) {
+  WriteCheckpointFile(path, kMagic, [&c](CheckpointWriter& w) {
+    w.Pod<int64_t>(c.iteration);
+    w.Gaussians(c.gaussians);
+    w.Gaussians(c.adam_m);
+    w.Gaussians(c.adam_v);
+    w.Pod<int64_t>(c.adam_step);
+    w.Sampler(c.sampler);
+    w.String(c.rng);
+    w.Vector(c.grad_sum);
+    w.Vector(c.grad_count);
+    w.Vector(c.max_radius);
+  });
+}
+
+Checkpoint ReadCheckpoint(const std::string& path) {
+  return ReadCheckpointFile(
+      path, "checkpoint", kMagic, [](CheckpointReader& r) {
+        Checkpoint c;
+        c.iteration = r.Pod<int64_t>();
+        c.gaussians = r.Gaussians();
+        c.adam_m = r.Gaussians();
+        c.adam_v = r.Gaussians();
+        c.adam_step = r.Pod<int64_t>();
+        c.sampler = r.Sampler();
+        c.rng = r.String();
+        c.grad_sum = r.Vector<double>();
+        c.grad_count = r.Vector<double>();
+        c.max_radius = r.Vector<double>();
+        const size_t n = c.gaussians.size();
+        if (c.adam_m.size() != static_cast<int>(n) ||
+            c.adam_v.size() != static_cast<int>(n) || c.grad_sum.size() != n ||
+            c.grad_count.size() != n || c.max_radius.size() != n)
+          r.Fail("inconsistent sizes");
+        return c;
+      });
+}
+
+}  // namespace es

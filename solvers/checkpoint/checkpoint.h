@@ -1,0 +1,35 @@
+#ifndef EULERSPLAT_SOLVERS_CHECKPOINT_CHECKPOINT_H_
+#define EULERSPLAT_SOLVERS_CHECKPOINT_CHECKPOINT_H_
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/model/gaussians.h"
+#include "solvers/train/frame_sampler.h"
+
+namespace es {
+
+// Everything a static training run needs to continue exactly where it
+// stopped.
+struct Checkpoint {
+  int64_t iteration = 0;
+  GaussianSet gaussians;
+  GaussianSet adam_m, adam_v;
+  int64_t adam_step = 0;
+  FrameSampler::State sampler;
+  std::string rng;  // the densification RNG (std::mt19937_64 text form)
+  std::vector<double> grad_sum, grad_count, max_radius;  // DensityStats
+};
+
+// Writes a binary file atomically: to path + ".tmp", then renamed over path,
+// so a run killed mid-write leaves the previous checkpoint intact.
+void WriteCheckpoint(const Checkpoint& checkpoint, const std::string& path);
+
+// Throws InputError naming the file if it is missing, truncated or not a
+// checkpoint of this version.
+Checkpoint ReadCheckpoint(const std::string& path);
+
+}  // namespace es
+
+#endif  // EULERSPLAT_SOLVERS_CHECKPOINT_CHECKPOINT_H_

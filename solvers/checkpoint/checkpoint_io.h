@@ -1,0 +1,164 @@
+#ifndef EULERSPLAT_SOLVERS_CHECKPOINT_CHECKPOINT_IO_H_
+#define EULERSPLAT_SOLVERS_CHECKPOINT_CHECKPOINT_IO_H_
+
+#include <algorithm>
+#include <cstdint>
+#include <cstdio>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "core/io/input_error.h"
+#include "core/model/gaussians.h"
+#include "solvers/train/frame_sampler.h"
+
+namespace es {
+
+// Little-endian records shared by the Stage-1 and joint checkpoints: plain
+// values, length-prefixed (uint64) arrays, and whole GaussianSets.
+class CheckpointWriter {
+ public:
+  explicit CheckpointWriter(std::ofstream* out) : out_(out) {}
+  template <typename T>
+  void Pod(const T& v) {
+    out_->write(reinterpret_cast<const char*>(&v), sizeof(T));
+  }
+  template <typename T>
+  void Vector(const std::vector<T>& v) {
+    Pod<uint64_t>(v.size());
+    out_->write(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
+  }
+  void String(const std::string& s) {
+    Vector(std::vector<char>(s.begin(), s.end()));
+  }
+  void Vectors(const std::vector<std::vector<double>>& vs) {
+    Pod<uint64_t>(vs.size());
+    for (const auto& v : vs) Vector(v);
+  }
+  void Gaussians(const GaussianSet& g) {
+    Pod<int32_t>(g.sh_degree);
+    for (const auto* v : {&g.means, &g.log_scales, &g.quats, &g.opacity_logits,
+                          &g.sh, &g.dynamic_logits})
+      Vector(*v);
+  }
+  void Sampler(const FrameSampler::State& s) {
+    String(s.rng);
+    Vector(s.order);
+    Pod<int32_t>(s.position);
+  }
+
+ private:
+  std::ofstream* out_;
+};
+
+// Reads what CheckpointWriter wrote; every problem throws InputError
+// "<path>: not a valid <kind> (<what>)".
+class CheckpointReader {
+ public:
+  CheckpointReader(std::ifstream* in, const std::string& path,
+                   const std::string& kind)
+      : in_(in), path_(path), kind_(kind) {}
+  template <typename T>
+  T Pod() {
+    T v;
+    Read(&v, sizeof(T));
+    return v;
+  }
+  template <typename T>
+  std::vector<T> Vector() {
+    const uint64_t n = Pod<uint64_t>();
+    if (n > (uint64_t{1} << 40) / sizeof(T)) Fail("implausible array size");
+    std::vector<T> v(n);
+    Read(v.data(), n * sizeof(T));
+    return v;
+  }
+  std::string String() {
+    const std::vector<char> c = Vector<char>();
+    return std::string(c.begin(), c.end());
+  }
+  std::vector<std::vector<double>> Vectors() {
+    const uint64_t n = Pod<uint64_t>();
+    if (n > 16) Fail("implausible number of field blocks");
+    std::vector<std::vector<double>> vs(n);
+    for (auto& v : vs) v = Vector<double>();
+    return vs;
+  }
+  GaussianSet Gaussians() {
+    GaussianSet g;
+    g.sh_degree = Pod<int32_t>();
+    if (g.sh_degree < 0 || g.sh_degree > kMaxShDegree) Fail("bad SH degree");
+    for (auto* v : {&g.means, &g.log_scales, &g.quats, &g.opacity_logits, &g.sh,
+                    &g.dynamic_logits})
+      *v = Vector<double>();
+    const size_t n = g.opacity_logits.size();
+    if (g.means.size() != 3 * n || g.log_scales.size() != 3 * n ||
+        g.quats.size() != 4 * n || g.sh.size() != 3 * n * g.sh_coeffs() ||
+        g.dynamic_logits.size() != n)
+      Fail("inconsistent Gaussian arrays");
+    return g;
+  }
+  FrameSampler::State Sampler() {
+    FrameSampler::State s;
+    s.rng = String();
+    s.order = Vector<int>();
+    s.position = Pod<int32_t>();
+    if (s.position < 0 || s.position > static_cast<int>(s.order.size()))
+      Fail("frame sampler position out of range");
+    return s;
+  }
+  [[noreturn]] void Fail(const std::string& what) {
+    throw InputError(path_ + ": not a valid " + kind_ + " (" + what + ")");
+  }
+
+ private:
+  void Read(void* dst, size_t bytes) {
+    in_->read(static_cast<char*>(dst), bytes);
+    if (!*in_) Fail("truncated");
+  }
+  std::ifstream* in_;
+  std::string path_, kind_;
+};
+
+// Every checkpoint file starts with an 8-byte tag naming its kind and
+// version.
+using CheckpointMagic = char[8];
+
+// Writes PATH atomically: `write_records(CheckpointWriter&)` fills PATH.tmp,
+// which then replaces PATH, so a run killed mid-write keeps its previous
+// checkpoint.
+template <typename WriteRecords>
+void WriteCheckpointFile(const std::string& path, const CheckpointMagic& magic,
+                         WriteRecords write_records) {
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) throw InputError(tmp + ": cannot open for writing");
+    out.write(magic, sizeof(CheckpointMagic));
+    CheckpointWriter writer(&out);
+    write_records(writer);
+    out.flush();
+    if (!out) throw InputError(tmp + ": write failed");
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0)
+    throw InputError(path + ": cannot rename " + tmp + " over it");
+}
+
+// Opens PATH, checks its tag and returns `read_records(CheckpointReader&)`;
+// problems throw InputError naming PATH and `kind`.
+template <typename ReadRecords>
+auto ReadCheckpointFile(const std::string& path, const std::string& kind,
+                        const CheckpointMagic& magic,
+                        ReadRecords read_records) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path + ": cannot open " + kind);
+  CheckpointReader reader(&in, path, kind);
+  CheckpointMagic tag;
+  in.read(tag, sizeof(tag));
+  if (!in || !std::equal(tag, tag + sizeof(tag), magic))
+    reader.Fail("wrong magic or version");
+  return read_records(reader);
+}
+
+}  // namespace es
+
+#endif  // EULERSPLAT_SOLVERS_CHECKPOINT_CHECKPOINT_IO_H_

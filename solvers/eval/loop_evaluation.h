@@ -1,0 +1,42 @@
+#ifndef EULERSPLAT_SOLVERS_EVAL_LOOP_EVALUATION_H_
+#define EULERSPLAT_SOLVERS_EVAL_LOOP_EVALUATION_H_
+
+#include "core/metrics/loop_seam.h"
+#include "core/model/camera.h"
+#include "core/model/loop_model.h"
+#include "core/render/rasterizer.h"
+
+namespace es {
+
+// What es_eval measures beyond held-out image quality (for that see
+// EvaluateLoopModel in solvers/train/joint_trainer.h).
+
+// Loop-seam score (core/metrics/loop_seam.h) of a fixed-view animation of `cycles`
+// loops (cycles * L + 1 frames from frame 0, Alg. 2, p = 0) seen by
+// `camera`.
+LoopSeamScore EvaluateLoopSeam(const LoopModel& model, const Camera& camera,
+                               int cycles, const RenderOptions& options);
+
+// Per-frame cost of playing the model both ways, in milliseconds: Alg. 1
+// re-integrates every dynamic Gaussian from its canonical position (t Euler
+// steps each, O(N L) per frame), Alg. 2 advances the previous frame by one
+// step (O(N)). Composition (D, p = 0) and rasterization are the same for
+// both and timed once. Also checks the two agree.
+struct AnimationTiming {
+  int frames = 0;
+  int num_dynamic = 0;
+  double alg1_advect_ms = 0;
+  double alg2_advect_ms = 0;
+  double render_ms = 0;  // compose + rasterize
+  double alg1_frame_ms() const { return alg1_advect_ms + render_ms; }
+  double alg2_frame_ms() const { return alg2_advect_ms + render_ms; }
+  // Largest |x_alg1 - x_alg2| over Gaussians and frames (world units).
+  double max_position_difference = 0;
+};
+
+AnimationTiming TimeAnimation(const LoopModel& model, const Camera& camera,
+                              int frames, const RenderOptions& options);
+
+}  // namespace es
+
+#endif  // EULERSPLAT_SOLVERS_EVAL_LOOP_EVALUATION_H_

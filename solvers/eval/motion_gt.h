@@ -1,0 +1,45 @@
+#ifndef EULERSPLAT_SOLVERS_EVAL_MOTION_GT_H_
+#define EULERSPLAT_SOLVERS_EVAL_MOTION_GT_H_
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/fields/motion_field.h"
+#include "core/flow/flow_lifting.h"
+
+namespace es {
+
+// A ground-truth velocity (world units per frame) at a world point.
+using VelocityFunction = std::function<Eigen::Vector3d(const Eigen::Vector3d&)>;
+
+struct MotionGtMetrics {
+  int num_points = 0;
+  double epe = 0;         // mean |V(x) - v_gt(x)| (world units per frame)
+  double mean_speed = 0;  // mean |v_gt(x)|
+  double rel_epe = 0;     // epe / mean_speed
+};
+
+// Endpoint error of the field against the true velocity at `points` (the
+// dynamic Gaussians' positions): where the model's water actually is.
+MotionGtMetrics EvaluateMotionGt(const MotionField& field,
+                                 const std::vector<Eigen::Vector3d>& points,
+                                 const VelocityFunction& truth);
+
+// The same error for the lifted scene-flow samples themselves (sample v
+// against the truth at sample x): what the pretraining is given.
+MotionGtMetrics EvaluateSamplesGt(const std::vector<SceneFlowSample>& samples,
+                                  const VelocityFunction& truth);
+
+// The synthetic scenes' ground truth, DIR/gt/velocity_grid.bin
+// (core/io/velocity_grid.h), sampled trilinearly. HasMotionGt says
+// whether the scene has it; LoadMotionGt throws InputError naming the file
+// when it is missing or malformed.
+bool HasMotionGt(const std::string& scene_dir);
+VelocityFunction LoadMotionGt(const std::string& scene_dir);
+
+}  // namespace es
+
+#endif  // EULERSPLAT_SOLVERS_EVAL_MOTION_GT_H_

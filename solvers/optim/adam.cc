@@ -1,0 +1,102 @@
+#include "solvers/optim/adam.h"
+
+#include <glog/logging.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace es {
+
+void AdamUpdate(const AdamOptions& o, int64_t t, double lr, int n,
+                const double* grad, double* m, double* v, double* x) {
+  CHECK_GE(t, 1);
+  const double bc1 = 1.0 - std::pow(o.beta1, static_cast<double>(t));
+  const double bc2 = 1.0 - std::pow(o.beta2, static_cast<double>(t));
+  const double step = lr / bc1;
+  const double inv_sqrt_bc2 = 1.0 / std::sqrt(bc2);
+#pragma omp parallel for if (n > 65536) schedule(static)
+  for (int i = 0; i < n; ++i) {
+    const double g = grad[i];
+    m[i] = o.beta1 * m[i] + (1.0 - o.beta1) * g;
+    v[i] = o.beta2 * v[i] + (1.0 - o.beta2) * g * g;
+    x[i] -= step * m[i] / (std::sqrt(v[i]) * inv_sqrt_bc2 + o.eps);
+  }
+}
+
+GaussianSet ZeroGaussians(int n, int sh_degree) {
+  GaussianSet g;
+  g.sh_degree = sh_degree;
+  g.Resize(n);
+  std::fill(g.quats.begin(), g.quats.end(), 0.0);
+  return g;
+}
+
+void GaussianAdam::Reset(const GaussianSet& params) {
+  m_ = ZeroGaussians(params.size(), params.sh_degree);
+  v_ = m_;
+  step_ = 0;
+}
+
+void GaussianAdam::Step(const GaussianLearningRates& lr,
+                        const GaussianSet& grad, GaussianSet* params) {
+  params->CheckConsistent();
+  grad.CheckConsistent();
+  CHECK_EQ(grad.size(), params->size());
+  CHECK_EQ(grad.sh_degree, params->sh_degree);
+  CHECK_EQ(m_.size(), params->size()) << "moments out of sync";
+  CHECK_EQ(m_.sh_degree, params->sh_degree) << "moments out of sync";
+  ++step_;
+  auto update = [this](double rate, const std::vector<double>& g,
+                       std::vector<double>* mm, std::vector<double>* vv,
+                       std::vector<double>* x) {
+    if (rate == 0 || x->empty()) return;
+    AdamUpdate(options_, step_, rate, static_cast<int>(x->size()), g.data(),
+               mm->data(), vv->data(), x->data());
+  };
+  update(lr.means, grad.means, &m_.means, &v_.means, &params->means);
+  update(lr.log_scales, grad.log_scales, &m_.log_scales, &v_.log_scales,
+         &params->log_scales);
+  update(lr.quats, grad.quats, &m_.quats, &v_.quats, &params->quats);
+  update(lr.opacity_logits, grad.opacity_logits, &m_.opacity_logits,
+         &v_.opacity_logits, &params->opacity_logits);
+  update(lr.dynamic_logits, grad.dynamic_logits, &m_.dynamic_logits,
+         &v_.dynamic_logits, &params->dynamic_logits);
+  // SH: DC and the higher bands interleave per Gaussian ([n][k][rgb]).
+  const int width = 3 * params->sh_coeffs();
+  const int n = params->size();
+#pragma omp parallel for if (n > 16384) schedule(static)
+  for (int i = 0; i < n; ++i) {
+    const int o = i * width;
+    if (lr.sh_dc != 0)
+      AdamUpdate(options_, step_, lr.sh_dc, 3, &grad.sh[o], &m_.sh[o],
+                 &v_.sh[o], &params->sh[o]);
+    if (width > 3 && lr.sh_rest != 0)
+      AdamUpdate(options_, step_, lr.sh_rest, width - 3, &grad.sh[o + 3],
+                 &m_.sh[o + 3], &v_.sh[o + 3], &params->sh[o + 3]);
+  }
+}
+
+void GaussianAdam::Filter(const std::vector<bool>& keep) {
+  m_.Filter(keep);
+  v_.Filter(keep);
+}
+
+void GaussianAdam::AppendZeros(int count) {
+  const GaussianSet zeros = ZeroGaussians(count, m_.sh_degree);
+  for (int i = 0; i < count; ++i) {
+    m_.AppendFrom(zeros, i);
+    v_.AppendFrom(zeros, i);
+  }
+}
+
+void GaussianAdam::SetShDegree(int degree) {
+  m_.SetShDegree(degree);
+  v_.SetShDegree(degree);
+}
+
+void GaussianAdam::ResetOpacityMoments() {
+  std::fill(m_.opacity_logits.begin(), m_.opacity_logits.end(), 0.0);
+  std::fill(v_.opacity_logits.begin(), v_.opacity_logits.end(), 0.0);
+}
+
+}  // namespace es

@@ -1,0 +1,287 @@
+#include "solvers/train/flow_pretrain.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <memory>
+#include <numeric>
+#include <random>
+
+#include <ceres/ceres.h>
+#include <glog/logging.h>
+
+#include "core/io/input_error.h"
+#include "costs/scene_flow_cost.h"
+#include "solvers/optim/adam.h"
+#include "solvers/optim/lr_schedule.h"
+
+namespace es {
+namespace {
+
+class Stopwatch {
+ public:
+  double seconds() const {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() -
+                                         start_)
+        .count();
+  }
+
+ private:
+  std::chrono::steady_clock::time_point start_ =
+      std::chrono::steady_clock::now();
+};
+
+// k distinct indices out of n (all of them when k >= n).
+std::vector<int> RandomSubset(int n, int k, std::mt19937* rng) {
+  std::vector<int> all(n);
+  std::iota(all.begin(), all.end(), 0);
+  if (k >= n) return all;
+  std::shuffle(all.begin(), all.end(), *rng);
+  all.resize(k);
+  return all;
+}
+
+void ReportProgress(const FlowPretrainOptions& options, int iteration,
+                    int iterations, double seconds, double loss) {
+  if (!options.progress || options.log_every <= 0) return;
+  if (iteration % options.log_every == 0 || iteration == iterations) {
+    options.progress(iteration, seconds, std::sqrt(2.0 * loss));
+  }
+}
+
+int FitWithAdam(const std::vector<SceneFlowSample>& samples,
+                const FlowPretrainOptions& options, const Stopwatch& clock,
+                MotionField* field) {
+  const int n_tri = field->triplane().num_params();
+  const int n_mlp = field->mlp().num_params();
+  std::vector<double> g_tri(n_tri), m_tri(n_tri, 0.0), v_tri(n_tri, 0.0);
+  std::vector<double> g_mlp(n_mlp), m_mlp(n_mlp, 0.0), v_mlp(n_mlp, 0.0);
+  SceneFlowBatch batch;
+  const SceneFlowCost cost(field, &batch);
+  std::mt19937 rng(options.seed);
+  std::uniform_int_distribution<int> pick(0,
+                                          static_cast<int>(samples.size()) - 1);
+  std::vector<int> indices(std::min<size_t>(options.batch_size,
+                                            samples.size()));
+  AdamOptions adam;
+  adam.eps = options.adam_eps;
+  for (int it = 1; it <= options.iterations; ++it) {
+    for (int& i : indices) i = pick(rng);
+    batch.Assign(samples, indices);
+    std::fill(g_tri.begin(), g_tri.end(), 0.0);
+    std::fill(g_mlp.begin(), g_mlp.end(), 0.0);
+    const double loss =
+        cost.Loss(field->params(), {g_tri.data(), g_mlp.data()});
+    if (options.tv_weight > 0) {
+      field->triplane().TotalVariation(field->triplane_params().data(),
+                                       options.tv_weight, g_tri.data());
+    }
+    const double decay = LogLinearLr(1.0, options.final_lr_factor, it - 1,
+                                     options.iterations - 1);
+    AdamUpdate(adam, it, options.lr_triplane * decay, n_tri, g_tri.data(),
+               m_tri.data(), v_tri.data(), field->triplane_params().data());
+    AdamUpdate(adam, it, options.lr_mlp * decay, n_mlp, g_mlp.data(),
+               m_mlp.data(), v_mlp.data(), field->mlp_params().data());
+    ReportProgress(options, it, options.iterations, clock.seconds(), loss);
+  }
+  return options.iterations;
+}
+
+// The pretraining loss over V's concatenated parameters [triplane | MLP],
+// for ceres::GradientProblemSolver.
+class SceneFlowObjective : public ceres::FirstOrderFunction {
+ public:
+  SceneFlowObjective(const MotionField* field, const SceneFlowBatch* batch,
+                     double tv_weight)
+      : field_(field), cost_(field, batch), tv_weight_(tv_weight),
+        n_tri_(field->triplane().num_params()),
+        n_mlp_(field->mlp().num_params()) {}
+
+  bool Evaluate(const double* parameters, double* cost,
+                double* gradient) const override {
+    const FieldParams params{parameters, parameters + n_tri_};
+    FieldGradients grads;
+    if (gradient != nullptr) {
+      std::fill_n(gradient, n_tri_ + n_mlp_, 0.0);
+      grads = {gradient, gradient + n_tri_};
+    }
+    *cost = cost_.Loss(params, grads);
+    if (tv_weight_ > 0) {
+      *cost += field_->triplane().TotalVariation(parameters, tv_weight_,
+                                                 gradient);
+    }
+    return std::isfinite(*cost);
+  }
+  int NumParameters() const override { return n_tri_ + n_mlp_; }
+
+ private:
+  const MotionField* field_;
+  const SceneFlowCost cost_;
+  double tv_weight_;
+  int n_tri_, n_mlp_;
+};
+
+// Forwards Ceres' per-iteration summaries to the progress callback.
+class ProgressCallback : public ceres::IterationCallback {
+ public:
+  ProgressCallback(const FlowPretrainOptions& options, const Stopwatch& clock)
+      : options_(options), clock_(clock) {}
+  ceres::CallbackReturnType operator()(
+      const ceres::IterationSummary& summary) override {
+    ReportProgress(options_, summary.iteration, options_.iterations,
+                   clock_.seconds(), summary.cost);
+    return ceres::SOLVER_CONTINUE;
+  }
+
+ private:
+  const FlowPretrainOptions& options_;
+  const Stopwatch& clock_;
+};
+
+int FitWithLbfgs(const std::vector<SceneFlowSample>& samples,
+                 const FlowPretrainOptions& options, const Stopwatch& clock,
+                 MotionField* field) {
+  std::mt19937 rng(options.seed);
+  SceneFlowBatch subset;
+  subset.Assign(samples, RandomSubset(static_cast<int>(samples.size()),
+                                      options.lbfgs_max_samples, &rng));
+  std::vector<double> x = field->triplane_params();
+  x.insert(x.end(), field->mlp_params().begin(), field->mlp_params().end());
+  ceres::GradientProblem problem(
+      new SceneFlowObjective(field, &subset, options.tv_weight));
+  ceres::GradientProblemSolver::Options solver_options;
+  solver_options.line_search_direction_type = ceres::LBFGS;
+  solver_options.use_approximate_eigenvalue_bfgs_scaling = true;
+  solver_options.max_num_iterations = options.iterations;
+  // Run the iterations asked for rather than stop on Ceres' defaults, which
+  // are tuned for cost scales of order 1.
+  solver_options.function_tolerance = 1e-15;
+  solver_options.gradient_tolerance = 1e-20;
+  solver_options.parameter_tolerance = 1e-15;
+  ProgressCallback callback(options, clock);
+  solver_options.callbacks.push_back(&callback);
+  ceres::GradientProblemSolver::Summary summary;
+  ceres::Solve(solver_options, problem, x.data(), &summary);
+  VLOG(1) << summary.FullReport();
+  const int n_tri = field->triplane().num_params();
+  std::copy(x.begin(), x.begin() + n_tri, field->triplane_params().begin());
+  std::copy(x.begin() + n_tri, x.end(), field->mlp_params().begin());
+  return summary.iterations.empty()
+             ? 0
+             : summary.iterations.back().iteration;
+}
+
+int FitWithLm(const std::vector<SceneFlowSample>& samples,
+              const FlowPretrainOptions& options, const Stopwatch& clock,
+              MotionField* field) {
+  const int batch_size =
+      std::min<int>(options.batch_size, static_cast<int>(samples.size()));
+  const int64_t num_params =
+      field->triplane().num_params() + field->mlp().num_params();
+  const int64_t jacobian_values = 3 * int64_t{batch_size} * num_params;
+  if (jacobian_values > options.lm_max_jacobian_values) {
+    throw InputError(
+        "the lm pretraining solver would need a dense " +
+        std::to_string(3 * batch_size) + " x " + std::to_string(num_params) +
+        " Jacobian (limit " + std::to_string(options.lm_max_jacobian_values) +
+        " values); use the adam or lbfgs solver, a smaller batch or a "
+        "smaller field");
+  }
+  std::mt19937 rng(options.seed);
+  SceneFlowBatch batch;
+  batch.Assign(samples, RandomSubset(static_cast<int>(samples.size()),
+                                     batch_size, &rng));
+  ceres::Problem problem;
+  problem.AddResidualBlock(new SceneFlowResiduals(field, &batch), nullptr,
+                           field->triplane_params().data(),
+                           field->mlp_params().data());
+  ceres::Solver::Options solver_options;
+  solver_options.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
+  solver_options.max_num_iterations = options.iterations;
+  solver_options.function_tolerance = 1e-15;
+  solver_options.gradient_tolerance = 1e-20;
+  solver_options.parameter_tolerance = 1e-15;
+  ProgressCallback callback(options, clock);
+  solver_options.callbacks.push_back(&callback);
+  ceres::Solver::Summary summary;
+  ceres::Solve(solver_options, &problem, &summary);
+  VLOG(1) << summary.FullReport();
+  return summary.iterations.empty()
+             ? 0
+             : summary.iterations.back().iteration;
+}
+
+}  // namespace
+
+std::string PretrainSolverName(PretrainSolver solver) {
+  switch (solver) {
+    case PretrainSolver::kAdam: return "adam";
+    case PretrainSolver::kLbfgs: return "lbfgs";
+    case PretrainSolver::kLm: return "lm";
+  }
+  return "unknown";
+}
+
+PretrainSolver ParsePretrainSolver(const std::string& name) {
+  for (PretrainSolver s :
+       {PretrainSolver::kAdam, PretrainSolver::kLbfgs, PretrainSolver::kLm}) {
+    if (PretrainSolverName(s) == name) return s;
+  }
+  throw InputError("unknown pretraining solver '" + name +
+                   "'; available: adam, lbfgs, lm");
+}
+
+double FitRmse(const MotionField& field,
+               const std::vector<SceneFlowSample>& samples) {
+  if (samples.empty()) return 0.0;
+  constexpr int kChunk = 65536;
+  SceneFlowBatch batch;
+  const SceneFlowCost cost(&field, &batch);
+  std::vector<int> indices;
+  double sum = 0;
+  for (size_t begin = 0; begin < samples.size(); begin += kChunk) {
+    const size_t end = std::min(samples.size(), begin + kChunk);
+    indices.resize(end - begin);
+    std::iota(indices.begin(), indices.end(), static_cast<int>(begin));
+    batch.Assign(samples, indices);
+    sum += 2.0 * cost.Loss(field.params(), {}) * indices.size();
+  }
+  return std::sqrt(sum / samples.size());
+}
+
+FlowPretrainReport PretrainMotionField(
+    const std::vector<SceneFlowSample>& samples,
+    const FlowPretrainOptions& options, MotionField* field) {
+  CHECK(field != nullptr);
+  CHECK_GE(options.iterations, 0);
+  CHECK_GT(options.batch_size, 0);
+  if (samples.empty()) {
+    throw InputError("no scene-flow samples to pretrain the motion field on");
+  }
+  FlowPretrainReport report;
+  report.num_samples = static_cast<int>(samples.size());
+  double target_sq = 0;
+  for (const SceneFlowSample& s : samples) target_sq += s.v.squaredNorm();
+  report.target_rms = std::sqrt(target_sq / samples.size());
+  report.initial_rmse = FitRmse(*field, samples);
+  // The fits below take the TV weight in the data term's units.
+  FlowPretrainOptions fit = options;
+  fit.tv_weight = options.tv_weight * target_sq / samples.size();
+  const Stopwatch clock;
+  switch (options.solver) {
+    case PretrainSolver::kAdam:
+      report.iterations = FitWithAdam(samples, fit, clock, field);
+      break;
+    case PretrainSolver::kLbfgs:
+      report.iterations = FitWithLbfgs(samples, fit, clock, field);
+      break;
+    case PretrainSolver::kLm:
+      report.iterations = FitWithLm(samples, fit, clock, field);
+      break;
+  }
+  report.seconds = clock.seconds();
+  report.fit_rmse = FitRmse(*field, samples);
+  return report;
+}
+
+}  // namespace es

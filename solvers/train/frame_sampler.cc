@@ -1,0 +1,48 @@
+#include "solvers/train/frame_sampler.h"
+
+#include <glog/logging.h>
+
+#include <algorithm>
+#include <sstream>
+
+namespace es {
+
+FrameSampler::FrameSampler(std::vector<int> frames, uint64_t seed)
+    : frames_(std::move(frames)), rng_(seed) {
+  CHECK(!frames_.empty()) << "no frames to sample";
+}
+
+int FrameSampler::Next() {
+  if (position_ >= static_cast<int>(order_.size())) {
+    order_ = frames_;
+    // Our own Fisher-Yates: std::shuffle's algorithm is unspecified, and a
+    // checkpoint must replay identically across standard libraries.
+    for (int i = static_cast<int>(order_.size()) - 1; i > 0; --i) {
+      const int j = static_cast<int>(rng_() % static_cast<uint64_t>(i + 1));
+      std::swap(order_[i], order_[j]);
+    }
+    position_ = 0;
+  }
+  return order_[position_++];
+}
+
+FrameSampler::State FrameSampler::state() const {
+  State s;
+  std::ostringstream out;
+  out << rng_;
+  s.rng = out.str();
+  s.order = order_;
+  s.position = position_;
+  return s;
+}
+
+void FrameSampler::Restore(const State& s) {
+  std::istringstream in(s.rng);
+  in >> rng_;
+  CHECK(!in.fail()) << "bad sampler RNG state";
+  CHECK_LE(s.position, static_cast<int>(s.order.size()));
+  order_ = s.order;
+  position_ = s.position;
+}
+
+}  // namespace es

@@ -1,0 +1,145 @@
+#ifndef EULERSPLAT_SOLVERS_TRAIN_JOINT_TRAINER_H_
+#define EULERSPLAT_SOLVERS_TRAIN_JOINT_TRAINER_H_
+
+#include <cstdint>
+#include <optional>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/io/scene.h"
+#include "core/loop/euler_chain.h"
+#include "core/model/gaussians.h"
+#include "core/model/loop_model.h"
+#include "core/render/rasterizer.h"
+#include "costs/joint_render_cost.h"
+#include "solvers/checkpoint/joint_checkpoint.h"
+#include "solvers/optim/adam.h"
+#include "solvers/train/frame_sampler.h"
+
+namespace es {
+
+// Stage 3 knobs. Splat learning rates follow 3DGS (position rate times the
+// scene extent, decaying log-linearly); field rates decay log-linearly to
+// field_lr_final_factor times their start over the run.
+struct JointTrainerOptions {
+  int iterations = 20000;
+  uint64_t seed = 0;
+  int cycle_length = 15;       // L
+  bool use_motion = true;      // false: --no_motion_field / --static_only
+  bool use_residual = true;    // false: --no_residual / --static_only
+  bool random_start = true;    // false: every start time 0
+  double dynamic_threshold = 0.2;  // sigmoid(dynamic_logit) > this: water
+  int refresh_interval = 10;       // re-derive the dynamic set this often
+  double ssim_weight = 0.2;
+  double mask_weight = 0.5;        // 0, or frames without masks: off
+  double residual_weight = 0.001;  // mean squared D outputs
+  double lr_means_initial = 1.6e-5;
+  double lr_means_final = 1.6e-6;
+  double lr_log_scales = 5e-3;
+  double lr_quats = 1e-3;
+  double lr_opacity = 0.05;
+  double lr_sh_dc = 2.5e-3;
+  double lr_sh_rest = 2.5e-3 / 20;
+  double lr_dynamic = 0.05;
+  double lr_motion_triplane = 5e-4;
+  double lr_motion_mlp = 1e-4;
+  double lr_residual_triplane = 5e-3;
+  double lr_residual_mlp = 1e-3;
+  double field_lr_final_factor = 0.1;
+  // Shapes of fields made from scratch (a given V keeps its own). D's
+  // cycle_length is set to cycle_length.
+  MotionFieldOptions motion;
+  ResidualFieldOptions residual;
+  EulerOptions euler;
+  Eigen::Vector3d background = Eigen::Vector3d::Zero();
+};
+
+struct JointIterationStats {
+  int frame = -1;
+  double loss = 0;  // weighted total
+  double photometric = 0;
+  double mask = 0;
+  double residual = 0;
+  int num_dynamic = 0;
+  EulerStats euler;
+};
+
+// The Gaussians whose sigmoid(dynamic_logit) exceeds threshold, ascending.
+std::vector<int> DynamicSet(const GaussianSet& g, double threshold);
+
+// The box the fields span: the bounds of the given Gaussians' means (all of
+// them when the list is empty) padded by 10% of their size on every side
+// (and at least a small absolute margin, so the box is never empty).
+void FieldBox(const GaussianSet& g, const std::vector<int>& indices,
+              Eigen::Vector3d* lo, Eigen::Vector3d* hi);
+
+// Trains a looping model (Stage 3): one sampled training frame per
+// iteration, composed at its frame index (Alg. 1 + D), rendered and scored
+// by a JointRenderCost evaluated directly into preallocated gradient
+// buffers, then one Adam step per block. The dynamic set follows the
+// learned probability every refresh_interval iterations: Gaussians that
+// stay keep their start time, new ones draw theirs from the seeded RNG.
+class JointTrainer {
+ public:
+  // `initial` are the static model's Gaussians; `motion` a pretrained V
+  // (its shape and box are kept) or nullopt to start V from scratch.
+  JointTrainer(const std::vector<Frame>* frames, std::vector<int> train,
+               const JointTrainerOptions& options, GaussianSet initial,
+               std::optional<MotionField> motion);
+
+  JointIterationStats Step();
+
+  int64_t iteration() const { return iteration_; }
+  const LoopModel& model() const { return model_; }
+  bool uses_masks() const { return use_masks_; }
+  RenderOptions render_options() const;
+
+  JointCheckpoint Save() const;
+  // Continues from a checkpoint of a run with the same frames and options;
+  // throws InputError naming `source` if its shapes do not match.
+  void Restore(const JointCheckpoint& checkpoint, const std::string& source);
+
+ private:
+  void RefreshDynamicSet();
+  GaussianLearningRates LearningRates() const;
+  std::vector<double> FieldLearningRates() const;
+  std::vector<std::vector<double>*> FieldBlocks();
+
+  const std::vector<Frame>* frames_;
+  std::vector<int> train_;
+  JointTrainerOptions options_;
+  bool use_masks_ = false;
+  double extent_ = 1;
+  LoopModel model_;
+  GaussianSet grad_;
+  GaussianAdam adam_;
+  std::vector<std::vector<double>> field_grad_, field_m_, field_v_;
+  int64_t field_step_ = 0;
+  FrameSampler sampler_;
+  std::mt19937_64 rng_;
+  Rasterizer rasterizer_;
+  std::optional<JointRenderCost> cost_;
+  int64_t iteration_ = 0;
+};
+
+// Held-out quality of a looping model: each frame i is composed at its own
+// index (Alg. 1, t and p from i) and rendered. Means over frames; the water
+// variants use the masks (> 0.5) and skip frames without water (NaN when
+// none has any).
+struct LoopMetrics {
+  int frames = 0;
+  double psnr = 0, ssim = 0;
+  double psnr_water = 0, ssim_water = 0;
+};
+
+LoopMetrics EvaluateLoopModel(const LoopModel& model,
+                              const std::vector<Frame>& frames,
+                              const std::vector<int>& indices,
+                              const RenderOptions& options);
+
+}  // namespace es
+
+#endif  // EULERSPLAT_SOLVERS_TRAIN_JOINT_TRAINER_H_

@@ -1,0 +1,61 @@
+#ifndef EULERSPLAT_SOLVERS_TRAIN_STATIC_STAGE_H_
+#define EULERSPLAT_SOLVERS_TRAIN_STATIC_STAGE_H_
+
+#include <memory>
+#include <string>
+
+#include "core/io/scene.h"
+#include "solvers/eval/static_eval.h"
+#include "solvers/train/static_trainer.h"
+
+namespace es {
+
+struct StaticStageOptions {
+  std::string scene_dir;
+  std::string out_dir;
+  SceneOptions scene;
+  StaticTrainerOptions trainer;
+  bool resume = false;             // continue from out_dir/checkpoint.bin
+  int checkpoint_every = 1000;     // iterations; 0: never
+  int log_every = 100;             // iterations; 0: silent
+  double dynamic_threshold = 0.2;  // sigmoid(dynamic_logit) above: water
+};
+
+struct StaticStageResult {
+  StaticMetrics test;
+  int num_gaussians = 0;
+  int num_dynamic = 0;
+  double seconds = 0;  // training time of this run (excludes loading)
+  double iterations_per_second = 0;
+};
+
+// The pieces of Stage 1 shared by es_static and bench_static.
+
+// Loads a scene Stage 1 can train on; throws InputError if it has no
+// training frames or no points to seed from.
+Scene LoadStaticScene(const std::string& scene_dir,
+                      const SceneOptions& options);
+
+// A trainer on the scene's training split, seeded from its points (3-NN
+// scales). `scene` must outlive it.
+std::unique_ptr<StaticTrainer> MakeStaticTrainer(
+    const Scene& scene, const StaticTrainerOptions& options);
+
+// The model as Stage 1 writes and evaluates it: without masks, every
+// dynamic logit is set well below any threshold (no Gaussian is water).
+GaussianSet StaticModel(const StaticTrainer& trainer);
+
+// Held-out metrics of StaticModel(trainer) on the scene's test split.
+StaticMetrics EvaluateHeldOut(const StaticTrainer& trainer, const Scene& scene);
+
+// Stage 1: loads the scene, seeds Gaussians from its points (3-NN scales),
+// trains on the training split (resuming if asked), evaluates on the
+// held-out frames and writes out_dir/static.ply and out_dir/metrics.json.
+// Without masks there is no mask term and no Gaussian is marked dynamic:
+// every dynamic logit is written well below the threshold. Throws
+// InputError for bad options or inputs.
+StaticStageResult RunStaticStage(const StaticStageOptions& options);
+
+}  // namespace es
+
+#endif  // EULERSPLAT_SOLVERS_TRAIN_STATIC_STAGE_H_

@@ -1,0 +1,179 @@
+#include "solvers/train/static_trainer.h"
+
+#include <glog/logging.h>
+
+#include <algorithm>
+#include <sstream>
+
+#include "solvers/optim/lr_schedule.h"
+
+namespace es {
+namespace {
+
+// 3DGS caps opacities at this on every reset.
+constexpr double kResetOpacity = 0.01;
+
+SplatRenderTerms Terms(const StaticTrainerOptions& o, bool use_masks) {
+  SplatRenderTerms t;
+  t.photometric_weight = 1.0;
+  t.ssim_weight = o.ssim_weight;
+  t.mask_weight = use_masks ? o.mask_weight : 0.0;
+  return t;
+}
+
+bool AllHaveMasks(const std::vector<Frame>& frames,
+                  const std::vector<int>& indices) {
+  for (int i : indices)
+    if (frames[i].mask.empty()) return false;
+  return true;
+}
+
+RenderOptions MakeRenderOptions(const StaticTrainerOptions& o) {
+  RenderOptions r;
+  r.background = o.background;
+  return r;
+}
+
+}  // namespace
+
+double CameraExtent(const std::vector<Frame>& frames,
+                    const std::vector<int>& indices) {
+  CHECK(!indices.empty());
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (int i : indices) mean += frames[i].camera.Center();
+  mean /= indices.size();
+  double radius = 0;
+  for (int i : indices)
+    radius = std::max(radius, (frames[i].camera.Center() - mean).norm());
+  return std::max(1.1 * radius, 1e-6);
+}
+
+StaticTrainer::StaticTrainer(const std::vector<Frame>* frames,
+                             std::vector<int> train,
+                             const StaticTrainerOptions& options,
+                             GaussianSet initial)
+    : frames_(frames),
+      train_(std::move(train)),
+      options_(options),
+      use_masks_(options.mask_weight > 0 && AllHaveMasks(*frames, train_)),
+      extent_(CameraExtent(*frames, train_)),
+      g_(std::move(initial)),
+      sampler_(train_, options.seed),
+      rng_(options.seed + 1),
+      cost_(&(*frames)[train_.at(0)], 0, 0, Terms(options, use_masks_),
+            MakeRenderOptions(options), &rasterizer_) {
+  g_.CheckConsistent();
+  CHECK_LE(g_.sh_degree, options_.max_sh_degree);
+  adam_.Reset(g_);
+  stats_.Reset(g_.size());
+}
+
+RenderOptions StaticTrainer::render_options() const {
+  return MakeRenderOptions(options_);
+}
+
+GaussianLearningRates StaticTrainer::LearningRates() const {
+  GaussianLearningRates lr;
+  lr.means =
+      extent_ * LogLinearLr(options_.lr_means_initial, options_.lr_means_final,
+                            iteration_, options_.iterations);
+  lr.log_scales = options_.lr_log_scales;
+  lr.quats = options_.lr_quats;
+  lr.opacity_logits = options_.lr_opacity;
+  lr.sh_dc = options_.lr_sh_dc;
+  lr.sh_rest = options_.lr_sh_rest;
+  lr.dynamic_logits = use_masks_ ? options_.lr_dynamic : 0.0;
+  return lr;
+}
+
+IterationStats StaticTrainer::Step() {
+  if (iteration_ > 0 && options_.sh_degree_interval > 0 &&
+      iteration_ % options_.sh_degree_interval == 0 &&
+      g_.sh_degree < options_.max_sh_degree) {
+    g_.SetShDegree(g_.sh_degree + 1);
+    adam_.SetShDegree(g_.sh_degree);
+  }
+  IterationStats out;
+  out.frame = sampler_.Next();
+  const Frame& frame = (*frames_)[out.frame];
+  const int n = g_.size();
+  if (grad_.size() != n || grad_.sh_degree != g_.sh_degree)
+    grad_ = ZeroGaussians(n, g_.sh_degree);
+  cost_.Reset(&frame, n, g_.sh_degree);
+  std::vector<double*> params = SplatRenderCost::Blocks(&g_);
+  std::vector<double*> jacobians = SplatRenderCost::Blocks(&grad_);
+  double r = 0;
+  CHECK(cost_.Evaluate(params.data(), &r, jacobians.data()));
+  // The Jacobian row of the one residual is dl/dtheta / r.
+  for (std::vector<double>* v :
+       {&grad_.means, &grad_.log_scales, &grad_.quats, &grad_.opacity_logits,
+        &grad_.sh, &grad_.dynamic_logits})
+    for (double& x : *v) x *= r;
+  out.loss = 0.5 * r * r;
+  out.photometric = cost_.last_photometric();
+  out.mask = cost_.last_mask();
+
+  const DensifyOptions& d = options_.densify_options;
+  // As 3DGS (15k of 30k), the second half of a run only refines: a model
+  // evaluated right after a clone / split step is measurably worse.
+  const bool densifying =
+      options_.densify &&
+      iteration_ < std::min<int64_t>(d.until_iteration, options_.iterations / 2);
+  if (densifying) {
+    // The cost's Backward ran on rasterizer_ with d loss / d image, so these
+    // are this view's exact screen-space statistics.
+    rasterizer_.Radii(&radii_);
+    rasterizer_.Mean2dGradients(&mean2d_grads_);
+    stats_.AddView(frame.camera.width, frame.camera.height, radii_,
+                   mean2d_grads_);
+  }
+  adam_.Step(LearningRates(), grad_, &g_);
+  ++iteration_;
+
+  if (densifying && iteration_ > d.from_iteration &&
+      iteration_ % d.interval == 0) {
+    DensifyAndPrune(d, extent_, iteration_ > d.opacity_reset_interval, &rng_,
+                    &g_, &adam_, &stats_);
+  }
+  // Only while densifying, so at least half the run re-learns opacities.
+  if (densifying && d.opacity_reset_interval > 0 &&
+      iteration_ % d.opacity_reset_interval == 0) {
+    ResetOpacity(kResetOpacity, &g_, &adam_);
+  }
+  return out;
+}
+
+Checkpoint StaticTrainer::Save() const {
+  Checkpoint c;
+  c.iteration = iteration_;
+  c.gaussians = g_;
+  c.adam_m = adam_.m();
+  c.adam_v = adam_.v();
+  c.adam_step = adam_.step();
+  c.sampler = sampler_.state();
+  std::ostringstream rng;
+  rng << rng_;
+  c.rng = rng.str();
+  c.grad_sum = stats_.grad_sum;
+  c.grad_count = stats_.count;
+  c.max_radius = stats_.max_radius;
+  return c;
+}
+
+void StaticTrainer::Restore(const Checkpoint& c) {
+  iteration_ = c.iteration;
+  g_ = c.gaussians;
+  adam_.m() = c.adam_m;
+  adam_.v() = c.adam_v;
+  adam_.set_step(c.adam_step);
+  sampler_.Restore(c.sampler);
+  std::istringstream rng(c.rng);
+  rng >> rng_;
+  CHECK(!rng.fail()) << "bad RNG state in checkpoint";
+  stats_.grad_sum = c.grad_sum;
+  stats_.count = c.grad_count;
+  stats_.max_radius = c.max_radius;
+  grad_ = GaussianSet();
+}
+
+}  // namespace es
