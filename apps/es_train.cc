@@ -13,12 +13,14 @@
 #include <gflags/gflags.h>
 
 #include "apps/common/app_main.h"
+#include "core/io/atomic_file.h"
 #include "core/io/field_io.h"
 #include "core/io/input_error.h"
 #include "core/io/ply_io.h"
 #include "core/io/scene.h"
 #include "core/model/loop_model.h"
 #include "solvers/checkpoint/joint_checkpoint.h"
+#include "solvers/eval/loop_evaluation.h"
 #include "solvers/train/joint_trainer.h"
 
 DEFINE_string(scene, "", "Scene directory (images/, masks/, sparse/0/).");
@@ -113,14 +115,14 @@ JointTrainerOptions OptionsFromFlags() {
   o.ssim_weight = FLAGS_ssim_weight;
   o.mask_weight = FLAGS_mask_weight;
   o.residual_weight = FLAGS_residual_weight;
-  o.lr_means_initial = FLAGS_lr_means;
-  o.lr_means_final = FLAGS_lr_means_final;
-  o.lr_log_scales = FLAGS_lr_log_scales;
-  o.lr_quats = FLAGS_lr_quats;
-  o.lr_opacity = FLAGS_lr_opacity;
-  o.lr_sh_dc = FLAGS_lr_sh_dc;
-  o.lr_sh_rest = FLAGS_lr_sh_rest;
-  o.lr_dynamic = FLAGS_lr_dynamic;
+  o.splat_lr.means_initial = FLAGS_lr_means;
+  o.splat_lr.means_final = FLAGS_lr_means_final;
+  o.splat_lr.log_scales = FLAGS_lr_log_scales;
+  o.splat_lr.quats = FLAGS_lr_quats;
+  o.splat_lr.opacity = FLAGS_lr_opacity;
+  o.splat_lr.sh_dc = FLAGS_lr_sh_dc;
+  o.splat_lr.sh_rest = FLAGS_lr_sh_rest;
+  o.splat_lr.dynamic = FLAGS_lr_dynamic;
   o.lr_motion_triplane = FLAGS_lr_motion_triplane;
   o.lr_motion_mlp = FLAGS_lr_motion_mlp;
   o.lr_residual_triplane = FLAGS_lr_residual_triplane;
@@ -149,10 +151,7 @@ std::string JsonNumber(double v) {
 void WriteMetrics(const std::string& path, const LoopMetrics& m,
                   double seconds, int64_t iterations, const LoopModel& model,
                   bool flow_init, double final_loss) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp);
-    if (!out) throw InputError(tmp + ": cannot open for writing");
+  WriteFileAtomically(path, [&](std::ofstream& out) {
     out << "{\n"
         << "  \"psnr_test\": " << JsonNumber(m.psnr) << ",\n"
         << "  \"ssim_test\": " << JsonNumber(m.ssim) << ",\n"
@@ -173,9 +172,7 @@ void WriteMetrics(const std::string& path, const LoopMetrics& m,
         << ",\n"
         << "  \"final_loss\": " << JsonNumber(final_loss) << "\n"
         << "}\n";
-    if (!out) throw InputError(tmp + ": write failed");
-  }
-  fs::rename(tmp, path);
+  }, /*binary=*/false);
 }
 
 int Run() {

@@ -4,8 +4,6 @@
 
 #include <glog/logging.h>
 
-#include "costs/mask_bce_loss.h"
-#include "costs/photometric_loss.h"
 #include "costs/scalar_loss.h"
 #include "costs/splat_render_cost.h"
 
@@ -57,9 +55,10 @@ JointRenderCost::JointRenderCost(const Frame* frame, int frame_index,
                                  const RenderOptions& options,
                                  Rasterizer* rasterizer)
     : layout_(structure),
-      terms_(terms),
+      residual_weight_(terms.residual_weight),
       options_(options),
-      rasterizer_(rasterizer) {
+      rasterizer_(rasterizer),
+      image_loss_(terms) {
   if (!rasterizer_) {
     owned_rasterizer_ = std::make_unique<Rasterizer>();
     rasterizer_ = owned_rasterizer_.get();
@@ -71,10 +70,7 @@ JointRenderCost::JointRenderCost(const Frame* frame, int frame_index,
 void JointRenderCost::Reset(const Frame* frame, int frame_index,
                             const LoopStructure& structure) {
   CHECK(frame != nullptr);
-  CHECK_EQ(frame->image.rows, frame->camera.height);
-  CHECK_EQ(frame->image.cols, frame->camera.width);
-  CHECK(terms_.mask_weight == 0 || !frame->mask.empty())
-      << "mask term on a frame without a mask";
+  image_loss_.CheckFrame(*frame);
   CHECK(structure.dynamic_index != nullptr &&
         structure.start_times != nullptr);
   CHECK_EQ(structure.dynamic_index->size(), structure.start_times->size());
@@ -114,61 +110,39 @@ LoopSplatView JointRenderCost::View(double const* const* parameters) const {
 
 bool JointRenderCost::Evaluate(double const* const* parameters,
                                double* residuals, double** jacobians) const {
-  const int n = structure_.count;
-  const bool photometric_on = terms_.photometric_weight != 0;
-  const bool mask_on = terms_.mask_weight != 0;
-  const bool residual_on =
-      terms_.residual_weight != 0 && structure_.residual != nullptr;
   LoopSplatView model = View(parameters);
-  if (mask_on) {
-    probability_.resize(n);
-    const double* logits = parameters[kDynamicBlock];
-    for (int i = 0; i < n; ++i) probability_[i] = Sigmoid(logits[i]);
-    model.canonical.num_extra = 1;
-    model.canonical.extra = probability_.data();
-  }
+  image_loss_.AttachDynamicChannel(parameters[kDynamicBlock],
+                                   &model.canonical);
+  const double r = ScalarLossResidual(Forward(model, jacobians != nullptr));
+  residuals[0] = r;
+  if (jacobians != nullptr) Backward(model, r, jacobians);
+  return true;
+}
+
+double JointRenderCost::Forward(const LoopSplatView& model,
+                                bool want_grad) const {
   const SplatView& view = composer_.Compose(model, frame_index_);
   rasterizer_->Forward(frame_->camera, view, options_, &render_);
-
-  const bool want_grad = jacobians != nullptr;
-  const size_t pixels =
-      static_cast<size_t>(frame_->camera.width) * frame_->camera.height;
-  double loss = 0;
-  last_photometric_ = last_mask_ = last_residual_ = 0;
-  if (photometric_on) {
-    d_rgb_.resize(3 * pixels);
-    last_photometric_ = PhotometricLoss(
-        render_.rgb.data(), frame_->image, terms_.ssim_weight,
-        terms_.photometric_weight, want_grad ? d_rgb_.data() : nullptr);
-    loss += terms_.photometric_weight * last_photometric_;
-  }
-  if (mask_on) {
-    d_extra_.resize(pixels);
-    last_mask_ = MaskBceLoss(render_.extra.data(), frame_->mask,
-                             terms_.mask_weight,
-                             want_grad ? d_extra_.data() : nullptr);
-    loss += terms_.mask_weight * last_mask_;
-  }
-  if (residual_on) {
+  double loss = image_loss_.Score(render_, *frame_, want_grad);
+  last_residual_ = 0;
+  if (residual_on()) {
     d_residuals_.resize(composer_.residuals().size());
     last_residual_ =
-        ResidualL2Loss(composer_.residuals(), terms_.residual_weight,
+        ResidualL2Loss(composer_.residuals(), residual_weight_,
                        want_grad ? d_residuals_.data() : nullptr);
-    loss += terms_.residual_weight * last_residual_;
+    loss += residual_weight_ * last_residual_;
   }
-  const double r = ScalarLossResidual(loss);
-  residuals[0] = r;
-  if (!want_grad) return true;
+  return loss;
+}
 
+void JointRenderCost::Backward(const LoopSplatView& model, double r,
+                               double** jacobians) const {
   // Gradients accumulate into the Jacobian rows, then are divided by r.
   const std::vector<int32_t>& sizes = layout_.sizes();
   for (int b = 0; b < layout_.num_blocks(); ++b)
     if (jacobians[b]) std::fill(jacobians[b], jacobians[b] + sizes[b], 0.0);
 
-  RenderGradients image_grads;
-  image_grads.d_rgb = photometric_on ? d_rgb_.data() : nullptr;
-  image_grads.d_extra = mask_on ? d_extra_.data() : nullptr;
-  rasterizer_->Backward(image_grads, &grads_);
+  rasterizer_->Backward(image_loss_.ImageGradients(), &grads_);
 
   LoopSplatGradients out;
   out.means = jacobians[kMeansBlock];
@@ -185,14 +159,10 @@ bool JointRenderCost::Evaluate(double const* const* parameters,
                     jacobians[layout_.residual_mlp()]};
   }
   composer_.Backward(model, grads_,
-                     residual_on ? d_residuals_.data() : nullptr, out);
-  if (double* jac = jacobians[kDynamicBlock]; jac && mask_on) {
-    // The extra channel is the canonical probability (D does not touch it).
-    for (int i = 0; i < n; ++i) {
-      const double p = probability_[i];
-      jac[i] = grads_.extra[i] * p * (1 - p);
-    }
-  }
+                     residual_on() ? d_residuals_.data() : nullptr, out);
+  // The extra channel is the canonical probability (D does not touch it).
+  if (double* jac = jacobians[kDynamicBlock])
+    image_loss_.DynamicLogitGradient(grads_, structure_.count, 1.0, jac);
   const double inv_r = 1.0 / r;
   for (int b = 0; b < layout_.num_blocks(); ++b) {
     if (!jacobians[b]) continue;
@@ -201,7 +171,6 @@ bool JointRenderCost::Evaluate(double const* const* parameters,
 #pragma omp parallel for if (size > 65536) schedule(static)
     for (int i = 0; i < size; ++i) jac[i] *= inv_r;
   }
-  return true;
 }
 
 ceres::CostFunction* CreateJointPhotometricCost(

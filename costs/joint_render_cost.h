@@ -10,6 +10,7 @@
 #include "core/loop/frame_composer.h"
 #include "core/model/loop_model.h"
 #include "core/render/rasterizer.h"
+#include "costs/rendered_frame_loss.h"
 #include "costs/residual_l2_cost.h"
 
 namespace es {
@@ -30,12 +31,10 @@ struct LoopStructure {
   static LoopStructure Of(const LoopModel& model);
 };
 
-// Which terms a JointRenderCost sums; a zero weight turns a term off.
-struct JointRenderTerms {
-  double photometric_weight = 1.0;  // (1 - s) L1 + s (1 - SSIM)
-  double ssim_weight = 0.2;         // s above
-  double mask_weight = 0.0;         // BCE of the dynamic channel vs mask
-  double residual_weight = 0.0;     // ResidualL2Loss of D's outputs
+// Which terms a JointRenderCost sums: the image terms of every render cost
+// plus the L2 term on D's outputs; a zero weight turns a term off.
+struct JointRenderTerms : ImageLossTerms {
+  double residual_weight = 0.0;  // ResidualL2Loss of D's outputs
 };
 
 // Parameter block order: the six GaussianSet arrays (SplatBlock order of
@@ -62,7 +61,8 @@ std::vector<double*> JointBlocks(LoopModel* model);
 // The joint-training loss of one frame i: the looping model is composed at
 // frame i (Alg. 1 advection of the dynamic Gaussians by V to their cycle
 // index, plus D's position, opacity and SH offsets; core/loop/frame_composer.h),
-// rendered once, and scored by every enabled term,
+// rendered once, and scored by every enabled term (RenderedFrameLoss plus
+// D's L2),
 //   l = w_p photometric + w_m BCE(dynamic channel, mask) + w_r D L2,
 // exposed as one residual sqrt(2 l + eps) (costs/scalar_loss.h). The
 // gradient flows through the rasterizer, D and the whole Euler chain to the
@@ -86,8 +86,8 @@ class JointRenderCost : public ceres::CostFunction {
 
   const JointBlockLayout& layout() const { return layout_; }
   // Unweighted terms of the last Evaluate (0 for a disabled term).
-  double last_photometric() const { return last_photometric_; }
-  double last_mask() const { return last_mask_; }
+  double last_photometric() const { return image_loss_.last_photometric(); }
+  double last_mask() const { return image_loss_.last_mask(); }
   double last_residual() const { return last_residual_; }
   const EulerStats& last_euler_stats() const {
     return composer_.euler_stats();
@@ -95,20 +95,31 @@ class JointRenderCost : public ceres::CostFunction {
 
  private:
   LoopSplatView View(double const* const* parameters) const;
+  bool residual_on() const {
+    return residual_weight_ != 0 && structure_.residual != nullptr;
+  }
+  // Composes, renders and scores the frame; returns the weighted loss and
+  // keeps what Backward needs when want_grad.
+  double Forward(const LoopSplatView& model, bool want_grad) const;
+  // Writes d loss / d block / r into every non-null Jacobian row.
+  void Backward(const LoopSplatView& model, double r,
+                double** jacobians) const;
 
   const Frame* frame_ = nullptr;
   int frame_index_ = 0;
   LoopStructure structure_;
   JointBlockLayout layout_;
-  JointRenderTerms terms_;
+  double residual_weight_ = 0;
   RenderOptions options_;
   std::unique_ptr<Rasterizer> owned_rasterizer_;
   Rasterizer* rasterizer_;
+  // Reused between evaluations.
+  mutable RenderedFrameLoss image_loss_;
   mutable FrameComposer composer_;
-  mutable std::vector<double> probability_, d_rgb_, d_extra_, d_residuals_;
+  mutable std::vector<double> d_residuals_;
   mutable RenderResult render_;
   mutable SplatGradients grads_;
-  mutable double last_photometric_ = 0, last_mask_ = 0, last_residual_ = 0;
+  mutable double last_residual_ = 0;
 };
 
 // Single-term costs (weight 1; weight them with ceres::ScaledLoss).

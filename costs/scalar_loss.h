@@ -1,7 +1,12 @@
 #ifndef EULERSPLAT_COSTS_SCALAR_LOSS_H_
 #define EULERSPLAT_COSTS_SCALAR_LOSS_H_
 
+#include <ceres/cost_function.h>
+#include <glog/logging.h>
+
 #include <cmath>
+#include <cstdint>
+#include <vector>
 
 namespace es {
 
@@ -20,6 +25,27 @@ inline void ScalarLossJacobian(const double* dl, int n, double residual,
                                double* jacobian) {
   const double inv = 1.0 / residual;
   for (int i = 0; i < n; ++i) jacobian[i] = dl[i] * inv;
+}
+
+// Evaluates a scalar-loss cost straight into gradient buffers (one per
+// parameter block, sized like it; the trainers' path, which skips
+// Problem::Evaluate's per-parameter overhead): the Jacobian row written
+// there is multiplied back by r, leaving dl/dtheta. Returns
+// 0.5 r^2 = l + eps / 2.
+inline double EvaluateScalarLossGradient(const ceres::CostFunction& cost,
+                                         double const* const* parameters,
+                                         double** gradients) {
+  CHECK_EQ(cost.num_residuals(), 1);
+  double r = 0;
+  CHECK(cost.Evaluate(parameters, &r, gradients));
+  const std::vector<int32_t>& sizes = cost.parameter_block_sizes();
+  for (size_t b = 0; b < sizes.size(); ++b) {
+    double* block = gradients[b];
+    const int size = sizes[b];
+#pragma omp parallel for if (size > 65536) schedule(static)
+    for (int i = 0; i < size; ++i) block[i] *= r;
+  }
+  return 0.5 * r * r;
 }
 
 }  // namespace es

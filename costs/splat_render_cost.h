@@ -9,16 +9,9 @@
 #include "core/io/scene.h"
 #include "core/model/gaussians.h"
 #include "core/render/rasterizer.h"
+#include "costs/rendered_frame_loss.h"
 
 namespace es {
-
-// Which image-space terms a SplatRenderCost sums, and their weights. A zero
-// weight turns a term off (it is then neither computed nor differentiated).
-struct SplatRenderTerms {
-  double photometric_weight = 1.0;  // (1 - s) L1 + s (1 - SSIM)
-  double ssim_weight = 0.2;         // s above
-  double mask_weight = 0.0;         // BCE of the dynamic channel vs the mask
-};
 
 // The parameter blocks, in order: the GaussianSet arrays.
 enum SplatBlock {
@@ -32,19 +25,16 @@ enum SplatBlock {
 };
 
 // Renders one frame from the splat parameter blocks once and scores it with
-// every enabled term, sharing one rasterizer Forward and one Backward:
-//   l = w_p * photometric(rgb, image) + w_m * BCE(dynamic, mask),
-// exposed as one residual sqrt(2 l + eps) (costs/scalar_loss.h). The dynamic
-// channel renders sigmoid(dynamic_logit) composited like a colour, as the
-// paper does, so the mask gradient also reaches the geometry (detaching it
-// would cost a second Backward). Blocks a term does not touch get a zero
-// Jacobian. Evaluate reuses internal buffers: not thread-safe.
+// every enabled term (RenderedFrameLoss), sharing one rasterizer Forward and
+// one Backward, exposed as one residual sqrt(2 l + eps)
+// (costs/scalar_loss.h). Blocks a term does not touch get a zero Jacobian.
+// Evaluate reuses internal buffers: not thread-safe.
 class SplatRenderCost : public ceres::CostFunction {
  public:
   // `frame` (and `rasterizer`, if given) must outlive the cost; without a
   // rasterizer the cost owns one.
   SplatRenderCost(const Frame* frame, int count, int sh_degree,
-                  const SplatRenderTerms& terms, const RenderOptions& options,
+                  const ImageLossTerms& terms, const RenderOptions& options,
                   Rasterizer* rasterizer = nullptr);
 
   // Points the cost at another frame / model size, keeping its buffers.
@@ -54,8 +44,8 @@ class SplatRenderCost : public ceres::CostFunction {
                 double** jacobians) const override;
 
   // The unweighted terms of the last Evaluate (0 for a disabled term).
-  double last_photometric() const { return last_photometric_; }
-  double last_mask() const { return last_mask_; }
+  double last_photometric() const { return loss_.last_photometric(); }
+  double last_mask() const { return loss_.last_mask(); }
 
   // The blocks of a GaussianSet in SplatBlock order.
   static std::vector<double*> Blocks(GaussianSet* g);
@@ -64,15 +54,13 @@ class SplatRenderCost : public ceres::CostFunction {
   const Frame* frame_ = nullptr;
   int count_ = 0;
   int sh_degree_ = 0;
-  SplatRenderTerms terms_;
   RenderOptions options_;
   std::unique_ptr<Rasterizer> owned_rasterizer_;
   Rasterizer* rasterizer_;
   // Reused between evaluations.
-  mutable std::vector<double> probability_, d_rgb_, d_extra_;
+  mutable RenderedFrameLoss loss_;
   mutable RenderResult render_;
   mutable SplatGradients grads_;
-  mutable double last_photometric_ = 0, last_mask_ = 0;
 };
 
 // Single-term costs (weight 1; weight them with ceres::ScaledLoss).

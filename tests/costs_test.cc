@@ -93,7 +93,7 @@ TEST(CostsTest, MaskBceGradientMatchesFiniteDifferences) {
 TEST(CostsTest, CombinedCostGradientMatchesFiniteDifferences) {
   const Frame frame = TinyFrame();
   GaussianSet g = SixGaussians();
-  SplatRenderTerms terms;
+  ImageLossTerms terms;
   terms.mask_weight = 0.5;
   const SplatRenderCost cost(&frame, 6, 1, terms, DoubleOptions());
   std::string log;
@@ -133,7 +133,7 @@ TEST(CostsTest, ScaledLossWeightsAndCombinedCostAgree) {
   const Frame frame = TinyFrame();
   GaussianSet g = SixGaussians();
   const RenderOptions options = DoubleOptions();
-  SplatRenderTerms terms;
+  ImageLossTerms terms;
   terms.mask_weight = 0.5;
   const SplatRenderCost combined(&frame, 6, 1, terms, options);
   double combined_loss;

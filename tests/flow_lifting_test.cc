@@ -7,6 +7,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "core/io/input_error.h"
+#include "core/render/render_maps.h"
 #include "synth/random_texture.h"
 
 namespace es {
@@ -322,10 +323,10 @@ TEST(FlowLiftingTest, DepthMapDividesByAlphaAndMasksEmptyPixels) {
   render.alpha = {0.8, 0.3};
   render.depth = {2.4, 0.9};
   render.extra = {0.4, 0.8, 0.1, 0.2};  // two channels
-  const cv::Mat depth = ExpectedDepthMap(render);
+  const cv::Mat depth = FloatImage(render, ExpectedDepth(render, 0.5));
   EXPECT_FLOAT_EQ(depth.at<float>(0, 0), 3.0f);
   EXPECT_EQ(depth.at<float>(0, 1), 0.0f);
-  const cv::Mat extra = NormalizedExtraMap(render, 1);
+  const cv::Mat extra = FloatImage(render, NormalizedExtra(render, 1, 0.5));
   EXPECT_FLOAT_EQ(extra.at<float>(0, 0), 1.0f);
   EXPECT_EQ(extra.at<float>(0, 1), 0.0f);
 }

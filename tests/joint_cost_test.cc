@@ -172,7 +172,7 @@ TEST(JointCostTest, StaticStructureEqualsSplatRenderCost) {
   joint_terms.mask_weight = 0.5;
   const JointRenderCost joint(&frame, kFrameIndex, LoopStructure::Of(m),
                               joint_terms, DoubleOptions());
-  SplatRenderTerms terms;
+  ImageLossTerms terms;
   terms.mask_weight = 0.5;
   const SplatRenderCost stage1(&frame, 6, 1, terms, DoubleOptions());
   double l_joint, l_stage1;

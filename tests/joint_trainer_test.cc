@@ -14,6 +14,7 @@
 
 #include "core/io/input_error.h"
 #include "solvers/checkpoint/joint_checkpoint.h"
+#include "solvers/eval/loop_evaluation.h"
 
 namespace es {
 namespace {

@@ -9,6 +9,7 @@
 #include <omp.h>
 
 #include "core/render/rasterizer.h"
+#include "core/render/render_maps.h"
 #include "tests/reference_rasterizer.h"
 
 namespace es {

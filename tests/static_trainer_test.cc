@@ -213,7 +213,7 @@ TEST(CheckpointTest, BadFilesAreInputErrors) {
   EXPECT_THROW(ReadCheckpoint(path + ".missing"), InputError);
   Checkpoint c;
   c.gaussians.Resize(3);
-  c.adam_m = c.adam_v = c.gaussians;
+  c.adam.m = c.adam.v = c.gaussians;
   c.grad_sum = c.grad_count = c.max_radius = {0, 0, 0};
   c.iteration = 42;
   WriteCheckpoint(c, path);

@@ -14,6 +14,7 @@
 #include "core/io/input_error.h"
 #include "core/io/scene.h"
 #include "core/render/rasterizer.h"
+#include "core/render/render_maps.h"
 #include "synth/camera.h"
 #include "synth/preset.h"
 #include "synth/scene.h"

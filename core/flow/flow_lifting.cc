@@ -8,6 +8,7 @@
 #include <glog/logging.h>
 
 #include "core/io/input_error.h"
+#include "core/render/render_maps.h"
 
 namespace es {
 namespace {
@@ -90,29 +91,14 @@ double SecondsSince(std::chrono::steady_clock::time_point start) {
 
 }  // namespace
 
-cv::Mat ExpectedDepthMap(const RenderResult& render, double min_alpha) {
-  CHECK_EQ(render.depth.size(), render.alpha.size());
-  cv::Mat depth(render.height, render.width, CV_32FC1);
-  for (int i = 0; i < render.height * render.width; ++i) {
-    const double a = render.alpha[i];
-    depth.at<float>(i) = a >= min_alpha ? render.depth[i] / a : 0.0f;
-  }
-  return depth;
-}
-
-cv::Mat NormalizedExtraMap(const RenderResult& render, int channel,
-                           double min_alpha) {
-  const int n = render.height * render.width;
-  CHECK_GT(n, 0);
-  const int num_extra = static_cast<int>(render.extra.size()) / n;
-  CHECK_LT(channel, num_extra);
-  cv::Mat map(render.height, render.width, CV_32FC1);
-  for (int i = 0; i < n; ++i) {
-    const double a = render.alpha[i];
-    map.at<float>(i) =
-        a >= min_alpha ? render.extra[i * num_extra + channel] / a : 0.0f;
-  }
-  return map;
+cv::Mat FloatImage(const RenderResult& render,
+                   const std::vector<double>& map) {
+  CHECK_EQ(map.size(), static_cast<size_t>(render.height) * render.width);
+  cv::Mat image;
+  cv::Mat(render.height, render.width, CV_64FC1,
+          const_cast<double*>(map.data()))
+      .convertTo(image, CV_32F);
+  return image;
 }
 
 void LiftingStats::Add(const LiftingStats& o) {
@@ -260,10 +246,11 @@ SceneFlowResult LiftSceneFlow(const Scene& scene, const GaussianSet& model,
     rasterizer.Forward(frame.camera, splats, RenderOptions(), &render);
     RenderedFrame r;
     r.index = i;
-    r.depth = ExpectedDepthMap(render, options.min_alpha);
+    r.depth = FloatImage(render, ExpectedDepth(render, options.min_alpha));
     r.water = result.used_masks
                   ? frame.mask
-                  : NormalizedExtraMap(render, 0, options.min_alpha);
+                  : FloatImage(render,
+                               NormalizedExtra(render, 0, options.min_alpha));
     result.render_seconds += SecondsSince(start);
     return r;
   };

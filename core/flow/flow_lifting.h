@@ -22,14 +22,9 @@ struct SceneFlowSample {
   Eigen::Vector3d v;
 };
 
-// Expected depth (camera z) of the visible surface, depth / alpha, as
-// CV_32FC1; 0 marks pixels whose alpha is below min_alpha (no surface).
-cv::Mat ExpectedDepthMap(const RenderResult& render, double min_alpha = 0.5);
-// Extra channel `channel` normalized by alpha (the per-pixel average of a
-// per-Gaussian quantity, e.g. the dynamic probability), CV_32FC1; 0 where
-// alpha is below min_alpha.
-cv::Mat NormalizedExtraMap(const RenderResult& render, int channel,
-                           double min_alpha = 0.5);
+// A render map (core/render/render_maps.h) as a CV_32FC1 image.
+cv::Mat FloatImage(const RenderResult& render,
+                   const std::vector<double>& map);
 
 // Where the second end x' of a sample lies on the ray of frame i + 1
 // through p + f(p).
@@ -71,7 +66,7 @@ struct LiftingStats {
   void Add(const LiftingStats& other);
 };
 
-// One frame's inputs: its camera, expected depth (ExpectedDepthMap layout)
+// One frame's inputs: its camera, expected depth (FloatImage of ExpectedDepth)
 // and water mask (CV_32FC1 in [0, 1]), all the same size.
 struct LiftingView {
   const Camera* camera = nullptr;
@@ -100,7 +95,7 @@ WaterSource ParseWaterSource(const std::string& name);
 struct SceneFlowOptions {
   FlowMethod method = FlowMethod::kDisMedium;
   LiftingOptions lifting;
-  double min_alpha = 0.5;  // depth is valid where the rendered alpha reaches
+  double min_alpha = 0.5;  // depth is valid where the rendered alpha exceeds
   WaterSource water = WaterSource::kAuto;
   // Held-out frames stay unseen unless this is set.
   bool use_test_frames = false;

@@ -2,11 +2,10 @@
 
 #include <cmath>
 #include <cstdint>
-#include <cstdio>
-#include <filesystem>
 #include <fstream>
 #include <vector>
 
+#include "core/io/atomic_file.h"
 #include "core/io/input_error.h"
 
 namespace es {
@@ -17,12 +16,9 @@ constexpr char kResidualMagic[] = "eulersplat residual field v1\n";
 
 class Writer {
  public:
-  explicit Writer(const std::string& path)
-      : path_(path), tmp_(path + ".tmp"), out_(tmp_, std::ios::binary) {
-    if (!out_) throw InputError(path_ + ": cannot open for writing");
-  }
+  explicit Writer(std::ofstream* out) : out_(out) {}
   void Raw(const void* data, size_t bytes) {
-    out_.write(static_cast<const char*>(data), bytes);
+    out_->write(static_cast<const char*>(data), bytes);
   }
   void Int(int32_t v) { Raw(&v, sizeof(v)); }
   void Real(double v) { Raw(&v, sizeof(v)); }
@@ -30,15 +26,9 @@ class Writer {
     Raw(&n, sizeof(n));
     Raw(v, n * sizeof(double));
   }
-  void Commit() {
-    out_.close();
-    if (!out_) throw InputError(path_ + ": write failed");
-    std::filesystem::rename(tmp_, path_);
-  }
 
  private:
-  std::string path_, tmp_;
-  std::ofstream out_;
+  std::ofstream* out_;
 };
 
 class Reader {
@@ -119,10 +109,23 @@ void ReadBox(Reader* r, Eigen::Vector3d* lo, Eigen::Vector3d* hi) {
     throw InputError(r->path() + ": empty bounding box");
 }
 
-void WriteParams(const FieldParams& p, const Triplane& t, const Mlp& m,
-                 Writer* w) {
-  w->Array(p.triplane, t.num_params());
-  w->Array(p.mlp, m.num_params());
+// Both field files end with the box and the parameters.
+template <typename Field>
+void WriteBoxAndParams(const Field& field, Writer* w) {
+  WriteBox(field.triplane(), w);
+  w->Array(field.params().triplane, field.triplane().num_params());
+  w->Array(field.params().mlp, field.mlp().num_params());
+}
+
+template <typename Field, typename Options>
+Field ReadBoxAndParams(const Options& options, Reader* r) {
+  Eigen::Vector3d lo, hi;
+  ReadBox(r, &lo, &hi);
+  Field field(options);
+  field.SetBox(lo, hi);
+  r->Array(field.triplane().num_params(), &field.triplane_params(), "triplane");
+  r->Array(field.mlp().num_params(), &field.mlp_params(), "MLP");
+  return field;
 }
 
 void CheckMlpShape(int width, int depth, const Reader& r) {
@@ -133,18 +136,18 @@ void CheckMlpShape(int width, int depth, const Reader& r) {
 }  // namespace
 
 void SaveMotionField(const MotionField& field, const std::string& path) {
-  Writer w(path);
-  w.Raw(kMotionMagic, sizeof(kMotionMagic) - 1);
-  const MotionFieldOptions& o = field.options();
-  WriteTriplaneOptions(o.triplane, &w);
-  w.Int(o.mlp_width);
-  w.Int(o.mlp_depth);
-  w.Real(o.velocity_scale);
-  w.Real(o.last_layer_init_scale);
-  w.Int(static_cast<int32_t>(o.seed));
-  WriteBox(field.triplane(), &w);
-  WriteParams(field.params(), field.triplane(), field.mlp(), &w);
-  w.Commit();
+  WriteFileAtomically(path, [&field](std::ofstream& out) {
+    Writer w(&out);
+    w.Raw(kMotionMagic, sizeof(kMotionMagic) - 1);
+    const MotionFieldOptions& o = field.options();
+    WriteTriplaneOptions(o.triplane, &w);
+    w.Int(o.mlp_width);
+    w.Int(o.mlp_depth);
+    w.Real(o.velocity_scale);
+    w.Real(o.last_layer_init_scale);
+    w.Int(static_cast<int32_t>(o.seed));
+    WriteBoxAndParams(field, &w);
+  });
 }
 
 MotionField LoadMotionField(const std::string& path) {
@@ -158,32 +161,26 @@ MotionField LoadMotionField(const std::string& path) {
   o.velocity_scale = r.Real();
   o.last_layer_init_scale = r.Real();
   o.seed = static_cast<uint32_t>(r.Int());
-  Eigen::Vector3d lo, hi;
-  ReadBox(&r, &lo, &hi);
-  MotionField field(o);
-  field.SetBox(lo, hi);
-  r.Array(field.triplane().num_params(), &field.triplane_params(), "triplane");
-  r.Array(field.mlp().num_params(), &field.mlp_params(), "MLP");
-  return field;
+  return ReadBoxAndParams<MotionField>(o, &r);
 }
 
 void SaveResidualField(const ResidualField& field, const std::string& path) {
-  Writer w(path);
-  w.Raw(kResidualMagic, sizeof(kResidualMagic) - 1);
-  const ResidualFieldOptions& o = field.options();
-  WriteTriplaneOptions(o.triplane, &w);
-  w.Int(o.cycle_length);
-  w.Int(o.t_frequencies);
-  w.Int(o.p_frequencies);
-  w.Int(o.max_cycles);
-  w.Int(o.mlp_width);
-  w.Int(o.mlp_depth);
-  w.Real(o.position_scale);
-  w.Real(o.last_layer_init_scale);
-  w.Int(static_cast<int32_t>(o.seed));
-  WriteBox(field.triplane(), &w);
-  WriteParams(field.params(), field.triplane(), field.mlp(), &w);
-  w.Commit();
+  WriteFileAtomically(path, [&field](std::ofstream& out) {
+    Writer w(&out);
+    w.Raw(kResidualMagic, sizeof(kResidualMagic) - 1);
+    const ResidualFieldOptions& o = field.options();
+    WriteTriplaneOptions(o.triplane, &w);
+    w.Int(o.cycle_length);
+    w.Int(o.t_frequencies);
+    w.Int(o.p_frequencies);
+    w.Int(o.max_cycles);
+    w.Int(o.mlp_width);
+    w.Int(o.mlp_depth);
+    w.Real(o.position_scale);
+    w.Real(o.last_layer_init_scale);
+    w.Int(static_cast<int32_t>(o.seed));
+    WriteBoxAndParams(field, &w);
+  });
 }
 
 ResidualField LoadResidualField(const std::string& path) {
@@ -204,13 +201,7 @@ ResidualField LoadResidualField(const std::string& path) {
   o.position_scale = r.Real();
   o.last_layer_init_scale = r.Real();
   o.seed = static_cast<uint32_t>(r.Int());
-  Eigen::Vector3d lo, hi;
-  ReadBox(&r, &lo, &hi);
-  ResidualField field(o);
-  field.SetBox(lo, hi);
-  r.Array(field.triplane().num_params(), &field.triplane_params(), "triplane");
-  r.Array(field.mlp().num_params(), &field.mlp_params(), "MLP");
-  return field;
+  return ReadBoxAndParams<ResidualField>(o, &r);
 }
 
 }  // namespace es

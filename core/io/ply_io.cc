@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "core/io/atomic_file.h"
 #include "core/io/input_error.h"
 
 namespace es {
@@ -475,14 +476,12 @@ void WritePly(const GaussianSet& gaussians, const std::string& path) {
     tail[8] = gaussians.dynamic_logits[i];
   }
 
-  std::ofstream file(path, std::ios::binary);
-  if (!file) throw InputError(path + ": cannot write file");
   const std::string h = header.str();
-  file.write(h.data(), h.size());
-  file.write(reinterpret_cast<const char*>(body.data()),
-             body.size() * sizeof(float));
-  file.close();
-  if (!file) throw InputError(path + ": write failed");
+  WriteFileAtomically(path, [&](std::ofstream& file) {
+    file.write(h.data(), h.size());
+    file.write(reinterpret_cast<const char*>(body.data()),
+               body.size() * sizeof(float));
+  });
 }
 
 }  // namespace es

@@ -16,7 +16,8 @@ namespace es {
 // a missing property, a truncated file, or a NaN/Inf value.
 GaussianSet ReadPly(const std::string& path);
 
-// Writes binary little-endian in the standard layout plus "dynamic_logit".
+// Writes binary little-endian in the standard layout plus "dynamic_logit",
+// atomically (core/io/atomic_file.h).
 // Values round-trip bit-exactly through float32.
 void WritePly(const GaussianSet& gaussians, const std::string& path);
 

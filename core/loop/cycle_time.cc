@@ -1,7 +1,5 @@
 #include "core/loop/cycle_time.h"
 
-#include <random>
-
 #include <glog/logging.h>
 
 namespace es {
@@ -19,12 +17,15 @@ int CycleNumber(int frame, int start_time, int cycle_length) {
   return (d % cycle_length < 0) ? q - 1 : q;
 }
 
-std::vector<int> RandomStartTimes(int n, int cycle_length, uint32_t seed) {
+int DrawStartTime(int cycle_length, std::mt19937_64* rng) {
   CHECK_GT(cycle_length, 0);
-  std::mt19937 rng(seed);
-  std::uniform_int_distribution<int> uniform(0, cycle_length - 1);
+  return static_cast<int>((*rng)() % static_cast<uint64_t>(cycle_length));
+}
+
+std::vector<int> RandomStartTimes(int n, int cycle_length, uint64_t seed) {
+  std::mt19937_64 rng(seed);
   std::vector<int> times(n);
-  for (int& t : times) t = uniform(rng);
+  for (int& t : times) t = DrawStartTime(cycle_length, &rng);
   return times;
 }
 

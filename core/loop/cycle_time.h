@@ -2,6 +2,7 @@
 #define EULERSPLAT_CORE_LOOP_CYCLE_TIME_H_
 
 #include <cstdint>
+#include <random>
 #include <vector>
 
 namespace es {
@@ -12,8 +13,13 @@ namespace es {
 // for i < t0_n.
 int CycleIndex(int frame, int start_time, int cycle_length);
 int CycleNumber(int frame, int start_time, int cycle_length);
-// n start times uniform in [0, cycle_length), from std::mt19937(seed).
-std::vector<int> RandomStartTimes(int n, int cycle_length, uint32_t seed);
+// One start time uniform in [0, cycle_length) (up to a modulo bias of
+// order cycle_length / 2^64). Our own reduction of the raw draw, since the
+// standard distributions differ between standard libraries and a resumed
+// run must replay identically.
+int DrawStartTime(int cycle_length, std::mt19937_64* rng);
+// n start times drawn as above from std::mt19937_64(seed).
+std::vector<int> RandomStartTimes(int n, int cycle_length, uint64_t seed);
 
 }  // namespace es
 

@@ -26,7 +26,7 @@ struct LoopModel {
   int num_dynamic() const { return static_cast<int>(dynamic_index.size()); }
 };
 
-// A model directory holds (all written atomically, temp file + rename):
+// A model directory holds (each file written atomically):
 //   canonical.ply        GaussianSet, standard 3DGS layout + dynamic_logit
 //   loop.txt             "cycle_length L", "num_dynamic K", then K lines
 //                        "<gaussian index> <start time>"

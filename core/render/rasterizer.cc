@@ -647,13 +647,4 @@ void SplatGradients::Resize(int count, int sh_degree, int num_extra) {
   extra.assign(static_cast<size_t>(num_extra) * count, 0.0);
 }
 
-std::vector<double> ExpectedDepth(const RenderResult& result,
-                                  double min_alpha) {
-  std::vector<double> out(result.depth.size(), 0.0);
-  for (size_t i = 0; i < out.size(); ++i) {
-    if (result.alpha[i] > min_alpha) out[i] = result.depth[i] / result.alpha[i];
-  }
-  return out;
-}
-
 }  // namespace es

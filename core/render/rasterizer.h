@@ -65,11 +65,6 @@ struct SplatGradients {
   void Resize(int count, int sh_degree, int num_extra);
 };
 
-// Expected depth of the visible surface, depth / alpha, where alpha >
-// min_alpha and 0 elsewhere (H*W).
-std::vector<double> ExpectedDepth(const RenderResult& result,
-                                  double min_alpha = 1e-3);
-
 // Tile-based EWA splatting, forward and analytic backward, parallel over
 // tiles (OpenMP). Keeps the per-Gaussian and per-pixel state of the last
 // Forward (and its buffers, reused to avoid allocation), so Backward must

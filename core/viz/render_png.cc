@@ -9,6 +9,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "core/io/input_error.h"
+#include "core/render/render_maps.h"
 
 namespace es {
 

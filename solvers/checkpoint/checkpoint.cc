@@ -13,9 +13,7 @@ void WriteCheckpoint(const Checkpoint& c, const std::string& path) {
   WriteCheckpointFile(path, kMagic, [&c](CheckpointWriter& w) {
     w.Pod<int64_t>(c.iteration);
     w.Gaussians(c.gaussians);
-    w.Gaussians(c.adam_m);
-    w.Gaussians(c.adam_v);
-    w.Pod<int64_t>(c.adam_step);
+    w.Adam(c.adam);
     w.Sampler(c.sampler);
     w.String(c.rng);
     w.Vector(c.grad_sum);
@@ -30,17 +28,15 @@ Checkpoint ReadCheckpoint(const std::string& path) {
         Checkpoint c;
         c.iteration = r.Pod<int64_t>();
         c.gaussians = r.Gaussians();
-        c.adam_m = r.Gaussians();
-        c.adam_v = r.Gaussians();
-        c.adam_step = r.Pod<int64_t>();
+        c.adam = r.Adam();
         c.sampler = r.Sampler();
         c.rng = r.String();
         c.grad_sum = r.Vector<double>();
         c.grad_count = r.Vector<double>();
         c.max_radius = r.Vector<double>();
         const size_t n = c.gaussians.size();
-        if (c.adam_m.size() != static_cast<int>(n) ||
-            c.adam_v.size() != static_cast<int>(n) || c.grad_sum.size() != n ||
+        if (c.adam.m.size() != static_cast<int>(n) ||
+            c.adam.v.size() != static_cast<int>(n) || c.grad_sum.size() != n ||
             c.grad_count.size() != n || c.max_radius.size() != n)
           r.Fail("inconsistent sizes");
         return c;

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "core/model/gaussians.h"
+#include "solvers/optim/adam.h"
 #include "solvers/train/frame_sampler.h"
 
 namespace es {
@@ -15,15 +16,14 @@ namespace es {
 struct Checkpoint {
   int64_t iteration = 0;
   GaussianSet gaussians;
-  GaussianSet adam_m, adam_v;
-  int64_t adam_step = 0;
+  GaussianAdamState adam;
   FrameSampler::State sampler;
   std::string rng;  // the densification RNG (std::mt19937_64 text form)
   std::vector<double> grad_sum, grad_count, max_radius;  // DensityStats
 };
 
-// Writes a binary file atomically: to path + ".tmp", then renamed over path,
-// so a run killed mid-write leaves the previous checkpoint intact.
+// Writes a binary file atomically (core/io/atomic_file.h), so a run killed
+// mid-write leaves the previous checkpoint intact.
 void WriteCheckpoint(const Checkpoint& checkpoint, const std::string& path);
 
 // Throws InputError naming the file if it is missing, truncated or not a

@@ -3,13 +3,14 @@
 
 #include <algorithm>
 #include <cstdint>
-#include <cstdio>
 #include <fstream>
 #include <string>
 #include <vector>
 
+#include "core/io/atomic_file.h"
 #include "core/io/input_error.h"
 #include "core/model/gaussians.h"
+#include "solvers/optim/adam.h"
 #include "solvers/train/frame_sampler.h"
 
 namespace es {
@@ -40,6 +41,11 @@ class CheckpointWriter {
     for (const auto* v : {&g.means, &g.log_scales, &g.quats, &g.opacity_logits,
                           &g.sh, &g.dynamic_logits})
       Vector(*v);
+  }
+  void Adam(const GaussianAdamState& a) {
+    Gaussians(a.m);
+    Gaussians(a.v);
+    Pod<int64_t>(a.step);
   }
   void Sampler(const FrameSampler::State& s) {
     String(s.rng);
@@ -97,6 +103,13 @@ class CheckpointReader {
       Fail("inconsistent Gaussian arrays");
     return g;
   }
+  GaussianAdamState Adam() {
+    GaussianAdamState a;
+    a.m = Gaussians();
+    a.v = Gaussians();
+    a.step = Pod<int64_t>();
+    return a;
+  }
   FrameSampler::State Sampler() {
     FrameSampler::State s;
     s.rng = String();
@@ -123,24 +136,17 @@ class CheckpointReader {
 // version.
 using CheckpointMagic = char[8];
 
-// Writes PATH atomically: `write_records(CheckpointWriter&)` fills PATH.tmp,
-// which then replaces PATH, so a run killed mid-write keeps its previous
-// checkpoint.
+// Writes PATH atomically (core/io/atomic_file.h): `write_records(
+// CheckpointWriter&)` fills a temporary file that then replaces PATH, so a
+// run killed mid-write keeps its previous checkpoint.
 template <typename WriteRecords>
 void WriteCheckpointFile(const std::string& path, const CheckpointMagic& magic,
                          WriteRecords write_records) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw InputError(tmp + ": cannot open for writing");
+  WriteFileAtomically(path, [&](std::ofstream& out) {
     out.write(magic, sizeof(CheckpointMagic));
     CheckpointWriter writer(&out);
     write_records(writer);
-    out.flush();
-    if (!out) throw InputError(tmp + ": write failed");
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0)
-    throw InputError(path + ": cannot rename " + tmp + " over it");
+  });
 }
 
 // Opens PATH, checks its tag and returns `read_records(CheckpointReader&)`;

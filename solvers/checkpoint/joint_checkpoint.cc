@@ -21,9 +21,7 @@ void WriteJointCheckpoint(const JointCheckpoint& c, const std::string& path) {
   WriteCheckpointFile(path, kMagic, [&c](CheckpointWriter& w) {
     w.Pod<int64_t>(c.iteration);
     w.Gaussians(c.gaussians);
-    w.Gaussians(c.adam_m);
-    w.Gaussians(c.adam_v);
-    w.Pod<int64_t>(c.adam_step);
+    w.Adam(c.adam);
     w.Vector(c.dynamic_index);
     w.Vector(c.start_times);
     w.Vectors(c.field_params);
@@ -42,9 +40,7 @@ JointCheckpoint ReadJointCheckpoint(const std::string& path) {
         JointCheckpoint c;
         c.iteration = r.Pod<int64_t>();
         c.gaussians = r.Gaussians();
-        c.adam_m = r.Gaussians();
-        c.adam_v = r.Gaussians();
-        c.adam_step = r.Pod<int64_t>();
+        c.adam = r.Adam();
         c.dynamic_index = r.Vector<int>();
         c.start_times = r.Vector<int>();
         c.field_params = r.Vectors();
@@ -55,7 +51,7 @@ JointCheckpoint ReadJointCheckpoint(const std::string& path) {
         c.sampler = r.Sampler();
         c.rng = r.String();
         const int n = c.gaussians.size();
-        if (c.adam_m.size() != n || c.adam_v.size() != n ||
+        if (c.adam.m.size() != n || c.adam.v.size() != n ||
             c.dynamic_index.size() != c.start_times.size() ||
             !SameShapes(c.field_params, c.field_m) ||
             !SameShapes(c.field_params, c.field_v) ||

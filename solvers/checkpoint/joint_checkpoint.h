@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "core/model/gaussians.h"
+#include "solvers/optim/adam.h"
 #include "solvers/train/frame_sampler.h"
 
 namespace es {
@@ -16,8 +17,7 @@ namespace es {
 struct JointCheckpoint {
   int64_t iteration = 0;
   GaussianSet gaussians;
-  GaussianSet adam_m, adam_v;
-  int64_t adam_step = 0;
+  GaussianAdamState adam;
   std::vector<int> dynamic_index, start_times;
   // The field blocks after the splat blocks, in JointBlockLayout order (V
   // triplane, V MLP, D triplane, D MLP; the present ones), their Adam
@@ -30,7 +30,7 @@ struct JointCheckpoint {
   std::string rng;  // the start-time RNG (std::mt19937_64 text form)
 };
 
-// Binary, written atomically (path + ".tmp" renamed over path).
+// Binary, written atomically (core/io/atomic_file.h).
 void WriteJointCheckpoint(const JointCheckpoint& checkpoint,
                           const std::string& path);
 

@@ -9,7 +9,10 @@
 
 #include "core/loop/cycle_time.h"
 #include "core/loop/euler_chain.h"
+#include "core/loop/frame_composer.h"
 #include "core/loop/loop_renderer.h"
+#include "core/metrics/image_metrics.h"
+#include "solvers/eval/finite_mean.h"
 
 namespace es {
 namespace {
@@ -27,6 +30,38 @@ cv::Mat WrapRgb(const RenderResult& r) {
 }
 
 }  // namespace
+
+LoopMetrics EvaluateLoopModel(const LoopModel& model,
+                              const std::vector<Frame>& frames,
+                              const std::vector<int>& indices,
+                              const RenderOptions& options) {
+  const LoopSplatView view = LoopSplatView::Of(model);
+  FrameComposer composer;
+  Rasterizer rasterizer;
+  RenderResult render;
+  FiniteMean psnr, ssim, psnr_water, ssim_water;
+  for (int index : indices) {
+    const Frame& f = frames[index];
+    rasterizer.Forward(f.camera, composer.Compose(view, index), options,
+                       &render);
+    const cv::Mat x(render.height, render.width, CV_64FC3,
+                    render.rgb.data());
+    cv::Mat y;
+    f.image.convertTo(y, CV_64F);
+    psnr.Add(Psnr(x, y));
+    ssim.Add(Ssim(x, y));
+    if (f.mask.empty()) continue;
+    psnr_water.Add(MaskedPsnr(x, y, f.mask));
+    ssim_water.Add(MaskedSsim(x, y, f.mask));
+  }
+  LoopMetrics out;
+  out.frames = static_cast<int>(indices.size());
+  out.psnr = psnr.Get();
+  out.ssim = ssim.Get();
+  out.psnr_water = psnr_water.Get();
+  out.ssim_water = ssim_water.Get();
+  return out;
+}
 
 LoopSeamScore EvaluateLoopSeam(const LoopModel& model, const Camera& camera,
                                int cycles, const RenderOptions& options) {

@@ -1,6 +1,9 @@
 #ifndef EULERSPLAT_SOLVERS_EVAL_LOOP_EVALUATION_H_
 #define EULERSPLAT_SOLVERS_EVAL_LOOP_EVALUATION_H_
 
+#include <vector>
+
+#include "core/io/scene.h"
 #include "core/metrics/loop_seam.h"
 #include "core/model/camera.h"
 #include "core/model/loop_model.h"
@@ -8,12 +11,24 @@
 
 namespace es {
 
-// What es_eval measures beyond held-out image quality (for that see
-// EvaluateLoopModel in solvers/train/joint_trainer.h).
+// Held-out quality of a looping model: each frame i is composed at its own
+// index (Alg. 1, t and p from i) and rendered. Means over frames; the water
+// variants use the masks (> 0.5) and skip frames without water (NaN when
+// none has any).
+struct LoopMetrics {
+  int frames = 0;
+  double psnr = 0, ssim = 0;
+  double psnr_water = 0, ssim_water = 0;
+};
 
-// Loop-seam score (core/metrics/loop_seam.h) of a fixed-view animation of `cycles`
-// loops (cycles * L + 1 frames from frame 0, Alg. 2, p = 0) seen by
-// `camera`.
+LoopMetrics EvaluateLoopModel(const LoopModel& model,
+                              const std::vector<Frame>& frames,
+                              const std::vector<int>& indices,
+                              const RenderOptions& options);
+
+// Loop-seam score (core/metrics/loop_seam.h) of a fixed-view animation of
+// `cycles` loops (cycles * L + 1 frames from frame 0, Alg. 2, p = 0) seen
+// by `camera`.
 LoopSeamScore EvaluateLoopSeam(const LoopModel& model, const Camera& camera,
                                int cycles, const RenderOptions& options);
 

@@ -4,28 +4,9 @@
 #include <limits>
 
 #include "core/metrics/image_metrics.h"
+#include "solvers/eval/finite_mean.h"
 
 namespace es {
-namespace {
-
-// Mean of the finite values (NaN if none).
-class Average {
- public:
-  void Add(double v) {
-    if (!std::isfinite(v)) return;
-    sum_ += v;
-    ++count_;
-  }
-  double Get() const {
-    return count_ ? sum_ / count_ : std::numeric_limits<double>::quiet_NaN();
-  }
-
- private:
-  double sum_ = 0;
-  int count_ = 0;
-};
-
-}  // namespace
 
 StaticMetrics EvaluateStatic(const GaussianSet& g,
                              const std::vector<Frame>& frames,
@@ -40,7 +21,7 @@ StaticMetrics EvaluateStatic(const GaussianSet& g,
 
   Rasterizer rasterizer;
   RenderResult render;
-  Average psnr, ssim, psnr_water, ssim_water, psnr_static, ssim_static;
+  FiniteMean psnr, ssim, psnr_water, ssim_water, psnr_static, ssim_static;
   double tp = 0, fp = 0, fn = 0;
   bool any_mask = false;
   for (int index : indices) {

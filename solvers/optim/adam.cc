@@ -76,6 +76,12 @@ void GaussianAdam::Step(const GaussianLearningRates& lr,
   }
 }
 
+void GaussianAdam::Restore(const GaussianAdamState& state) {
+  m_ = state.m;
+  v_ = state.v;
+  step_ = state.step;
+}
+
 void GaussianAdam::Filter(const std::vector<bool>& keep) {
   m_.Filter(keep);
   v_.Filter(keep);

@@ -31,6 +31,12 @@ struct GaussianLearningRates {
   double dynamic_logits = 0;
 };
 
+// GaussianAdam's whole state, as checkpoints store it.
+struct GaussianAdamState {
+  GaussianSet m, v;  // first and second moments
+  int64_t step = 0;
+};
+
 // Adam over the GaussianSet parameter blocks. The moments are GaussianSets
 // of the same shape, so densification and SH-degree changes edit them with
 // the same operations as the parameters (new Gaussians start at zero
@@ -51,7 +57,8 @@ class GaussianAdam {
   void ResetOpacityMoments();
 
   int64_t step() const { return step_; }
-  void set_step(int64_t step) { step_ = step; }
+  GaussianAdamState state() const { return {m_, v_, step_}; }
+  void Restore(const GaussianAdamState& state);
   GaussianSet& m() { return m_; }
   GaussianSet& v() { return v_; }
   const GaussianSet& m() const { return m_; }

@@ -3,7 +3,8 @@
 #include <glog/logging.h>
 
 #include <algorithm>
-#include <sstream>
+
+#include "solvers/checkpoint/rng_state.h"
 
 namespace es {
 
@@ -28,18 +29,14 @@ int FrameSampler::Next() {
 
 FrameSampler::State FrameSampler::state() const {
   State s;
-  std::ostringstream out;
-  out << rng_;
-  s.rng = out.str();
+  s.rng = RngState(rng_);
   s.order = order_;
   s.position = position_;
   return s;
 }
 
 void FrameSampler::Restore(const State& s) {
-  std::istringstream in(s.rng);
-  in >> rng_;
-  CHECK(!in.fail()) << "bad sampler RNG state";
+  CHECK(RestoreRngState(s.rng, &rng_)) << "bad sampler RNG state";
   CHECK_LE(s.position, static_cast<int>(s.order.size()));
   order_ = s.order;
   position_ = s.position;

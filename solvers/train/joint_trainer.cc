@@ -3,15 +3,16 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <sstream>
 
 #include <glog/logging.h>
 
 #include "core/io/input_error.h"
+#include "core/loop/cycle_time.h"
 #include "core/loop/frame_composer.h"
-#include "core/metrics/image_metrics.h"
+#include "costs/scalar_loss.h"
+#include "costs/splat_render_cost.h"
+#include "solvers/checkpoint/rng_state.h"
 #include "solvers/optim/lr_schedule.h"
-#include "solvers/train/static_trainer.h"
 
 namespace es {
 namespace {
@@ -21,13 +22,6 @@ namespace {
 constexpr double kBoxPadding = 0.1;
 // Smallest box half-size, for a single (or no) dynamic Gaussian.
 constexpr double kMinBoxMargin = 1e-3;
-
-bool AllHaveMasks(const std::vector<Frame>& frames,
-                  const std::vector<int>& indices) {
-  for (int i : indices)
-    if (frames[i].mask.empty()) return false;
-  return true;
-}
 
 JointRenderTerms Terms(const JointTrainerOptions& o, bool use_masks) {
   JointRenderTerms t;
@@ -48,23 +42,6 @@ void AppendBox(const Triplane& t, std::vector<double>* boxes) {
   for (int i = 0; i < 3; ++i) boxes->push_back(t.box_min()[i]);
   for (int i = 0; i < 3; ++i) boxes->push_back(t.box_max()[i]);
 }
-
-// Mean of the finite values (NaN if none).
-class Average {
- public:
-  void Add(double v) {
-    if (!std::isfinite(v)) return;
-    sum_ += v;
-    ++count_;
-  }
-  double Get() const {
-    return count_ ? sum_ / count_ : std::numeric_limits<double>::quiet_NaN();
-  }
-
- private:
-  double sum_ = 0;
-  int count_ = 0;
-};
 
 }  // namespace
 
@@ -178,29 +155,13 @@ void JointTrainer::RefreshDynamicSet() {
         model_.dynamic_index[old] == next[k]) {
       times[k] = model_.start_times[old];
     } else {
-      // Our own reduction: distributions are not portable across standard
-      // libraries, and a resumed run must replay identically.
       times[k] = options_.random_start
-                     ? static_cast<int>(rng_() % options_.cycle_length)
+                     ? DrawStartTime(options_.cycle_length, &rng_)
                      : 0;
     }
   }
   model_.dynamic_index = next;
   model_.start_times = std::move(times);
-}
-
-GaussianLearningRates JointTrainer::LearningRates() const {
-  GaussianLearningRates lr;
-  lr.means = extent_ * LogLinearLr(options_.lr_means_initial,
-                                   options_.lr_means_final, iteration_,
-                                   options_.iterations);
-  lr.log_scales = options_.lr_log_scales;
-  lr.quats = options_.lr_quats;
-  lr.opacity_logits = options_.lr_opacity;
-  lr.sh_dc = options_.lr_sh_dc;
-  lr.sh_rest = options_.lr_sh_rest;
-  lr.dynamic_logits = use_masks_ ? options_.lr_dynamic : 0.0;
-  return lr;
 }
 
 std::vector<double> JointTrainer::FieldLearningRates() const {
@@ -231,25 +192,18 @@ JointIterationStats JointTrainer::Step() {
     grad_ = ZeroGaussians(n, model_.gaussians.sh_degree);
   cost_->Reset(&(*frames_)[out.frame], out.frame, LoopStructure::Of(model_));
   std::vector<double*> params = JointBlocks(&model_);
-  std::vector<double*> jacobians = SplatRenderCost::Blocks(&grad_);
-  for (std::vector<double>& g : field_grad_) jacobians.push_back(g.data());
-  double r = 0;
-  CHECK(cost_->Evaluate(params.data(), &r, jacobians.data()));
-  // The Jacobian row of the one residual is dl/dtheta / r.
-  const std::vector<int32_t>& sizes = cost_->parameter_block_sizes();
-  for (size_t b = 0; b < jacobians.size(); ++b) {
-    double* block = jacobians[b];
-    const int size = sizes[b];
-#pragma omp parallel for if (size > 65536) schedule(static)
-    for (int i = 0; i < size; ++i) block[i] *= r;
-  }
-  out.loss = 0.5 * r * r;
+  std::vector<double*> gradients = SplatRenderCost::Blocks(&grad_);
+  for (std::vector<double>& g : field_grad_) gradients.push_back(g.data());
+  out.loss =
+      EvaluateScalarLossGradient(*cost_, params.data(), gradients.data());
   out.photometric = cost_->last_photometric();
   out.mask = cost_->last_mask();
   out.residual = cost_->last_residual();
   out.euler = cost_->last_euler_stats();
 
-  adam_.Step(LearningRates(), grad_, &model_.gaussians);
+  adam_.Step(ScheduledSplatRates(options_.splat_lr, extent_, iteration_,
+                                 options_.iterations, use_masks_),
+             grad_, &model_.gaussians);
   ++field_step_;
   const std::vector<double> lr = FieldLearningRates();
   std::vector<std::vector<double>*> blocks = FieldBlocks();
@@ -267,9 +221,7 @@ JointCheckpoint JointTrainer::Save() const {
   JointCheckpoint c;
   c.iteration = iteration_;
   c.gaussians = model_.gaussians;
-  c.adam_m = adam_.m();
-  c.adam_v = adam_.v();
-  c.adam_step = adam_.step();
+  c.adam = adam_.state();
   c.dynamic_index = model_.dynamic_index;
   c.start_times = model_.start_times;
   auto append = [&c](const FieldParams& p, const Triplane& t, const Mlp& m) {
@@ -290,9 +242,7 @@ JointCheckpoint JointTrainer::Save() const {
   if (model_.residual) AppendBox(model_.residual->triplane(), &c.field_boxes);
   c.field_step = field_step_;
   c.sampler = sampler_.state();
-  std::ostringstream rng;
-  rng << rng_;
-  c.rng = rng.str();
+  c.rng = RngState(rng_);
   return c;
 }
 
@@ -309,9 +259,7 @@ void JointTrainer::Restore(const JointCheckpoint& c,
                      "options of this run");
   iteration_ = c.iteration;
   model_.gaussians = c.gaussians;
-  adam_.m() = c.adam_m;
-  adam_.v() = c.adam_v;
-  adam_.set_step(c.adam_step);
+  adam_.Restore(c.adam);
   model_.dynamic_index = c.dynamic_index;
   model_.start_times = c.start_times;
   for (size_t b = 0; b < blocks.size(); ++b) *blocks[b] = c.field_params[b];
@@ -333,42 +281,9 @@ void JointTrainer::Restore(const JointCheckpoint& c,
   }
   field_step_ = c.field_step;
   sampler_.Restore(c.sampler);
-  std::istringstream rng(c.rng);
-  rng >> rng_;
-  if (rng.fail()) throw InputError(source + ": bad RNG state in checkpoint");
+  if (!RestoreRngState(c.rng, &rng_))
+    throw InputError(source + ": bad RNG state in checkpoint");
   grad_ = GaussianSet();
-}
-
-LoopMetrics EvaluateLoopModel(const LoopModel& model,
-                              const std::vector<Frame>& frames,
-                              const std::vector<int>& indices,
-                              const RenderOptions& options) {
-  const LoopSplatView view = LoopSplatView::Of(model);
-  FrameComposer composer;
-  Rasterizer rasterizer;
-  RenderResult render;
-  Average psnr, ssim, psnr_water, ssim_water;
-  for (int index : indices) {
-    const Frame& f = frames[index];
-    rasterizer.Forward(f.camera, composer.Compose(view, index), options,
-                       &render);
-    const cv::Mat x(render.height, render.width, CV_64FC3,
-                    render.rgb.data());
-    cv::Mat y;
-    f.image.convertTo(y, CV_64F);
-    psnr.Add(Psnr(x, y));
-    ssim.Add(Ssim(x, y));
-    if (f.mask.empty()) continue;
-    psnr_water.Add(MaskedPsnr(x, y, f.mask));
-    ssim_water.Add(MaskedSsim(x, y, f.mask));
-  }
-  LoopMetrics out;
-  out.frames = static_cast<int>(indices.size());
-  out.psnr = psnr.Get();
-  out.ssim = ssim.Get();
-  out.psnr_water = psnr_water.Get();
-  out.ssim_water = ssim_water.Get();
-  return out;
 }
 
 }  // namespace es

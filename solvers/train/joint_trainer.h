@@ -18,6 +18,7 @@
 #include "solvers/checkpoint/joint_checkpoint.h"
 #include "solvers/optim/adam.h"
 #include "solvers/train/frame_sampler.h"
+#include "solvers/train/splat_training.h"
 
 namespace es {
 
@@ -36,14 +37,9 @@ struct JointTrainerOptions {
   double ssim_weight = 0.2;
   double mask_weight = 0.5;        // 0, or frames without masks: off
   double residual_weight = 0.001;  // mean squared D outputs
-  double lr_means_initial = 1.6e-5;
-  double lr_means_final = 1.6e-6;
-  double lr_log_scales = 5e-3;
-  double lr_quats = 1e-3;
-  double lr_opacity = 0.05;
-  double lr_sh_dc = 2.5e-3;
-  double lr_sh_rest = 2.5e-3 / 20;
-  double lr_dynamic = 0.05;
+  // Stage 1's rates, except that positions start 10x lower: the splats
+  // arrive trained.
+  SplatLearningRateOptions splat_lr{/*means_initial=*/1.6e-5};
   double lr_motion_triplane = 5e-4;
   double lr_motion_mlp = 1e-4;
   double lr_residual_triplane = 5e-3;
@@ -104,7 +100,6 @@ class JointTrainer {
 
  private:
   void RefreshDynamicSet();
-  GaussianLearningRates LearningRates() const;
   std::vector<double> FieldLearningRates() const;
   std::vector<std::vector<double>*> FieldBlocks();
 
@@ -124,22 +119,6 @@ class JointTrainer {
   std::optional<JointRenderCost> cost_;
   int64_t iteration_ = 0;
 };
-
-// Held-out quality of a looping model: each frame i is composed at its own
-// index (Alg. 1, t and p from i) and rendered. Means over frames; the water
-// variants use the masks (> 0.5) and skip frames without water (NaN when
-// none has any).
-struct LoopMetrics {
-  int frames = 0;
-  double psnr = 0, ssim = 0;
-  double psnr_water = 0, ssim_water = 0;
-};
-
-LoopMetrics EvaluateLoopModel(const LoopModel& model,
-                              const std::vector<Frame>& frames,
-                              const std::vector<int>& indices,
-                              const RenderOptions& options);
-
 }  // namespace es
 
 #endif  // EULERSPLAT_SOLVERS_TRAIN_JOINT_TRAINER_H_

@@ -3,9 +3,9 @@
 #include <glog/logging.h>
 
 #include <algorithm>
-#include <sstream>
 
-#include "solvers/optim/lr_schedule.h"
+#include "costs/scalar_loss.h"
+#include "solvers/checkpoint/rng_state.h"
 
 namespace es {
 namespace {
@@ -13,19 +13,12 @@ namespace {
 // 3DGS caps opacities at this on every reset.
 constexpr double kResetOpacity = 0.01;
 
-SplatRenderTerms Terms(const StaticTrainerOptions& o, bool use_masks) {
-  SplatRenderTerms t;
+ImageLossTerms Terms(const StaticTrainerOptions& o, bool use_masks) {
+  ImageLossTerms t;
   t.photometric_weight = 1.0;
   t.ssim_weight = o.ssim_weight;
   t.mask_weight = use_masks ? o.mask_weight : 0.0;
   return t;
-}
-
-bool AllHaveMasks(const std::vector<Frame>& frames,
-                  const std::vector<int>& indices) {
-  for (int i : indices)
-    if (frames[i].mask.empty()) return false;
-  return true;
 }
 
 RenderOptions MakeRenderOptions(const StaticTrainerOptions& o) {
@@ -35,18 +28,6 @@ RenderOptions MakeRenderOptions(const StaticTrainerOptions& o) {
 }
 
 }  // namespace
-
-double CameraExtent(const std::vector<Frame>& frames,
-                    const std::vector<int>& indices) {
-  CHECK(!indices.empty());
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  for (int i : indices) mean += frames[i].camera.Center();
-  mean /= indices.size();
-  double radius = 0;
-  for (int i : indices)
-    radius = std::max(radius, (frames[i].camera.Center() - mean).norm());
-  return std::max(1.1 * radius, 1e-6);
-}
 
 StaticTrainer::StaticTrainer(const std::vector<Frame>* frames,
                              std::vector<int> train,
@@ -72,20 +53,6 @@ RenderOptions StaticTrainer::render_options() const {
   return MakeRenderOptions(options_);
 }
 
-GaussianLearningRates StaticTrainer::LearningRates() const {
-  GaussianLearningRates lr;
-  lr.means =
-      extent_ * LogLinearLr(options_.lr_means_initial, options_.lr_means_final,
-                            iteration_, options_.iterations);
-  lr.log_scales = options_.lr_log_scales;
-  lr.quats = options_.lr_quats;
-  lr.opacity_logits = options_.lr_opacity;
-  lr.sh_dc = options_.lr_sh_dc;
-  lr.sh_rest = options_.lr_sh_rest;
-  lr.dynamic_logits = use_masks_ ? options_.lr_dynamic : 0.0;
-  return lr;
-}
-
 IterationStats StaticTrainer::Step() {
   if (iteration_ > 0 && options_.sh_degree_interval > 0 &&
       iteration_ % options_.sh_degree_interval == 0 &&
@@ -101,15 +68,8 @@ IterationStats StaticTrainer::Step() {
     grad_ = ZeroGaussians(n, g_.sh_degree);
   cost_.Reset(&frame, n, g_.sh_degree);
   std::vector<double*> params = SplatRenderCost::Blocks(&g_);
-  std::vector<double*> jacobians = SplatRenderCost::Blocks(&grad_);
-  double r = 0;
-  CHECK(cost_.Evaluate(params.data(), &r, jacobians.data()));
-  // The Jacobian row of the one residual is dl/dtheta / r.
-  for (std::vector<double>* v :
-       {&grad_.means, &grad_.log_scales, &grad_.quats, &grad_.opacity_logits,
-        &grad_.sh, &grad_.dynamic_logits})
-    for (double& x : *v) x *= r;
-  out.loss = 0.5 * r * r;
+  std::vector<double*> gradients = SplatRenderCost::Blocks(&grad_);
+  out.loss = EvaluateScalarLossGradient(cost_, params.data(), gradients.data());
   out.photometric = cost_.last_photometric();
   out.mask = cost_.last_mask();
 
@@ -127,7 +87,9 @@ IterationStats StaticTrainer::Step() {
     stats_.AddView(frame.camera.width, frame.camera.height, radii_,
                    mean2d_grads_);
   }
-  adam_.Step(LearningRates(), grad_, &g_);
+  adam_.Step(ScheduledSplatRates(options_.splat_lr, extent_, iteration_,
+                                 options_.iterations, use_masks_),
+             grad_, &g_);
   ++iteration_;
 
   if (densifying && iteration_ > d.from_iteration &&
@@ -147,13 +109,9 @@ Checkpoint StaticTrainer::Save() const {
   Checkpoint c;
   c.iteration = iteration_;
   c.gaussians = g_;
-  c.adam_m = adam_.m();
-  c.adam_v = adam_.v();
-  c.adam_step = adam_.step();
+  c.adam = adam_.state();
   c.sampler = sampler_.state();
-  std::ostringstream rng;
-  rng << rng_;
-  c.rng = rng.str();
+  c.rng = RngState(rng_);
   c.grad_sum = stats_.grad_sum;
   c.grad_count = stats_.count;
   c.max_radius = stats_.max_radius;
@@ -163,13 +121,9 @@ Checkpoint StaticTrainer::Save() const {
 void StaticTrainer::Restore(const Checkpoint& c) {
   iteration_ = c.iteration;
   g_ = c.gaussians;
-  adam_.m() = c.adam_m;
-  adam_.v() = c.adam_v;
-  adam_.set_step(c.adam_step);
+  adam_.Restore(c.adam);
   sampler_.Restore(c.sampler);
-  std::istringstream rng(c.rng);
-  rng >> rng_;
-  CHECK(!rng.fail()) << "bad RNG state in checkpoint";
+  CHECK(RestoreRngState(c.rng, &rng_)) << "bad RNG state in checkpoint";
   stats_.grad_sum = c.grad_sum;
   stats_.count = c.grad_count;
   stats_.max_radius = c.max_radius;

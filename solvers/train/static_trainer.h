@@ -14,24 +14,17 @@
 #include "solvers/optim/adam.h"
 #include "solvers/train/densify.h"
 #include "solvers/train/frame_sampler.h"
+#include "solvers/train/splat_training.h"
 
 namespace es {
 
-// Stage 1 knobs; defaults are 3DGS's (learning rates per block, position
-// rate times the scene extent, decaying log-linearly over the run).
+// Stage 1 knobs; defaults are 3DGS's.
 struct StaticTrainerOptions {
   int iterations = 10000;
   uint64_t seed = 0;
   int max_sh_degree = 3;
   int sh_degree_interval = 1000;  // raise the SH degree this often
-  double lr_means_initial = 1.6e-4;
-  double lr_means_final = 1.6e-6;
-  double lr_log_scales = 5e-3;
-  double lr_quats = 1e-3;
-  double lr_opacity = 0.05;
-  double lr_sh_dc = 2.5e-3;
-  double lr_sh_rest = 2.5e-3 / 20;
-  double lr_dynamic = 0.05;
+  SplatLearningRateOptions splat_lr;
   double ssim_weight = 0.2;
   double mask_weight = 0.5;  // BCE on the dynamic channel; 0 turns it off
   bool densify = true;
@@ -45,11 +38,6 @@ struct IterationStats {
   double photometric = 0;
   double mask = 0;
 };
-
-// 3DGS radius of the training cameras: 1.1 x the largest distance of a
-// camera centre from their mean (at least a small positive value).
-double CameraExtent(const std::vector<Frame>& frames,
-                    const std::vector<int>& indices);
 
 // Trains a static Gaussian model on the training frames: one sampled frame
 // per iteration, its SplatRenderCost evaluated directly into preallocated
@@ -75,8 +63,6 @@ class StaticTrainer {
   void Restore(const Checkpoint& checkpoint);
 
  private:
-  GaussianLearningRates LearningRates() const;
-
   const std::vector<Frame>* frames_;
   std::vector<int> train_;
   StaticTrainerOptions options_;

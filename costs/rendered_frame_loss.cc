@@ -1,0 +1,74 @@
+#include "costs/rendered_frame_loss.h"
+
+#include <glog/logging.h>
+
+#include <algorithm>
+
+#include "core/model/gaussians.h"
+#include "costs/mask_bce_loss.h"
+#include "costs/photometric_loss.h"
+
+namespace es {
+
+void RenderedFrameLoss::CheckFrame(const Frame& frame) const {
+  CHECK_EQ(frame.image.rows, frame.camera.height);
+  CHECK_EQ(frame.image.cols, frame.camera.width);
+  CHECK(!mask_on() || !frame.mask.empty())
+      << "mask term on a frame without a mask";
+}
+
+void RenderedFrameLoss::AttachDynamicChannel(const double* dynamic_logits,
+                                             SplatView* view) {
+  if (!mask_on()) return;
+  const int n = view->count;
+  probability_.resize(n);
+  for (int i = 0; i < n; ++i) probability_[i] = Sigmoid(dynamic_logits[i]);
+  view->num_extra = 1;
+  view->extra = probability_.data();
+}
+
+double RenderedFrameLoss::Score(const RenderResult& render, const Frame& frame,
+                                bool want_grad) {
+  const size_t pixels =
+      static_cast<size_t>(frame.camera.width) * frame.camera.height;
+  double loss = 0;
+  last_photometric_ = last_mask_ = 0;
+  if (terms_.photometric_weight != 0) {
+    d_rgb_.resize(3 * pixels);
+    last_photometric_ = PhotometricLoss(
+        render.rgb.data(), frame.image, terms_.ssim_weight,
+        terms_.photometric_weight, want_grad ? d_rgb_.data() : nullptr);
+    loss += terms_.photometric_weight * last_photometric_;
+  }
+  if (mask_on()) {
+    d_extra_.resize(pixels);
+    last_mask_ =
+        MaskBceLoss(render.extra.data(), frame.mask, terms_.mask_weight,
+                    want_grad ? d_extra_.data() : nullptr);
+    loss += terms_.mask_weight * last_mask_;
+  }
+  return loss;
+}
+
+RenderGradients RenderedFrameLoss::ImageGradients() const {
+  RenderGradients g;
+  g.d_rgb = terms_.photometric_weight != 0 ? d_rgb_.data() : nullptr;
+  g.d_extra = mask_on() ? d_extra_.data() : nullptr;
+  return g;
+}
+
+void RenderedFrameLoss::DynamicLogitGradient(const SplatGradients& grads,
+                                             int count, double scale,
+                                             double* out) const {
+  if (!mask_on()) {
+    std::fill(out, out + count, 0.0);
+    return;
+  }
+  CHECK_EQ(static_cast<int>(probability_.size()), count);
+  for (int i = 0; i < count; ++i) {
+    const double p = probability_[i];
+    out[i] = grads.extra[i] * p * (1 - p) * scale;
+  }
+}
+
+}  // namespace es

@@ -1,0 +1,45 @@
+#include "solvers/train/splat_training.h"
+
+#include <glog/logging.h>
+
+#include <algorithm>
+
+#include "solvers/optim/lr_schedule.h"
+
+namespace es {
+
+double CameraExtent(const std::vector<Frame>& frames,
+                    const std::vector<int>& indices) {
+  CHECK(!indices.empty());
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (int i : indices) mean += frames[i].camera.Center();
+  mean /= indices.size();
+  double radius = 0;
+  for (int i : indices)
+    radius = std::max(radius, (frames[i].camera.Center() - mean).norm());
+  return std::max(1.1 * radius, 1e-6);
+}
+
+bool AllHaveMasks(const std::vector<Frame>& frames,
+                  const std::vector<int>& indices) {
+  for (int i : indices)
+    if (frames[i].mask.empty()) return false;
+  return true;
+}
+
+GaussianLearningRates ScheduledSplatRates(
+    const SplatLearningRateOptions& o, double extent, int64_t iteration,
+    int iterations, bool learn_dynamic) {
+  GaussianLearningRates lr;
+  lr.means = extent * LogLinearLr(o.means_initial, o.means_final, iteration,
+                                  iterations);
+  lr.log_scales = o.log_scales;
+  lr.quats = o.quats;
+  lr.opacity_logits = o.opacity;
+  lr.sh_dc = o.sh_dc;
+  lr.sh_rest = o.sh_rest;
+  lr.dynamic_logits = learn_dynamic ? o.dynamic : 0.0;
+  return lr;
+}
+
+}  // namespace es
