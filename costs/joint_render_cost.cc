@@ -9,18 +9,6 @@
 
 namespace es {
 
-LoopStructure LoopStructure::Of(const LoopModel& model) {
-  LoopStructure s;
-  s.count = model.gaussians.size();
-  s.sh_degree = model.gaussians.sh_degree;
-  s.dynamic_index = &model.dynamic_index;
-  s.start_times = &model.start_times;
-  s.cycle_length = model.cycle_length;
-  s.motion = model.motion ? &*model.motion : nullptr;
-  s.residual = model.residual ? &*model.residual : nullptr;
-  return s;
-}
-
 JointBlockLayout::JointBlockLayout(const LoopStructure& s) {
   const int n = s.count;
   sizes_ = {3 * n, 3 * n, 4 * n, n, 3 * NumShCoeffs(s.sh_degree) * n, n};
@@ -81,8 +69,9 @@ void JointRenderCost::Reset(const Frame* frame, int frame_index,
   *mutable_parameter_block_sizes() = layout_.sizes();
 }
 
-LoopSplatView JointRenderCost::View(double const* const* parameters) const {
-  LoopSplatView v;
+LoopModelView JointRenderCost::View(double const* const* parameters) const {
+  LoopModelView v;
+  v.structure = structure_;
   SplatView& c = v.canonical;
   c.count = structure_.count;
   c.sh_degree = structure_.sh_degree;
@@ -91,17 +80,11 @@ LoopSplatView JointRenderCost::View(double const* const* parameters) const {
   c.quats = parameters[kQuatsBlock];
   c.opacity_logits = parameters[kOpacityBlock];
   c.sh = parameters[kShBlock];
-  v.num_dynamic = static_cast<int>(structure_.dynamic_index->size());
-  v.dynamic_index = structure_.dynamic_index->data();
-  v.start_times = structure_.start_times->data();
-  v.cycle_length = structure_.cycle_length;
-  v.motion = structure_.motion;
-  v.residual = structure_.residual;
-  if (v.motion != nullptr) {
+  if (structure_.motion != nullptr) {
     v.motion_params = {parameters[layout_.motion_triplane()],
                        parameters[layout_.motion_mlp()]};
   }
-  if (v.residual != nullptr) {
+  if (structure_.residual != nullptr) {
     v.residual_params = {parameters[layout_.residual_triplane()],
                          parameters[layout_.residual_mlp()]};
   }
@@ -110,7 +93,7 @@ LoopSplatView JointRenderCost::View(double const* const* parameters) const {
 
 bool JointRenderCost::Evaluate(double const* const* parameters,
                                double* residuals, double** jacobians) const {
-  LoopSplatView model = View(parameters);
+  LoopModelView model = View(parameters);
   image_loss_.AttachDynamicChannel(parameters[kDynamicBlock],
                                    &model.canonical);
   const double r = ScalarLossResidual(Forward(model, jacobians != nullptr));
@@ -119,7 +102,7 @@ bool JointRenderCost::Evaluate(double const* const* parameters,
   return true;
 }
 
-double JointRenderCost::Forward(const LoopSplatView& model,
+double JointRenderCost::Forward(const LoopModelView& model,
                                 bool want_grad) const {
   const SplatView& view = composer_.Compose(model, frame_index_);
   rasterizer_->Forward(frame_->camera, view, options_, &render_);
@@ -135,7 +118,7 @@ double JointRenderCost::Forward(const LoopSplatView& model,
   return loss;
 }
 
-void JointRenderCost::Backward(const LoopSplatView& model, double r,
+void JointRenderCost::Backward(const LoopModelView& model, double r,
                                double** jacobians) const {
   // Gradients accumulate into the Jacobian rows, then are divided by r.
   const std::vector<int32_t>& sizes = layout_.sizes();
@@ -144,7 +127,7 @@ void JointRenderCost::Backward(const LoopSplatView& model, double r,
 
   rasterizer_->Backward(image_loss_.ImageGradients(), &grads_);
 
-  LoopSplatGradients out;
+  LoopModelGradients out;
   out.means = jacobians[kMeansBlock];
   out.log_scales = jacobians[kLogScalesBlock];
   out.quats = jacobians[kQuatsBlock];

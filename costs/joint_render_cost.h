@@ -15,22 +15,6 @@
 
 namespace es {
 
-// What a joint cost needs beyond its parameter blocks: the model's shape,
-// which Gaussians are dynamic and when their loops start, and the fields'
-// structure (their parameters are blocks). Pointed-to data must outlive the
-// cost; a field pointer of nullptr removes that field and its blocks.
-struct LoopStructure {
-  int count = 0;
-  int sh_degree = 0;
-  const std::vector<int>* dynamic_index = nullptr;
-  const std::vector<int>* start_times = nullptr;
-  int cycle_length = 15;
-  const MotionField* motion = nullptr;
-  const ResidualField* residual = nullptr;
-
-  static LoopStructure Of(const LoopModel& model);
-};
-
 // Which terms a JointRenderCost sums: the image terms of every render cost
 // plus the L2 term on D's outputs; a zero weight turns a term off.
 struct JointRenderTerms : ImageLossTerms {
@@ -60,9 +44,9 @@ std::vector<double*> JointBlocks(LoopModel* model);
 
 // The joint-training loss of one frame i: the looping model is composed at
 // frame i (Alg. 1 advection of the dynamic Gaussians by V to their cycle
-// index, plus D's position, opacity and SH offsets; core/loop/frame_composer.h),
-// rendered once, and scored by every enabled term (RenderedFrameLoss plus
-// D's L2),
+// index, plus D's position, opacity and SH offsets;
+// core/loop/frame_composer.h), rendered once, and scored by every enabled
+// term (RenderedFrameLoss plus D's L2),
 //   l = w_p photometric + w_m BCE(dynamic channel, mask) + w_r D L2,
 // exposed as one residual sqrt(2 l + eps) (costs/scalar_loss.h). The
 // gradient flows through the rasterizer, D and the whole Euler chain to the
@@ -94,15 +78,15 @@ class JointRenderCost : public ceres::CostFunction {
   }
 
  private:
-  LoopSplatView View(double const* const* parameters) const;
+  LoopModelView View(double const* const* parameters) const;
   bool residual_on() const {
     return residual_weight_ != 0 && structure_.residual != nullptr;
   }
   // Composes, renders and scores the frame; returns the weighted loss and
   // keeps what Backward needs when want_grad.
-  double Forward(const LoopSplatView& model, bool want_grad) const;
+  double Forward(const LoopModelView& model, bool want_grad) const;
   // Writes d loss / d block / r into every non-null Jacobian row.
-  void Backward(const LoopSplatView& model, double r,
+  void Backward(const LoopModelView& model, double r,
                 double** jacobians) const;
 
   const Frame* frame_ = nullptr;

@@ -79,7 +79,7 @@ TEST(FrameComposerTest, ComposesAdvectedPositionsAndResidualOffsets) {
     const int offset_coeffs = std::min(coeffs, 16);
     FrameComposer composer;
     const int frame = 6;
-    const SplatView& v = composer.Compose(LoopSplatView::Of(m), frame);
+    const SplatView& v = composer.Compose(LoopModelView::Of(m), frame);
     const GaussianSet& g = m.gaussians;
     EXPECT_EQ(v.log_scales, g.log_scales.data());
     EXPECT_EQ(v.quats, g.quats.data());
@@ -123,7 +123,7 @@ TEST(FrameComposerTest, WithoutFieldsTheModelIsRenderedAsIs) {
   m.motion.reset();
   m.residual.reset();
   FrameComposer composer;
-  const SplatView& v = composer.Compose(LoopSplatView::Of(m), 9);
+  const SplatView& v = composer.Compose(LoopModelView::Of(m), 9);
   for (size_t i = 0; i < m.gaussians.means.size(); ++i)
     EXPECT_EQ(v.means[i], m.gaussians.means[i]);
   EXPECT_EQ(v.opacity_logits, m.gaussians.opacity_logits.data());
@@ -135,7 +135,7 @@ TEST(FrameComposerTest, WithoutFieldsTheModelIsRenderedAsIs) {
 // a frame where every Gaussian is in its first cycle.
 TEST(FrameComposerTest, AdvectedEntryMatchesComposeInTheFirstCycle) {
   const LoopModel m = TinyModel(2);
-  const LoopSplatView view = LoopSplatView::Of(m);
+  const LoopModelView view = LoopModelView::Of(m);
   std::vector<double> x0;
   for (int n : m.dynamic_index)
     for (int j = 0; j < 3; ++j) x0.push_back(m.gaussians.means[3 * n + j]);
@@ -181,7 +181,7 @@ TEST(FrameComposerTest, BackwardMatchesCentralDifferences) {
     for (double& x : *w) x = u(rng);
 
   FrameComposer composer;
-  const SplatView& v = composer.Compose(LoopSplatView::Of(m), frame);
+  const SplatView& v = composer.Compose(LoopModelView::Of(m), frame);
   SplatGradients grads;
   grads.Resize(n, 1, 0);
   grads.means = loss.w_means;
@@ -194,13 +194,13 @@ TEST(FrameComposerTest, BackwardMatchesCentralDifferences) {
       d_vm(m.motion->mlp_params().size(), 0.0),
       d_dt(m.residual->triplane_params().size(), 0.0),
       d_dm(m.residual->mlp_params().size(), 0.0);
-  LoopSplatGradients out;
+  LoopModelGradients out;
   out.means = d_means.data();
   out.opacity_logits = d_opacity.data();
   out.sh = d_sh.data();
   out.motion = {d_vt.data(), d_vm.data()};
   out.residual = {d_dt.data(), d_dm.data()};
-  composer.Backward(LoopSplatView::Of(m), grads, nullptr, out);
+  composer.Backward(LoopModelView::Of(m), grads, nullptr, out);
 
   auto check = [&](std::vector<double>* params,
                    const std::vector<double>& analytic, const char* name) {
@@ -212,9 +212,9 @@ TEST(FrameComposerTest, BackwardMatchesCentralDifferences) {
       const double h = 1e-6;
       FrameComposer c;
       (*params)[i] = saved + h;
-      const double plus = loss.Value(c.Compose(LoopSplatView::Of(m), frame));
+      const double plus = loss.Value(c.Compose(LoopModelView::Of(m), frame));
       (*params)[i] = saved - h;
-      const double minus = loss.Value(c.Compose(LoopSplatView::Of(m), frame));
+      const double minus = loss.Value(c.Compose(LoopModelView::Of(m), frame));
       (*params)[i] = saved;
       const double numeric = (plus - minus) / (2 * h);
       EXPECT_NEAR(analytic[i], numeric, 1e-6 * max_abs + 1e-8)

@@ -15,23 +15,20 @@ int OffsetShCoeffs(int sh_degree) {
   return std::min(NumShCoeffs(sh_degree), (kResidualDim - kResidualSh) / 3);
 }
 
+// The view's ascending dynamic indices (num_dynamic() of them).
+const int* DynamicIndices(const LoopStructure& s) {
+  CHECK(s.dynamic_index != nullptr) << "LoopStructure without a dynamic set";
+  return s.dynamic_index->data();
+}
+
 }  // namespace
 
-LoopSplatView LoopSplatView::Of(const LoopModel& model) {
-  LoopSplatView v;
+LoopModelView LoopModelView::Of(const LoopModel& model) {
+  LoopModelView v;
+  v.structure = LoopStructure::Of(model);
   v.canonical = SplatView::Of(model.gaussians);
-  v.num_dynamic = model.num_dynamic();
-  v.dynamic_index = model.dynamic_index.data();
-  v.start_times = model.start_times.data();
-  v.cycle_length = model.cycle_length;
-  if (model.motion) {
-    v.motion = &*model.motion;
-    v.motion_params = model.motion->params();
-  }
-  if (model.residual) {
-    v.residual = &*model.residual;
-    v.residual_params = model.residual->params();
-  }
+  if (model.motion) v.motion_params = model.motion->params();
+  if (model.residual) v.residual_params = model.residual->params();
   return v;
 }
 
@@ -46,26 +43,31 @@ EulerChain* FrameComposer::ChainFor(const MotionField* field) {
   return &*chain_;
 }
 
-const SplatView& FrameComposer::Compose(const LoopSplatView& model,
+const SplatView& FrameComposer::Compose(const LoopModelView& model,
                                         int frame) {
-  const int m = model.num_dynamic;
-  CHECK_GT(model.cycle_length, 0);
+  const LoopStructure& s = model.structure;
+  const int* dynamic = DynamicIndices(s);
+  CHECK(s.start_times != nullptr);
+  CHECK_EQ(static_cast<int>(s.start_times->size()), s.num_dynamic());
+  const int* start_times = s.start_times->data();
+  const int m = s.num_dynamic();
+  CHECK_GT(s.cycle_length, 0);
   canonical_.resize(3 * static_cast<size_t>(m));
   cycle_index_.resize(m);
   cycle_number_.resize(m);
   for (int k = 0; k < m; ++k) {
-    const int n = model.dynamic_index[k];
+    const int n = dynamic[k];
     std::copy(model.canonical.means + 3 * n, model.canonical.means + 3 * n + 3,
               &canonical_[3 * k]);
     cycle_index_[k] =
-        CycleIndex(frame, model.start_times[k], model.cycle_length);
+        CycleIndex(frame, start_times[k], s.cycle_length);
     cycle_number_[k] =
-        CycleNumber(frame, model.start_times[k], model.cycle_length);
+        CycleNumber(frame, start_times[k], s.cycle_length);
   }
   positions_.resize(canonical_.size());
   euler_stats_ = EulerStats();
-  if (model.motion != nullptr && m > 0) {
-    EulerChain* chain = ChainFor(model.motion);
+  if (s.motion != nullptr && m > 0) {
+    EulerChain* chain = ChainFor(s.motion);
     chain->Forward(model.motion_params, m, canonical_.data(),
                    cycle_index_.data(), positions_.data());
     euler_stats_ = chain->stats();
@@ -76,14 +78,16 @@ const SplatView& FrameComposer::Compose(const LoopSplatView& model,
   return Assemble(model);
 }
 
-const SplatView& FrameComposer::ComposeAdvected(const LoopSplatView& model,
+const SplatView& FrameComposer::ComposeAdvected(const LoopModelView& model,
                                                 const double* positions,
                                                 const int* cycle_indices,
                                                 int cycle_number) {
-  const int m = model.num_dynamic;
+  const LoopStructure& s = model.structure;
+  const int* dynamic = DynamicIndices(s);
+  const int m = s.num_dynamic();
   canonical_.resize(3 * static_cast<size_t>(m));
   for (int k = 0; k < m; ++k) {
-    const int n = model.dynamic_index[k];
+    const int n = dynamic[k];
     std::copy(model.canonical.means + 3 * n, model.canonical.means + 3 * n + 3,
               &canonical_[3 * k]);
   }
@@ -95,9 +99,11 @@ const SplatView& FrameComposer::ComposeAdvected(const LoopSplatView& model,
   return Assemble(model);
 }
 
-const SplatView& FrameComposer::Assemble(const LoopSplatView& model) {
+const SplatView& FrameComposer::Assemble(const LoopModelView& model) {
+  const LoopStructure& s = model.structure;
+  const int* dynamic = DynamicIndices(s);
   const SplatView& c = model.canonical;
-  const int m = model.num_dynamic;
+  const int m = s.num_dynamic();
   const int count = c.count;
   const int coeffs = NumShCoeffs(c.sh_degree);
   view_ = c;
@@ -108,22 +114,22 @@ const SplatView& FrameComposer::Assemble(const LoopSplatView& model) {
   means_.assign(c.means, c.means + 3 * static_cast<size_t>(count));
   for (int k = 0; k < m; ++k) {
     std::copy(&positions_[3 * k], &positions_[3 * k] + 3,
-              &means_[3 * model.dynamic_index[k]]);
+              &means_[3 * dynamic[k]]);
   }
   view_.means = means_.data();
-  if (model.residual == nullptr) {
+  if (s.residual == nullptr) {
     residuals_.clear();
     return view_;
   }
   residuals_.resize(static_cast<size_t>(m) * kResidualDim);
-  model.residual->Evaluate(model.residual_params, m, canonical_.data(),
+  s.residual->Evaluate(model.residual_params, m, canonical_.data(),
                            cycle_index_.data(), cycle_number_.data(),
                            residuals_.data(), &residual_ws_);
   opacity_logits_.assign(c.opacity_logits, c.opacity_logits + count);
   sh_.assign(c.sh, c.sh + 3 * static_cast<size_t>(coeffs) * count);
   const int offset_coeffs = OffsetShCoeffs(c.sh_degree);
   for (int k = 0; k < m; ++k) {
-    const int n = model.dynamic_index[k];
+    const int n = dynamic[k];
     const double* d = &residuals_[static_cast<size_t>(k) * kResidualDim];
     for (int j = 0; j < 3; ++j) means_[3 * n + j] += d[kResidualPosition + j];
     opacity_logits_[n] += d[kResidualOpacity];
@@ -135,12 +141,14 @@ const SplatView& FrameComposer::Assemble(const LoopSplatView& model) {
   return view_;
 }
 
-void FrameComposer::Backward(const LoopSplatView& model,
+void FrameComposer::Backward(const LoopModelView& model,
                              const SplatGradients& grads,
                              const double* d_residuals,
-                             const LoopSplatGradients& out) {
+                             const LoopModelGradients& out) {
+  const LoopStructure& s = model.structure;
+  const int* dynamic = DynamicIndices(s);
   const SplatView& c = model.canonical;
-  const int m = model.num_dynamic;
+  const int m = s.num_dynamic();
   const int count = c.count;
   const size_t sh_size =
       3 * static_cast<size_t>(NumShCoeffs(c.sh_degree)) * count;
@@ -163,14 +171,14 @@ void FrameComposer::Backward(const LoopSplatView& model,
   // Static means pass through; dynamic ones are routed below.
   d_positions_.resize(3 * static_cast<size_t>(m));
   for (int k = 0; k < m; ++k) {
-    const int n = model.dynamic_index[k];
+    const int n = dynamic[k];
     std::copy(&grads.means[3 * n], &grads.means[3 * n] + 3,
               &d_positions_[3 * k]);
   }
   if (out.means != nullptr) {
     int next = 0;
     for (int n = 0; n < count; ++n) {
-      if (next < m && model.dynamic_index[next] == n) {
+      if (next < m && dynamic[next] == n) {
         ++next;
         continue;
       }
@@ -179,12 +187,12 @@ void FrameComposer::Backward(const LoopSplatView& model,
     }
   }
   d_x0_.assign(3 * static_cast<size_t>(m), 0.0);
-  if (model.residual != nullptr) {
+  if (s.residual != nullptr) {
     const int coeffs = NumShCoeffs(c.sh_degree);
     const int offset_coeffs = OffsetShCoeffs(c.sh_degree);
     d_residuals_.assign(static_cast<size_t>(m) * kResidualDim, 0.0);
     for (int k = 0; k < m; ++k) {
-      const int n = model.dynamic_index[k];
+      const int n = dynamic[k];
       double* d = &d_residuals_[static_cast<size_t>(k) * kResidualDim];
       for (int j = 0; j < 3; ++j)
         d[kResidualPosition + j] = grads.means[3 * n + j];
@@ -196,13 +204,13 @@ void FrameComposer::Backward(const LoopSplatView& model,
       for (size_t i = 0; i < d_residuals_.size(); ++i)
         d_residuals_[i] += d_residuals[i];
     }
-    model.residual->Backward(model.residual_params, d_residuals_.data(),
+    s.residual->Backward(model.residual_params, d_residuals_.data(),
                              out.residual,
                              out.means != nullptr ? d_x0_.data() : nullptr,
                              &residual_ws_);
   }
-  if (model.motion != nullptr) {
-    CHECK(chain_ && chain_field_ == model.motion);
+  if (s.motion != nullptr) {
+    CHECK(chain_ && chain_field_ == s.motion);
     chain_->Backward(model.motion_params, d_positions_.data(), out.motion,
                      out.means != nullptr ? d_x0_.data() : nullptr);
   } else {
@@ -210,7 +218,7 @@ void FrameComposer::Backward(const LoopSplatView& model,
   }
   if (out.means == nullptr) return;
   for (int k = 0; k < m; ++k) {
-    const int n = model.dynamic_index[k];
+    const int n = dynamic[k];
     for (int j = 0; j < 3; ++j) out.means[3 * n + j] += d_x0_[3 * k + j];
   }
 }

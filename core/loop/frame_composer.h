@@ -12,28 +12,23 @@
 
 namespace es {
 
-// Read-only view of a looping model's parameter blocks: the canonical
-// splats, which of them are dynamic and when their loops start, and the
-// fields V and D (structure + parameter pointers, which may be the model's
-// own arrays or the ones Ceres hands a cost function).
-struct LoopSplatView {
-  SplatView canonical;           // all Gaussians; extra is passed through
-  int num_dynamic = 0;
-  const int* dynamic_index = nullptr;  // num_dynamic ascending indices
-  const int* start_times = nullptr;    // num_dynamic, in [0, cycle_length)
-  int cycle_length = 15;
-  const MotionField* motion = nullptr;  // nullptr: dynamic ones don't flow
-  FieldParams motion_params;
-  const ResidualField* residual = nullptr;  // nullptr: no residual offsets
-  FieldParams residual_params;
+// Read-only view of a looping model to compose: its structure
+// (core/model/loop_model.h) plus pointers to its parameter values, which may
+// be the model's own arrays or the blocks Ceres hands a cost function.
+struct LoopModelView {
+  LoopStructure structure;  // no motion field: dynamic ones don't flow;
+                            // no residual field: no residual offsets
+  SplatView canonical;      // all Gaussians; extra is passed through
+  FieldParams motion_params;    // V's, when structure.motion is set
+  FieldParams residual_params;  // D's, when structure.residual is set
 
   // View of a model with its own parameter arrays (no extra channel).
-  static LoopSplatView Of(const LoopModel& model);
+  static LoopModelView Of(const LoopModel& model);
 };
 
-// Gradient accumulators (+=) for the blocks of a LoopSplatView, sized like
+// Gradient accumulators (+=) for the blocks of a LoopModelView, sized like
 // them; nullptr skips a block.
-struct LoopSplatGradients {
+struct LoopModelGradients {
   double* means = nullptr;
   double* log_scales = nullptr;
   double* quats = nullptr;
@@ -62,13 +57,13 @@ class FrameComposer {
 
   // Training / evaluation: frame i, Alg. 1 from the canonical positions,
   // t and p from the true frame index. Keeps what Backward needs.
-  const SplatView& Compose(const LoopSplatView& model, int frame);
+  const SplatView& Compose(const LoopModelView& model, int frame);
 
   // Animation (Alg. 2): dynamic positions already advected elsewhere
   // (num_dynamic x 3, in dynamic order, e.g. LoopAnimator::positions()),
   // their cycle indices, and one cycle number for all (0 at inference).
   // D is still evaluated at the canonical positions. Forward only.
-  const SplatView& ComposeAdvected(const LoopSplatView& model,
+  const SplatView& ComposeAdvected(const LoopModelView& model,
                                    const double* positions,
                                    const int* cycle_indices,
                                    int cycle_number);
@@ -80,8 +75,8 @@ class FrameComposer {
   // ResidualField::Backward). d_residuals (num_dynamic x kResidualDim,
   // nullable) is added to the gradient of D's outputs, for losses on them
   // (e.g. the residual L2 term).
-  void Backward(const LoopSplatView& model, const SplatGradients& grads,
-                const double* d_residuals, const LoopSplatGradients& out);
+  void Backward(const LoopModelView& model, const SplatGradients& grads,
+                const double* d_residuals, const LoopModelGradients& out);
 
   // D's outputs of the last Compose* (num_dynamic x kResidualDim; empty
   // without a residual field) and the cycle indices / numbers used.
@@ -94,7 +89,7 @@ class FrameComposer {
  private:
   // Shared tail of both Compose* entries: D, then the composed arrays from
   // the dynamic positions in positions_.
-  const SplatView& Assemble(const LoopSplatView& model);
+  const SplatView& Assemble(const LoopModelView& model);
   EulerChain* ChainFor(const MotionField* field);
 
   EulerOptions euler_options_;

@@ -11,7 +11,7 @@ LoopRenderer::LoopRenderer(const LoopModel* model,
                            const EulerOptions& euler_options)
     : model_(model),
       options_(options),
-      view_(LoopSplatView::Of(*model)),
+      view_(LoopModelView::Of(*model)),
       composer_(euler_options) {
   const int n = model->num_dynamic();
   CHECK_EQ(static_cast<int>(model->start_times.size()), n);

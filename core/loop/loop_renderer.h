@@ -42,7 +42,7 @@ class LoopRenderer {
  private:
   const LoopModel* model_;
   RenderOptions options_;
-  LoopSplatView view_;
+  LoopModelView view_;
   std::optional<LoopAnimator> animator_;  // absent without a motion field
   std::vector<double> canonical_;         // dynamic x0, num_dynamic x 3
   std::vector<int> cycle_index_;          // used without a motion field

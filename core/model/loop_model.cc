@@ -83,6 +83,18 @@ void ReadLoopFile(const std::string& path, int num_gaussians,
 
 }  // namespace
 
+LoopStructure LoopStructure::Of(const LoopModel& model) {
+  LoopStructure s;
+  s.count = model.gaussians.size();
+  s.sh_degree = model.gaussians.sh_degree;
+  s.dynamic_index = &model.dynamic_index;
+  s.start_times = &model.start_times;
+  s.cycle_length = model.cycle_length;
+  s.motion = model.motion ? &*model.motion : nullptr;
+  s.residual = model.residual ? &*model.residual : nullptr;
+  return s;
+}
+
 void SaveLoopModel(const LoopModel& model, const std::string& dir) {
   CHECK_EQ(model.dynamic_index.size(), model.start_times.size());
   std::error_code error;

@@ -26,6 +26,26 @@ struct LoopModel {
   int num_dynamic() const { return static_cast<int>(dynamic_index.size()); }
 };
 
+// A looping model's shape without its parameter values: how many splats,
+// which are dynamic, when their loops start, and the fields' structure.
+// Costs get the values as Ceres parameter blocks and this for the rest; it
+// points into a LoopModel (or other storage) that must outlive it. A null
+// field pointer: the model has no such field.
+struct LoopStructure {
+  int count = 0;
+  int sh_degree = 0;
+  const std::vector<int>* dynamic_index = nullptr;  // ascending
+  const std::vector<int>* start_times = nullptr;    // one per dynamic
+  int cycle_length = 15;
+  const MotionField* motion = nullptr;
+  const ResidualField* residual = nullptr;
+
+  int num_dynamic() const {
+    return dynamic_index ? static_cast<int>(dynamic_index->size()) : 0;
+  }
+  static LoopStructure Of(const LoopModel& model);
+};
+
 // A model directory holds (each file written atomically):
 //   canonical.ply        GaussianSet, standard 3DGS layout + dynamic_logit
 //   loop.txt             "cycle_length L", "num_dynamic K", then K lines

@@ -35,7 +35,7 @@ LoopMetrics EvaluateLoopModel(const LoopModel& model,
                               const std::vector<Frame>& frames,
                               const std::vector<int>& indices,
                               const RenderOptions& options) {
-  const LoopSplatView view = LoopSplatView::Of(model);
+  const LoopModelView view = LoopModelView::Of(model);
   FrameComposer composer;
   Rasterizer rasterizer;
   RenderResult render;
