@@ -11,6 +11,7 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <optional>
 #include <string>
 #include <vector>
@@ -21,6 +22,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "apps/common/app_main.h"
+#include "core/io/atomic_file.h"
 #include "core/io/input_error.h"
 #include "core/io/scene.h"
 #include "core/loop/loop_renderer.h"
@@ -142,7 +144,7 @@ std::vector<es::Camera> CameraPath(const es::Scene& scene,
   return {};
 }
 
-int Run() {
+void CheckFlags(es::CameraMode mode) {
   if (FLAGS_model.empty() || FLAGS_scene.empty() || FLAGS_out.empty()) {
     throw es::InputError("--model, --scene and --out are required");
   }
@@ -152,7 +154,6 @@ int Run() {
   if (FLAGS_track_length < 2) {
     throw es::InputError("--track_length must be >= 2");
   }
-  const es::CameraMode mode = es::ParseCameraMode(FLAGS_camera);
   if (!FLAGS_xt_slice.empty() && mode != es::CameraMode::kFixed) {
     throw es::InputError("--xt_slice needs --camera fixed (a moving camera "
                          "has no meaningful x-t slice)");
@@ -160,6 +161,67 @@ int Run() {
   if (mode == es::CameraMode::kFixedTime && FLAGS_time < 0) {
     throw es::InputError("--time must be >= 0");
   }
+}
+
+// --tracks: the recent positions of a seeded subset of the water Gaussians
+// drawn over each frame, into their own video.
+class TrackOverlay {
+ public:
+  explicit TrackOverlay(const es::LoopModel& model)
+      : video_(FLAGS_out + "/tracks", FLAGS_fps),
+        tracked_(es::SelectTrackSubset(model.num_dynamic(), FLAGS_track_count,
+                                       FLAGS_track_seed)),
+        history_(static_cast<int>(tracked_.size()), FLAGS_track_length),
+        positions_(3 * tracked_.size()) {}
+
+  void Add(const es::LoopRenderer& renderer, const es::Camera& camera,
+           const cv::Mat& bgr) {
+    const std::vector<double>& x = renderer.positions();
+    const std::vector<int>& cycle = renderer.cycle_indices();
+    std::vector<bool> restarted(tracked_.size(), false);
+    for (size_t i = 0; i < tracked_.size(); ++i) {
+      std::copy_n(&x[3 * tracked_[i]], 3, &positions_[3 * i]);
+      // A cycle index that did not move forward by one is a reset.
+      restarted[i] = !previous_cycle_.empty() &&
+                     cycle[tracked_[i]] != previous_cycle_[tracked_[i]] + 1;
+    }
+    previous_cycle_ = cycle;
+    history_.Push(positions_.data(), restarted);
+    cv::Mat overlay = bgr.clone();
+    history_.Draw(camera, &overlay);
+    video_.Add(overlay);
+  }
+
+  void Finish(int num_dynamic) {
+    video_.Finish(FLAGS_out + "/tracks.mp4");
+    std::printf("tracks of %zu of %d water Gaussians -> %s/tracks.mp4\n",
+                tracked_.size(), num_dynamic, FLAGS_out.c_str());
+  }
+
+ private:
+  es::VideoWriter video_;
+  std::vector<int> tracked_;
+  es::TrackHistory history_;
+  std::vector<double> positions_;
+  std::vector<int> previous_cycle_;
+};
+
+void WriteXtSlice(const es::XtSlice& slice) {
+  const std::string path = FLAGS_out + "/xt_slice.png";
+  std::vector<uchar> png;
+  if (!cv::imencode(".png", slice.image(), png)) {
+    throw es::InputError(path + ": cannot encode the x-t slice");
+  }
+  es::WriteFileAtomically(path, [&png](std::ofstream& out) {
+    out.write(reinterpret_cast<const char*>(png.data()), png.size());
+  });
+  std::printf("x-t slice of row %d -> %s (%d x %d)\n", slice.row(),
+              path.c_str(), slice.image().cols, slice.image().rows);
+}
+
+int Run() {
+  const es::CameraMode mode = es::ParseCameraMode(FLAGS_camera);
+  CheckFlags(mode);
   es::RenderOptions options;
   if (FLAGS_white_background) options.background.setOnes();
   es::SceneOptions scene_options;
@@ -169,18 +231,10 @@ int Run() {
   const std::vector<es::Camera> cameras =
       CameraPath(scene, model, mode, FLAGS_frames);
 
-  namespace fs = std::filesystem;
-  fs::create_directories(FLAGS_out);
+  std::filesystem::create_directories(FLAGS_out);
   es::VideoWriter video(FLAGS_out + "/frames", FLAGS_fps);
-  std::optional<es::VideoWriter> track_video;
-  std::optional<es::TrackHistory> tracks;
-  std::vector<int> tracked;
-  if (FLAGS_tracks) {
-    track_video.emplace(FLAGS_out + "/tracks", FLAGS_fps);
-    tracked = es::SelectTrackSubset(model.num_dynamic(), FLAGS_track_count,
-                                    FLAGS_track_seed);
-    tracks.emplace(static_cast<int>(tracked.size()), FLAGS_track_length);
-  }
+  std::optional<TrackOverlay> tracks;
+  if (FLAGS_tracks) tracks.emplace(model);
   std::optional<es::XtSlice> slice;
   if (!FLAGS_xt_slice.empty()) {
     slice.emplace(XtSliceRow(scene.frames[AnchorFrame(scene)]));
@@ -189,8 +243,6 @@ int Run() {
   es::LoopRenderer renderer(&model, options);
   const bool frozen = mode == es::CameraMode::kFixedTime;
   renderer.Start(frozen ? FLAGS_time : FLAGS_start_frame);
-  std::vector<int> previous_cycle;
-  std::vector<double> track_positions(3 * tracked.size());
   double render_ms = 0;
   for (int k = 0; k < FLAGS_frames; ++k) {
     if (k > 0 && !frozen) renderer.Advance();
@@ -202,41 +254,15 @@ int Run() {
     const cv::Mat bgr = es::RgbToBgr8(r.rgb.data(), r.width, r.height);
     video.Add(bgr);
     if (slice) slice->Add(bgr);
-    if (tracks) {
-      const std::vector<double>& x = renderer.positions();
-      const std::vector<int>& cycle = renderer.cycle_indices();
-      std::vector<bool> restarted(tracked.size(), false);
-      for (size_t i = 0; i < tracked.size(); ++i) {
-        std::copy_n(&x[3 * tracked[i]], 3, &track_positions[3 * i]);
-        // A cycle index that did not move forward by one is a reset.
-        restarted[i] = !previous_cycle.empty() &&
-                       cycle[tracked[i]] != previous_cycle[tracked[i]] + 1;
-      }
-      previous_cycle = cycle;
-      tracks->Push(track_positions.data(), restarted);
-      cv::Mat overlay = bgr.clone();
-      tracks->Draw(cameras[k], &overlay);
-      track_video->Add(overlay);
-    }
+    if (tracks) tracks->Add(renderer, cameras[k], bgr);
   }
   const std::string encoder = video.Finish(FLAGS_out + "/animation.mp4");
   std::printf("%d frames (%s camera, period L = %d) -> %s/animation.mp4 "
               "[%s], %.1f ms/frame\n",
               FLAGS_frames, FLAGS_camera.c_str(), model.cycle_length,
               FLAGS_out.c_str(), encoder.c_str(), render_ms / FLAGS_frames);
-  if (track_video) {
-    track_video->Finish(FLAGS_out + "/tracks.mp4");
-    std::printf("tracks of %zu of %d water Gaussians -> %s/tracks.mp4\n",
-                tracked.size(), model.num_dynamic(), FLAGS_out.c_str());
-  }
-  if (slice) {
-    const std::string path = FLAGS_out + "/xt_slice.png";
-    if (!cv::imwrite(path, slice->image())) {
-      throw es::InputError(path + ": cannot write");
-    }
-    std::printf("x-t slice of row %d -> %s (%d x %d)\n", slice->row(),
-                path.c_str(), slice->image().cols, slice->image().rows);
-  }
+  if (tracks) tracks->Finish(model.num_dynamic());
+  if (slice) WriteXtSlice(*slice);
   return 0;
 }
 

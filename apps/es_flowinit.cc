@@ -5,13 +5,13 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <random>
 #include <string>
 
 #include <gflags/gflags.h>
 
 #include "apps/common/app_main.h"
+#include "core/io/atomic_file.h"
 #include "core/flow/flow_lifting.h"
 #include "core/io/field_io.h"
 #include "core/io/input_error.h"
@@ -122,74 +122,65 @@ void Subsample(int max, uint32_t seed,
   samples->resize(max);
 }
 
-void WriteMetrics(const std::string& path, const std::string& json) {
-  std::ofstream out(path);
-  out << json;
-  if (!out) throw es::InputError(path + ": cannot write");
-}
 
-int Run() {
-  CheckFlags();
-  const auto start = std::chrono::steady_clock::now();
-  const std::string static_path = FLAGS_static.empty()
-                                      ? FLAGS_scene + "/static.ply"
-                                      : FLAGS_static;
-  const std::string out_dir = FLAGS_out.empty() ? FLAGS_scene : FLAGS_out;
-
-  es::SceneFlowOptions flow_options;
-  flow_options.method = es::ParseFlowMethod(FLAGS_flow);
-  flow_options.water = es::ParseWaterSource(FLAGS_water_source);
-  flow_options.lifting.stride = FLAGS_stride;
-  flow_options.lifting.second_end = es::ParseSecondEnd(FLAGS_second_end);
-  flow_options.lifting.max_fb_error_px = FLAGS_max_fb_px;
-  flow_options.lifting.max_rel_depth_jump = FLAGS_max_depth_jump;
-  flow_options.lifting.water_threshold = FLAGS_water_threshold;
-  flow_options.min_alpha = FLAGS_min_alpha;
-  flow_options.use_test_frames = FLAGS_use_test_frames;
-  es::FlowPretrainOptions fit_options;
-  fit_options.solver = es::ParsePretrainSolver(FLAGS_solver);
-  fit_options.iterations = FLAGS_iterations;
-  fit_options.batch_size = FLAGS_batch_size;
-  fit_options.lr_triplane = FLAGS_lr_triplane;
-  fit_options.lr_mlp = FLAGS_lr_mlp;
-  fit_options.final_lr_factor = FLAGS_final_lr_factor;
-  fit_options.tv_weight = FLAGS_tv_weight;
-  fit_options.lbfgs_max_samples = FLAGS_lbfgs_max_samples;
-  fit_options.seed = FLAGS_seed;
-  fit_options.log_every = FLAGS_log_every;
-  es::MotionFieldOptions field_options;
-  field_options.triplane.resolution = FLAGS_triplane_res;
-  field_options.triplane.channels = FLAGS_triplane_channels;
-  field_options.triplane.combination = ParseCombination(FLAGS_combination);
-  field_options.mlp_width = FLAGS_mlp_width;
-  field_options.mlp_depth = FLAGS_mlp_depth;
-  field_options.velocity_scale = FLAGS_velocity_scale;
-  field_options.seed = FLAGS_seed;
-
-  es::SceneOptions scene_options;
-  scene_options.image_scale = FLAGS_image_scale;
-  const es::Scene scene = es::LoadScene(FLAGS_scene, scene_options);
-  const es::GaussianSet model = es::ReadPly(static_path);
-  const std::vector<int> dynamic =
-      es::DynamicSet(model, FLAGS_dynamic_threshold);
-  if (dynamic.empty()) {
-    throw es::InputError(
-        static_path + ": no dynamic Gaussians (sigmoid(dynamic_logit) > " +
-        std::to_string(FLAGS_dynamic_threshold) +
-        "), so there is no water for a motion field; train Stage 1 with "
-        "water masks or lower --dynamic_threshold. Nothing was written.");
-  }
-  std::printf("%d frames, %d of %d Gaussians dynamic\n",
-              static_cast<int>(scene.frames.size()),
-              static_cast<int>(dynamic.size()), model.size());
-
-  flow_options.progress = [](int k, int n, const std::string& a,
-                             const std::string& b, long count) {
+es::SceneFlowOptions SceneFlowOptionsFromFlags() {
+  es::SceneFlowOptions o;
+  o.method = es::ParseFlowMethod(FLAGS_flow);
+  o.water = es::ParseWaterSource(FLAGS_water_source);
+  o.lifting.stride = FLAGS_stride;
+  o.lifting.second_end = es::ParseSecondEnd(FLAGS_second_end);
+  o.lifting.max_fb_error_px = FLAGS_max_fb_px;
+  o.lifting.max_rel_depth_jump = FLAGS_max_depth_jump;
+  o.lifting.water_threshold = FLAGS_water_threshold;
+  o.min_alpha = FLAGS_min_alpha;
+  o.use_test_frames = FLAGS_use_test_frames;
+  o.progress = [](int k, int n, const std::string& a, const std::string& b,
+                  long count) {
     std::printf("flow %d/%d %s -> %s: %ld samples\n", k + 1, n, a.c_str(),
                 b.c_str(), count);
     std::fflush(stdout);
   };
-  es::SceneFlowResult lifted = es::LiftSceneFlow(scene, model, flow_options);
+  return o;
+}
+
+es::FlowPretrainOptions PretrainOptionsFromFlags() {
+  es::FlowPretrainOptions o;
+  o.solver = es::ParsePretrainSolver(FLAGS_solver);
+  o.iterations = FLAGS_iterations;
+  o.batch_size = FLAGS_batch_size;
+  o.lr_triplane = FLAGS_lr_triplane;
+  o.lr_mlp = FLAGS_lr_mlp;
+  o.final_lr_factor = FLAGS_final_lr_factor;
+  o.tv_weight = FLAGS_tv_weight;
+  o.lbfgs_max_samples = FLAGS_lbfgs_max_samples;
+  o.seed = FLAGS_seed;
+  o.log_every = FLAGS_log_every;
+  o.progress = [](int it, double seconds, double rmse) {
+    std::printf("pretrain iteration %d  %.1f s  batch rmse %.3g\n", it,
+                seconds, rmse);
+    std::fflush(stdout);
+  };
+  return o;
+}
+
+es::MotionFieldOptions FieldOptionsFromFlags() {
+  es::MotionFieldOptions o;
+  o.triplane.resolution = FLAGS_triplane_res;
+  o.triplane.channels = FLAGS_triplane_channels;
+  o.triplane.combination = ParseCombination(FLAGS_combination);
+  o.mlp_width = FLAGS_mlp_width;
+  o.mlp_depth = FLAGS_mlp_depth;
+  o.velocity_scale = FLAGS_velocity_scale;
+  o.seed = FLAGS_seed;
+  return o;
+}
+
+// Lifts the optical flow of the scene's water to 3D samples (at most
+// --max_samples); throws InputError when none survives.
+es::SceneFlowResult LiftWaterFlow(const es::Scene& scene,
+                                  const es::GaussianSet& model) {
+  es::SceneFlowResult lifted =
+      es::LiftSceneFlow(scene, model, SceneFlowOptionsFromFlags());
   const es::LiftingStats& s = lifted.stats;
   std::printf(
       "water pixels from %s; %ld candidates: %ld accepted, rejected %ld no "
@@ -205,26 +196,18 @@ int Run() {
         "Nothing was written.");
   }
   Subsample(FLAGS_max_samples, FLAGS_seed, &lifted.samples);
+  return lifted;
+}
 
-  es::MotionField field(field_options);
-  Eigen::Vector3d lo, hi;
-  es::FieldBox(model, dynamic, &lo, &hi);
-  field.SetBox(lo, hi);
-  fit_options.progress = [](int it, double seconds, double rmse) {
-    std::printf("pretrain iteration %d  %.1f s  batch rmse %.3g\n", it,
-                seconds, rmse);
-    std::fflush(stdout);
-  };
-  const es::FlowPretrainReport fit =
-      es::PretrainMotionField(lifted.samples, fit_options, &field);
-  std::printf("fit rmse %.4g (targets rms %.4g, start %.4g) in %.1f s\n",
-              fit.fit_rmse, fit.target_rms, fit.initial_rmse, fit.seconds);
-
-  std::filesystem::create_directories(out_dir);
-  es::SaveMotionField(field, out_dir + "/motion_field.bin");
-  const double seconds = std::chrono::duration<double>(
-                             std::chrono::steady_clock::now() - start)
-                             .count();
+// flow_metrics.json: the fit, the lifting counts and timings, and the
+// ground-truth errors when the scene has gt/.
+void WriteFlowMetrics(const std::string& path, double seconds,
+                      const es::FlowPretrainReport& fit,
+                      const es::SceneFlowResult& lifted,
+                      const es::GaussianSet& model,
+                      const std::vector<int>& dynamic,
+                      const es::MotionField& field) {
+  const es::LiftingStats& s = lifted.stats;
   char json[2048];
   int len = std::snprintf(
       json, sizeof(json),
@@ -269,7 +252,53 @@ int Run() {
                          gt.epe, gt.rel_epe, gt.mean_speed, lifted_gt.rel_epe);
   }
   std::snprintf(json + len, sizeof(json) - len, "\n}\n");
-  WriteMetrics(out_dir + "/flow_metrics.json", json);
+  es::WriteTextFileAtomically(path, json);
+}
+
+int Run() {
+  CheckFlags();
+  const auto start = std::chrono::steady_clock::now();
+  const std::string static_path = FLAGS_static.empty()
+                                      ? FLAGS_scene + "/static.ply"
+                                      : FLAGS_static;
+  const std::string out_dir = FLAGS_out.empty() ? FLAGS_scene : FLAGS_out;
+  const es::FlowPretrainOptions fit_options = PretrainOptionsFromFlags();
+  const es::MotionFieldOptions field_options = FieldOptionsFromFlags();
+
+  es::SceneOptions scene_options;
+  scene_options.image_scale = FLAGS_image_scale;
+  const es::Scene scene = es::LoadScene(FLAGS_scene, scene_options);
+  const es::GaussianSet model = es::ReadPly(static_path);
+  const std::vector<int> dynamic =
+      es::DynamicSet(model, FLAGS_dynamic_threshold);
+  if (dynamic.empty()) {
+    throw es::InputError(
+        static_path + ": no dynamic Gaussians (sigmoid(dynamic_logit) > " +
+        std::to_string(FLAGS_dynamic_threshold) +
+        "), so there is no water for a motion field; train Stage 1 with "
+        "water masks or lower --dynamic_threshold. Nothing was written.");
+  }
+  std::printf("%d frames, %d of %d Gaussians dynamic\n",
+              static_cast<int>(scene.frames.size()),
+              static_cast<int>(dynamic.size()), model.size());
+  const es::SceneFlowResult lifted = LiftWaterFlow(scene, model);
+
+  es::MotionField field(field_options);
+  Eigen::Vector3d lo, hi;
+  es::FieldBox(model, dynamic, &lo, &hi);
+  field.SetBox(lo, hi);
+  const es::FlowPretrainReport fit =
+      es::PretrainMotionField(lifted.samples, fit_options, &field);
+  std::printf("fit rmse %.4g (targets rms %.4g, start %.4g) in %.1f s\n",
+              fit.fit_rmse, fit.target_rms, fit.initial_rmse, fit.seconds);
+
+  std::filesystem::create_directories(out_dir);
+  es::SaveMotionField(field, out_dir + "/motion_field.bin");
+  const double seconds = std::chrono::duration<double>(
+                             std::chrono::steady_clock::now() - start)
+                             .count();
+  WriteFlowMetrics(out_dir + "/flow_metrics.json", seconds, fit, lifted,
+                   model, dynamic, field);
   std::printf("wrote %s/motion_field.bin and flow_metrics.json (%.1f s)\n",
               out_dir.c_str(), seconds);
   return 0;

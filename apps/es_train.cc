@@ -175,6 +175,65 @@ void WriteMetrics(const std::string& path, const LoopMetrics& m,
   }, /*binary=*/false);
 }
 
+// V pretrained by es_flowinit (<init>/motion_field.bin) when there is one
+// and it is wanted; nullopt starts V from scratch.
+std::optional<MotionField> PretrainedMotion(const JointTrainerOptions& options,
+                                            bool* flow_init) {
+  *flow_init = false;
+  if (!options.use_motion) return std::nullopt;
+  const std::string path = (fs::path(FLAGS_init) / "motion_field.bin").string();
+  if (FLAGS_no_flow_init) {
+    std::printf("V: from scratch (--no_flow_init)\n");
+    return std::nullopt;
+  }
+  if (!fs::exists(path)) {
+    std::printf("V: from scratch (%s not found)\n", path.c_str());
+    return std::nullopt;
+  }
+  *flow_init = true;
+  std::printf("V: pretrained from %s\n", path.c_str());
+  return LoadMotionField(path);
+}
+
+// Runs the trainer to options.iterations with progress lines and periodic
+// checkpoints; returns the mean loss of the last logged interval (NaN if
+// nothing was logged).
+double Train(const JointTrainerOptions& options,
+             const std::string& checkpoint_path, JointTrainer* trainer) {
+  using Clock = std::chrono::steady_clock;
+  const Clock::time_point start = Clock::now();
+  const int64_t first = trainer->iteration();
+  double loss_sum = 0, final_loss = NAN;
+  int loss_count = 0;
+  while (trainer->iteration() < options.iterations) {
+    const JointIterationStats s = trainer->Step();
+    loss_sum += s.loss;
+    ++loss_count;
+    const int64_t it = trainer->iteration();
+    if (FLAGS_log_interval > 0 &&
+        (it % FLAGS_log_interval == 0 || it == options.iterations)) {
+      final_loss = loss_sum / loss_count;
+      const double elapsed =
+          std::chrono::duration<double>(Clock::now() - start).count();
+      const double rate = (it - first) / std::max(elapsed, 1e-9);
+      std::printf(
+          "iter %lld/%d  loss %.5f (photo %.5f mask %.5f res %.2e)  "
+          "dynamic %d  %.2f it/s  ETA %.0f s\n",
+          static_cast<long long>(it), options.iterations, final_loss,
+          s.photometric, s.mask, s.residual, s.num_dynamic, rate,
+          (options.iterations - it) / rate);
+      std::fflush(stdout);
+      loss_sum = 0;
+      loss_count = 0;
+    }
+    if (FLAGS_checkpoint_interval > 0 &&
+        it % FLAGS_checkpoint_interval == 0) {
+      WriteJointCheckpoint(trainer->Save(), checkpoint_path);
+    }
+  }
+  return final_loss;
+}
+
 int Run() {
   Require(!FLAGS_scene.empty(), "--scene is required");
   Require(!FLAGS_init.empty(), "--init is required");
@@ -188,22 +247,8 @@ int Run() {
   GaussianSet initial = ReadPly(static_ply);
   std::printf("loaded %s: %d Gaussians, SH degree %d\n", static_ply.c_str(),
               initial.size(), initial.sh_degree);
-
-  const std::string motion_path =
-      (fs::path(FLAGS_init) / "motion_field.bin").string();
-  std::optional<MotionField> motion;
   bool flow_init = false;
-  if (options.use_motion) {
-    if (FLAGS_no_flow_init) {
-      std::printf("V: from scratch (--no_flow_init)\n");
-    } else if (fs::exists(motion_path)) {
-      motion.emplace(LoadMotionField(motion_path));
-      flow_init = true;
-      std::printf("V: pretrained from %s\n", motion_path.c_str());
-    } else {
-      std::printf("V: from scratch (%s not found)\n", motion_path.c_str());
-    }
-  }
+  std::optional<MotionField> motion = PretrainedMotion(options, &flow_init);
 
   std::error_code error;
   fs::create_directories(FLAGS_out, error);
@@ -224,39 +269,11 @@ int Run() {
                 static_cast<long long>(trainer.iteration()));
   }
 
-  using Clock = std::chrono::steady_clock;
-  const Clock::time_point start = Clock::now();
-  const int64_t first = trainer.iteration();
-  double loss_sum = 0, final_loss = NAN;
-  int loss_count = 0;
-  while (trainer.iteration() < options.iterations) {
-    const JointIterationStats s = trainer.Step();
-    loss_sum += s.loss;
-    ++loss_count;
-    const int64_t it = trainer.iteration();
-    if (FLAGS_log_interval > 0 &&
-        (it % FLAGS_log_interval == 0 || it == options.iterations)) {
-      final_loss = loss_sum / loss_count;
-      const double elapsed =
-          std::chrono::duration<double>(Clock::now() - start).count();
-      const double rate = (it - first) / std::max(elapsed, 1e-9);
-      std::printf(
-          "iter %lld/%d  loss %.5f (photo %.5f mask %.5f res %.2e)  "
-          "dynamic %d  %.2f it/s  ETA %.0f s\n",
-          static_cast<long long>(it), options.iterations, final_loss,
-          s.photometric, s.mask, s.residual, s.num_dynamic, rate,
-          (options.iterations - it) / rate);
-      std::fflush(stdout);
-      loss_sum = 0;
-      loss_count = 0;
-    }
-    if (FLAGS_checkpoint_interval > 0 &&
-        it % FLAGS_checkpoint_interval == 0) {
-      WriteJointCheckpoint(trainer.Save(), checkpoint_path);
-    }
-  }
-  const double seconds =
-      std::chrono::duration<double>(Clock::now() - start).count();
+  const auto start = std::chrono::steady_clock::now();
+  const double final_loss = Train(options, checkpoint_path, &trainer);
+  const double seconds = std::chrono::duration<double>(
+                             std::chrono::steady_clock::now() - start)
+                             .count();
 
   SaveLoopModel(trainer.model(), FLAGS_out);
   const LoopMetrics metrics = EvaluateLoopModel(
