@@ -11,15 +11,15 @@
 #include <gflags/gflags.h>
 
 #include "apps/common/app_main.h"
-#include "core/io/atomic_file.h"
 #include "core/flow/flow_lifting.h"
+#include "core/io/atomic_file.h"
 #include "core/io/field_io.h"
 #include "core/io/input_error.h"
 #include "core/io/ply_io.h"
 #include "core/io/scene.h"
+#include "core/model/dynamic_set.h"
 #include "solvers/eval/motion_gt.h"
 #include "solvers/train/flow_pretrain.h"
-#include "solvers/train/joint_trainer.h"
 
 DEFINE_string(scene, "", "Scene directory (images/, sparse/0/, masks/).");
 DEFINE_string(static, "",

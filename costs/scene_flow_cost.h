@@ -24,10 +24,10 @@ struct SceneFlowBatch {
 
 // Scene-flow pretraining loss of V over a mini-batch,
 //   l = mean_s 0.5 |V(x_s) - V'(x_s)|^2,
-// exposed as one residual r = sqrt(2 l + eps) so that J^T r = dl/dtheta (see
-// DESIGN.md). Parameter blocks: the field's triplane, then its MLP. The batch
-// is read at each Evaluate, so a training loop refills it in place between
-// steps. Not thread-safe: Evaluate reuses one workspace.
+// exposed as one residual r = sqrt(2 l + eps) so that J^T r = dl/dtheta
+// (see docs/DESIGN.md). Parameter blocks: the field's triplane, then its MLP.
+// The batch is read at each Evaluate, so a training loop refills it in place
+// between steps. Not thread-safe: Evaluate reuses one workspace.
 class SceneFlowCost : public ceres::CostFunction {
  public:
   SceneFlowCost(const MotionField* field, const SceneFlowBatch* batch,

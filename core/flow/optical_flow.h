@@ -13,7 +13,8 @@ namespace es {
 // Dense 2D optical flow between adjacent frames. A flow image is CV_32FC2,
 // same size as the frames: flow(y, x) = (dx, dy) moves pixel (x, y) of the
 // first frame onto its match at (x + dx, y + dy) in the second (OpenCV's
-// convention; pixel centers as in DESIGN.md, which a shift does not change).
+// convention; pixel centers as in docs/DESIGN.md, which a shift does not
+// change).
 enum class FlowMethod {
   kDisUltrafast,  // cv::DISOpticalFlow presets
   kDisFast,

@@ -24,8 +24,8 @@ struct SceneOptions {
   double test_fraction = 0.1;  // of all frames, spread over those segments
 };
 
-// A scene directory (see DESIGN.md): images/ (or a video file in it), masks/,
-// sparse/0/, optional split.txt (format in core/io/split.h). Frames are sorted
+// A scene directory (see docs/DESIGN.md): images/ (or a video file in it),
+// masks/, sparse/0/, optional split.txt (format in core/io/split.h). Frames are sorted
 // by image name, which is their time order.
 struct Scene {
   std::string dir;

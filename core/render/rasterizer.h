@@ -10,7 +10,7 @@
 
 namespace es {
 
-// Conventions shared with the 3DGS / gsplat ecosystem (see DESIGN.md).
+// Conventions shared with the 3DGS / gsplat ecosystem (see docs/DESIGN.md).
 constexpr double kCovarianceDilation = 0.3;   // px^2 added to the 2D covariance
 constexpr double kNearPlane = 0.01;           // cull z <= this
 constexpr double kMaxAlpha = 0.99;            // keeps 1 - alpha invertible
@@ -70,9 +70,9 @@ struct SplatGradients {
 // Forward (and its buffers, reused to avoid allocation), so Backward must
 // follow Forward on the same object with the same camera, splats and
 // options; the arrays the SplatView points at must stay alive and unchanged
-// in between. Conventions: see core/render/raster_project.h (projection, culling,
-// FOV clamp) and core/rasterizer.cc (compositing); the test twin is
-// tests/reference_rasterizer.h.
+// in between. Conventions: see core/render/raster_project.h (projection,
+// culling, FOV clamp) and core/render/rasterizer.cc (compositing); the test
+// twin is tests/reference_rasterizer.h.
 class Rasterizer {
  public:
   Rasterizer();

@@ -12,6 +12,7 @@
 #include "core/io/scene.h"
 #include "core/loop/euler_chain.h"
 #include "core/model/gaussians.h"
+#include "core/model/dynamic_set.h"
 #include "core/model/loop_model.h"
 #include "core/render/rasterizer.h"
 #include "costs/joint_render_cost.h"
@@ -62,15 +63,6 @@ struct JointIterationStats {
   int num_dynamic = 0;
   EulerStats euler;
 };
-
-// The Gaussians whose sigmoid(dynamic_logit) exceeds threshold, ascending.
-std::vector<int> DynamicSet(const GaussianSet& g, double threshold);
-
-// The box the fields span: the bounds of the given Gaussians' means (all of
-// them when the list is empty) padded by 10% of their size on every side
-// (and at least a small absolute margin, so the box is never empty).
-void FieldBox(const GaussianSet& g, const std::vector<int>& indices,
-              Eigen::Vector3d* lo, Eigen::Vector3d* hi);
 
 // Trains a looping model (Stage 3): one sampled training frame per
 // iteration, composed at its frame index (Alg. 1 + D), rendered and scored
