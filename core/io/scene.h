@@ -25,8 +25,8 @@ struct SceneOptions {
 };
 
 // A scene directory (see docs/DESIGN.md): images/ (or a video file in it),
-// masks/, sparse/0/, optional split.txt (format in core/io/split.h). Frames are sorted
-// by image name, which is their time order.
+// masks/, sparse/0/, optional split.txt (format in core/io/split.h). Frames
+// are sorted by image name, which is their time order.
 struct Scene {
   std::string dir;
   std::vector<Frame> frames;
