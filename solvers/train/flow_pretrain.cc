@@ -138,6 +138,19 @@ class ProgressCallback : public ceres::IterationCallback {
   const Stopwatch& clock_;
 };
 
+// Makes a Ceres solver run the iterations asked for rather than stop on its
+// default tolerances, which are tuned for cost scales of order 1, and report
+// each one to `callback`.
+template <typename SolverOptions>
+void RunAllIterations(int iterations, ceres::IterationCallback* callback,
+                      SolverOptions* options) {
+  options->max_num_iterations = iterations;
+  options->function_tolerance = 1e-15;
+  options->gradient_tolerance = 1e-20;
+  options->parameter_tolerance = 1e-15;
+  options->callbacks.push_back(callback);
+}
+
 int FitWithLbfgs(const std::vector<SceneFlowSample>& samples,
                  const FlowPretrainOptions& options, const Stopwatch& clock,
                  MotionField* field) {
@@ -152,14 +165,8 @@ int FitWithLbfgs(const std::vector<SceneFlowSample>& samples,
   ceres::GradientProblemSolver::Options solver_options;
   solver_options.line_search_direction_type = ceres::LBFGS;
   solver_options.use_approximate_eigenvalue_bfgs_scaling = true;
-  solver_options.max_num_iterations = options.iterations;
-  // Run the iterations asked for rather than stop on Ceres' defaults, which
-  // are tuned for cost scales of order 1.
-  solver_options.function_tolerance = 1e-15;
-  solver_options.gradient_tolerance = 1e-20;
-  solver_options.parameter_tolerance = 1e-15;
   ProgressCallback callback(options, clock);
-  solver_options.callbacks.push_back(&callback);
+  RunAllIterations(options.iterations, &callback, &solver_options);
   ceres::GradientProblemSolver::Summary summary;
   ceres::Solve(solver_options, problem, x.data(), &summary);
   VLOG(1) << summary.FullReport();
@@ -197,12 +204,8 @@ int FitWithLm(const std::vector<SceneFlowSample>& samples,
                            field->mlp_params().data());
   ceres::Solver::Options solver_options;
   solver_options.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
-  solver_options.max_num_iterations = options.iterations;
-  solver_options.function_tolerance = 1e-15;
-  solver_options.gradient_tolerance = 1e-20;
-  solver_options.parameter_tolerance = 1e-15;
   ProgressCallback callback(options, clock);
-  solver_options.callbacks.push_back(&callback);
+  RunAllIterations(options.iterations, &callback, &solver_options);
   ceres::Solver::Summary summary;
   ceres::Solve(solver_options, &problem, &summary);
   VLOG(1) << summary.FullReport();
