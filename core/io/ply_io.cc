@@ -12,6 +12,8 @@
 #include <string>
 #include <vector>
 
+#include <glog/logging.h>
+
 #include "core/io/input_error.h"
 
 namespace es {
@@ -318,6 +320,13 @@ void CheckSizeFits(const std::string& path, const std::string& data,
                      " vertices)");
 }
 
+// Tools that store opacity in 8 bits write opacity 1 and 0 back as logits
+// +Inf and -Inf. The largest finite logit we keep, that of opacity 0.9999,
+// renders exactly as opacity 1 (alpha saturates at 0.99) and its negative
+// exactly as 0 (alpha below 1/255 is skipped), yet leaves a gradient if the
+// model is trained further.
+const double kOpacityLogitLimit = std::log(9999.0);
+
 }  // namespace
 
 GaussianSet ReadPly(const std::string& path) {
@@ -389,6 +398,7 @@ GaussianSet ReadPly(const std::string& path) {
   const int k_count = g.sh_coeffs();
   RowReader reader(path, data, header);
   std::vector<double> values;
+  int64_t infinite_opacity = 0;
   for (int e = 0; e < vertex_index; ++e)
     for (int64_t row = 0; row < header.elements[e].count; ++row)
       reader.Read(header.elements[e], row, &values);
@@ -398,6 +408,11 @@ GaussianSet ReadPly(const std::string& path) {
       const Target& t = targets[p];
       if (t.field == Field::kIgnored) continue;
       const double v = values[p];
+      if (t.field == Field::kOpacity && std::isinf(v)) {
+        g.opacity_logits[n] = v > 0 ? kOpacityLogitLimit : -kOpacityLogitLimit;
+        ++infinite_opacity;
+        continue;
+      }
       if (!std::isfinite(v))
         throw InputError(path + ": vertex " + std::to_string(n) +
                          " has a non-finite value");
@@ -431,6 +446,12 @@ GaussianSet ReadPly(const std::string& path) {
           break;
       }
     }
+  }
+  if (infinite_opacity > 0) {
+    LOG(WARNING) << path << ": " << infinite_opacity
+                 << " opacity logits are +/-Inf (opacity exactly 1 or 0, as "
+                    "8-bit formats write them back); clamped to +/-"
+                 << kOpacityLogitLimit;
   }
   return g;
 }

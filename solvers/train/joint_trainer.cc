@@ -339,6 +339,51 @@ void JointTrainer::Restore(const JointCheckpoint& c,
   grad_ = GaussianSet();
 }
 
+LoopModel JointTrainer::FinalModel(int* pruned) const {
+  LoopModel model = model_;
+  const int removed =
+      PruneInvisible(static_cast<int>(frames_->size()), &model);
+  if (pruned) *pruned = removed;
+  return model;
+}
+
+int PruneInvisible(int num_frames, LoopModel* model) {
+  GaussianSet& g = model->gaussians;
+  std::vector<double> peak(g.opacity_logits);  // largest logit shown
+  if (model->num_dynamic() > 0 && model->residual) {
+    const LoopSplatView view = LoopSplatView::Of(*model);
+    FrameComposer composer;
+    const int frames = std::max(num_frames, 2 * model->cycle_length);
+    for (int i = 0; i < frames; ++i) {
+      const SplatView& splats = composer.Compose(view, i);
+      for (int g_index : model->dynamic_index)
+        peak[g_index] =
+            std::max(peak[g_index], splats.opacity_logits[g_index]);
+    }
+  }
+  const double threshold = Logit(kInvisibleOpacity);
+  std::vector<bool> keep(g.size());
+  std::vector<int> new_index(g.size(), -1);
+  int kept = 0;
+  for (int i = 0; i < g.size(); ++i) {
+    keep[i] = peak[i] >= threshold;
+    if (keep[i]) new_index[i] = kept++;
+  }
+  const int removed = g.size() - kept;
+  if (removed == 0) return 0;
+  g.Filter(keep);
+  std::vector<int> dynamic_index, start_times;
+  for (int k = 0; k < model->num_dynamic(); ++k) {
+    const int i = model->dynamic_index[k];
+    if (!keep[i]) continue;
+    dynamic_index.push_back(new_index[i]);
+    start_times.push_back(model->start_times[k]);
+  }
+  model->dynamic_index = std::move(dynamic_index);
+  model->start_times = std::move(start_times);
+  return removed;
+}
+
 LoopMetrics EvaluateLoopModel(const LoopModel& model,
                               const std::vector<Frame>& frames,
                               const std::vector<int>& indices,

@@ -94,6 +94,9 @@ class JointTrainer {
 
   int64_t iteration() const { return iteration_; }
   const LoopModel& model() const { return model_; }
+  // The model to keep when training ends: model() without the Gaussians
+  // that no frame shows (PruneInvisible over the video's frames).
+  LoopModel FinalModel(int* pruned = nullptr) const;
   bool uses_masks() const { return use_masks_; }
   RenderOptions render_options() const;
 
@@ -124,6 +127,18 @@ class JointTrainer {
   std::optional<JointRenderCost> cost_;
   int64_t iteration_ = 0;
 };
+
+// Below one 8-bit level of opacity a splat cannot change a pixel (the
+// rasterizer skips alpha < 1/255).
+constexpr double kInvisibleOpacity = 1.0 / 255.0;
+
+// Removes the Gaussians whose opacity is below kInvisibleOpacity in every
+// frame: static ones by their opacity, dynamic ones by their opacity with
+// D's offset at each frame i in [0, max(num_frames, 2 L)) (every training
+// frame, and every cycle index at cycle number 0, as the animation plays
+// it). Dynamic indices are remapped, start times kept. Returns the count
+// removed.
+int PruneInvisible(int num_frames, LoopModel* model);
 
 // Held-out quality of a looping model: each frame i is composed at its own
 // index (Alg. 1, t and p from i) and rendered. Means over frames; the water
