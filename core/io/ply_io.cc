@@ -14,6 +14,7 @@
 
 #include <glog/logging.h>
 
+#include "core/io/atomic_file.h"
 #include "core/io/input_error.h"
 
 namespace es {
@@ -456,7 +457,7 @@ GaussianSet ReadPly(const std::string& path) {
   return g;
 }
 
-void WritePly(const GaussianSet& gaussians, const std::string& path) {
+std::string EncodePly(const GaussianSet& gaussians) {
   gaussians.CheckConsistent();
   const int n = gaussians.size();
   const int k_count = gaussians.sh_coeffs();
@@ -496,14 +497,17 @@ void WritePly(const GaussianSet& gaussians, const std::string& path) {
     tail[8] = gaussians.dynamic_logits[i];
   }
 
-  std::ofstream file(path, std::ios::binary);
-  if (!file) throw InputError(path + ": cannot write file");
-  const std::string h = header.str();
-  file.write(h.data(), h.size());
-  file.write(reinterpret_cast<const char*>(body.data()),
-             body.size() * sizeof(float));
-  file.close();
-  if (!file) throw InputError(path + ": write failed");
+  std::string bytes = header.str();
+  bytes.append(reinterpret_cast<const char*>(body.data()),
+               body.size() * sizeof(float));
+  return bytes;
+}
+
+void WritePly(const GaussianSet& gaussians, const std::string& path) {
+  const std::string bytes = EncodePly(gaussians);
+  WriteFileAtomically(path, [&bytes](std::ofstream& out) {
+    out.write(bytes.data(), bytes.size());
+  });
 }
 
 }  // namespace es

@@ -22,6 +22,8 @@ GaussianSet ReadPly(const std::string& path);
 // Writes binary little-endian in the standard layout plus "dynamic_logit".
 // Values round-trip bit-exactly through float32.
 void WritePly(const GaussianSet& gaussians, const std::string& path);
+// The bytes WritePly writes.
+std::string EncodePly(const GaussianSet& gaussians);
 
 }  // namespace es
 
