@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -85,7 +86,9 @@ TEST_F(BrowserTest, PagePlaysTheLoopAsEsAnimateRendersIt) {
       " --page " + Quoted(Path("page")) + " --out " + Quoted(dir_.string()) +
       " --frames " + std::to_string(a) + "," + std::to_string(b) +
       " --chromium " + kChromium;
-  ASSERT_EQ(RunLogged(command, Path("node.txt")), 0)
+  const int status = RunLogged(command, Path("node.txt"));
+  std::printf("%s", ReadWholeFile(Path("node.txt")).c_str());
+  ASSERT_EQ(status, 0)
       << command << "\n" << ReadWholeFile(Path("node.txt"))
       << ReadWholeFile(Path("console.txt"));
   const Image page_a = cv::imread(Path("frame_0.png"), cv::IMREAD_COLOR);
@@ -138,16 +141,25 @@ TEST_F(BrowserTest, PagePlaysTheLoopAsEsAnimateRendersIt) {
               "other time %.5f\n",
               a, psnr_a, b, psnr_b, a, b, page_water_change,
               ours_water_change, page_still_change, b, same_time, other_time);
-  cv::imwrite(Path("ours_a.png"), ours_a);
+  if (const char* keep = std::getenv("ES_BROWSER_TEST_KEEP")) {
+    cv::imwrite(std::string(keep) + "/page.png", page_a);
+    cv::imwrite(std::string(keep) + "/es_animate.png", ours_a);
+  }
 
-  // Two loop times differ where the water is and agree elsewhere.
-  EXPECT_GT(page_water_change, 0.25 * ours_water_change);
+  // Two loop times differ where the water is (as much as es_animate's
+  // frames do; measured 0.98 of it) and agree where it is not (measured 0).
+  EXPECT_GT(page_water_change, 0.5 * ours_water_change);
   EXPECT_LT(page_still_change, 1e-4);
-  // A training camera's view resembles es_animate's frame for the same
-  // camera and time, and resembles it more than another time does.
-  EXPECT_GT(psnr_a, 25.0);
-  EXPECT_GT(psnr_b, 25.0);
-  EXPECT_LT(same_time, 0.5 * other_time);
+  // The view from a training camera resembles es_animate's frame for the
+  // same camera and time: PSNR over the whole image of 8-bit frames above
+  // 30 dB (measured 33-34 dB; the viewer stores colors in 8 bits and
+  // positions in half floats, sorts by its own depth, and blurs splats
+  // its own way). In the water the same time is far closer than another
+  // time (measured a 60x smaller squared error), so the page plays the
+  // right frame, not just a plausible one.
+  EXPECT_GT(psnr_a, 30.0);
+  EXPECT_GT(psnr_b, 30.0);
+  EXPECT_LT(same_time, 0.1 * other_time);
 }
 
 }  // namespace

@@ -19,11 +19,11 @@ constexpr int kWaterLoopLength = 6;
 
 inline Camera WaterLoopCamera() {
   Camera c;
-  c.width = 96;
-  c.height = 64;
-  c.fx = c.fy = 80;
-  c.cx = 48;
-  c.cy = 32;
+  c.width = 192;
+  c.height = 128;
+  c.fx = c.fy = 160;
+  c.cx = 96;
+  c.cy = 64;
   return LookAt(c, {0, 0, -3}, {0, 0, 0}, {0, -1, 0});
 }
 
@@ -41,7 +41,7 @@ inline LoopModel WaterLoopModel(int sh_degree = 1) {
     double* mean = &m.gaussians.means[3 * i];
     mean[0] = water ? 0.1 + 0.9 * u(rng) : -1.0 + 0.9 * u(rng);
     mean[1] = -0.6 + 1.2 * u(rng);
-    mean[2] = water ? -0.2 + 0.2 * u(rng) : 0.3;
+    mean[2] = water ? -0.3 + 0.3 * u(rng) : 0.2 + 0.5 * u(rng);
     for (int j = 0; j < 3; ++j) {
       m.gaussians.log_scales[3 * i + j] = std::log(water ? 0.05 : 0.07);
       m.gaussians.sh[3 * k_count * i + j] = 3.0 * (u(rng) - 0.5);

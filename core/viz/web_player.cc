@@ -35,12 +35,10 @@ const struct {
     {"three/LICENSE", "three/LICENSE"},
 };
 
-void CopyInto(const fs::path& from, const fs::path& to) {
+void CopyInto(const fs::path& from, const fs::path& to,
+              const std::string& hint) {
   if (!fs::is_regular_file(from))
-    throw InputError(from.string() + ": missing" +
-                     (from.string().find("node_modules") != std::string::npos
-                          ? " (scripts/setup.sh installs the npm packages)"
-                          : ""));
+    throw InputError(from.string() + ": missing (" + hint + ")");
   std::error_code error;
   fs::create_directories(to.parent_path(), error);
   if (!error) fs::copy_file(from, to, fs::copy_options::overwrite_existing, error);
@@ -96,10 +94,12 @@ int64_t ExportWebPlayer(const LoopModel& model,
   CHECK(!cameras.empty());
   const fs::path out(dir);
   for (const char* name : {"index.html", "player.js"})
-    CopyInto(fs::path(options.page_dir) / name, out / name);
+    CopyInto(fs::path(options.page_dir) / name, out / name,
+             "the page is in the project's web/player");
   for (const auto& file : kViewerFiles)
     CopyInto(fs::path(options.modules_dir) / file.from,
-             out / "lib" / file.to);
+             out / "lib" / file.to,
+             "scripts/setup.sh installs the npm packages");
   LoopFileOptions loop;
   loop.fps = options.fps;
   loop.background = options.background;

@@ -190,7 +190,7 @@ async function main() {
     async showFrame(f) {
       paused = true;
       frame = f % loop.numFrames;
-      for (let i = 0; i < 20; ++i) {
+      for (let i = 0; i < 6; ++i) {
         await new Promise((resolve) => requestAnimationFrame(resolve));
       }
     },

@@ -56,6 +56,9 @@ function serve(root) {
   });
 }
 
+const t0 = Date.now();
+const stamp = (what) => console.log(`${Date.now() - t0} ms: ${what}`);
+
 async function main() {
   const args = parseArgs(process.argv.slice(2));
   const timeout = Number(args.timeout_ms);
@@ -68,6 +71,7 @@ async function main() {
     args: ["--no-sandbox", "--use-angle=swiftshader",
            "--enable-unsafe-swiftshader", "--ignore-gpu-blocklist"],
   });
+  stamp("browser started");
   const log = [];
   let errors = 0;
   try {
@@ -84,8 +88,16 @@ async function main() {
       log.push(`requestfailed: ${request.url()}`);
       ++errors;
     });
+    page.on("response", (response) => {
+      if (response.status() >= 400) {
+        log.push(`${response.status()}: ${response.url()}`);
+      }
+    });
     page.on("request", (request) => {
-      if (!request.url().startsWith(`http://127.0.0.1:${port}/`)) {
+      const url = request.url();
+      const local = url.startsWith(`http://127.0.0.1:${port}/`) ||
+                    url.startsWith("blob:") || url.startsWith("data:");
+      if (!local) {
         log.push(`outside request: ${request.url()}`);
         ++errors;
       }
@@ -96,11 +108,18 @@ async function main() {
     await page.goto(
         `http://127.0.0.1:${port}/?camera=${args.camera}&frame=0`,
         { timeout, waitUntil: "load" });
+    stamp("page loaded");
     await page.waitForFunction("window.esLoopReady === true", { timeout });
+    stamp("player ready");
+    // The splats only, without the text over them.
+    await page.evaluate(() => {
+      document.getElementById("info").style.display = "none";
+    });
     const canvas = await page.$("canvas");
     for (const frame of args.frames.split(",").map(Number)) {
       await page.evaluate((f) => window.esLoop.showFrame(f), frame);
       await canvas.screenshot({ path: join(args.out, `frame_${frame}.png`) });
+      stamp(`frame ${frame}`);
     }
   } finally {
     await writeFile(join(args.out, "console.txt"), log.join("\n") + "\n");
