@@ -5,9 +5,12 @@
 //
 //   node screenshot_loop.mjs --page DIR --out DIR --frames 0,3
 //        [--camera 0] [--chromium /usr/bin/chromium] [--timeout_ms 60000]
+//        [--window WxH]
 //
 // Writes OUT/frame_<k>.png per frame and OUT/console.txt (every console
-// message); exit status 0 only when the page loaded without errors.
+// message); exit status 0 only when the page loaded without errors. The
+// screenshots are the canvas alone, at the camera's image size, or with
+// --window the whole page as a person sees it in a window of that size.
 import { createServer } from "node:http";
 import { readFile, writeFile } from "node:fs/promises";
 import { extname, join, normalize } from "node:path";
@@ -102,23 +105,31 @@ async function main() {
         ++errors;
       }
     });
-    const view = JSON.parse(await readFile(join(args.page, "view.json")));
-    const camera = view.cameras[Number(args.camera)];
-    await page.setViewport({ width: camera.width, height: camera.height });
-    await page.goto(
-        `http://127.0.0.1:${port}/?camera=${args.camera}&frame=0`,
-        { timeout, waitUntil: "load" });
+    let query = `camera=${args.camera}&frame=0`;
+    if (args.window) {
+      const [width, height] = args.window.split("x").map(Number);
+      await page.setViewport({ width, height });
+      query = "frame=0";
+    } else {
+      const view = JSON.parse(await readFile(join(args.page, "view.json")));
+      const camera = view.cameras[Number(args.camera)];
+      await page.setViewport({ width: camera.width, height: camera.height });
+    }
+    await page.goto(`http://127.0.0.1:${port}/?${query}`,
+                    { timeout, waitUntil: "load" });
     stamp("page loaded");
     await page.waitForFunction("window.esLoopReady === true", { timeout });
     stamp("player ready");
-    // The splats only, without the text over them.
-    await page.evaluate(() => {
-      document.getElementById("info").style.display = "none";
-    });
-    const canvas = await page.$("canvas");
+    if (!args.window) {
+      // The splats only, without the text over them.
+      await page.evaluate(() => {
+        document.getElementById("info").style.display = "none";
+      });
+    }
+    const target = args.window ? page : await page.$("canvas");
     for (const frame of args.frames.split(",").map(Number)) {
       await page.evaluate((f) => window.esLoop.showFrame(f), frame);
-      await canvas.screenshot({ path: join(args.out, `frame_${frame}.png`) });
+      await target.screenshot({ path: join(args.out, `frame_${frame}.png`) });
       stamp(`frame ${frame}`);
     }
   } finally {
