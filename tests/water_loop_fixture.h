@@ -24,7 +24,8 @@ inline Camera WaterLoopCamera() {
   c.fx = c.fy = 160;
   c.cx = 96;
   c.cy = 64;
-  return LookAt(c, {0, 0, -3}, {0, 0, 0}, {0, -1, 0});
+  // Not aimed at the origin, where viewers like to point a camera.
+  return LookAt(c, {0.4, -0.3, -3.2}, {0.2, 0.1, 0}, {0, -1, 0});
 }
 
 inline LoopModel WaterLoopModel(int sh_degree = 1) {

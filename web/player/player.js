@@ -116,8 +116,10 @@ async function main() {
   const meta = await (await fetch("view.json")).json();
   const loop = parseLoop(await (await fetch(meta.loop)).arrayBuffer());
 
+  // camera=I renders exactly that camera's image; otherwise fill the window.
+  const fixedSize = params.has("camera");
   const renderer = new THREE.WebGLRenderer({ preserveDrawingBuffer: true });
-  renderer.setPixelRatio(1);
+  renderer.setPixelRatio(fixedSize ? 1 : Math.min(window.devicePixelRatio, 2));
   renderer.setClearColor(new THREE.Color(...loop.background), 1);
   document.body.appendChild(renderer.domElement);
   const scene = new THREE.Scene();
@@ -137,7 +139,6 @@ async function main() {
   const cameraIndex = Number(params.get("camera") ?? 0);
   const start = meta.cameras[cameraIndex] ?? meta.cameras[0];
   applyColmapCamera(camera, start);
-  const fixedSize = params.has("camera");
   const resize = () => {
     if (fixedSize) {
       renderer.setSize(start.width, start.height);
@@ -147,10 +148,16 @@ async function main() {
   };
   resize();
   window.addEventListener("resize", resize);
-  const controls = new OrbitControls(camera, renderer.domElement);
+  // Orbit around a point straight ahead (OrbitControls turns the camera
+  // towards its target as soon as it is made: place the camera again).
   const forward = new THREE.Vector3(0, 0, -1).applyQuaternion(camera.quaternion);
-  controls.target.copy(camera.position)
+  const target = camera.position.clone()
       .addScaledVector(forward, meta.target_distance);
+  const controls = new OrbitControls(camera, renderer.domElement);
+  applyColmapCamera(camera, start);
+  resize();
+  controls.target.copy(target);
+  controls.update();
   const keepProjection = () => setIntrinsics(camera, camera.intrinsics);
   controls.addEventListener("change", keepProjection);
 
