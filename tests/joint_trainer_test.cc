@@ -290,6 +290,7 @@ TEST(JointTrainerTest, FinalModelDropsOnlyWhatNoFrameShows) {
       for (size_t p = 0; p < before[f].size(); ++p)
         ASSERT_NEAR(before[f][p], after[f][p], 1e-6) << variant << " " << f;
   }
+}
 
 // A frame with a NaN pixel: its steps are skipped and counted, the model
 // and fields stay finite; a NaN learning rate stops at the first update.
