@@ -327,5 +327,41 @@ TEST(JointTrainerTest, MismatchedCheckpointIsAnInputError) {
   EXPECT_THROW(no_residual.Restore(full.Save(), "ckpt"), InputError);
 }
 
+TEST(JointTrainerTest, ResidualCycleNumbersCoverTheWholeVideo) {
+  // Frame i has cycle number p = floor((i - t0) / L) in [-1, (N-1) / L].
+  EXPECT_EQ(CyclesCovering(12, 4), 4);
+  EXPECT_EQ(CyclesCovering(1000, 15), 68);
+  for (int frames : {2, 15, 16, 99, 481}) {
+    const int m = CyclesCovering(frames, 15);
+    EXPECT_GT(m, (frames - 1) / 15) << frames;  // the largest p
+    EXPECT_GT(m, 1) << frames;                  // p = -1
+  }
+  const std::vector<Frame> frames = TrueFrames();
+  JointTrainer trainer(&frames, kTrain, TinyOptions(), TrueCanonical(),
+                       std::nullopt);
+  EXPECT_EQ(trainer.model().residual->options().max_cycles,
+            CyclesCovering(kFrames, kCycle));
+}
+
+TEST(JointTrainerTest, MaxDynamicPixelsKeepsWaterGaussiansSmall) {
+  const std::vector<Frame> frames = TrueFrames();
+  JointTrainerOptions options = TinyOptions();
+  options.max_dynamic_pixels = 0.5;  // the true ones are ~0.9 px
+  options.iterations = 10;
+  JointTrainer trainer(&frames, kTrain, options, TrueCanonical(),
+                       std::nullopt);
+  for (int i = 0; i < 10; ++i) trainer.Step();
+  const GaussianSet& g = trainer.model().gaussians;
+  for (int n : trainer.model().dynamic_index) {
+    // Distance ~2-2.3 from cameras with fx 30.
+    const double z = Eigen::Vector3d(&g.means[3 * n]).norm();
+    for (int a = 0; a < 3; ++a) {
+      EXPECT_LE(std::exp(g.log_scales[3 * n + a]), 0.5 * z / 30 * 1.05);
+    }
+  }
+  // Static Gaussians are not limited.
+  EXPECT_GT(std::exp(g.log_scales[0]), 0.1);
+}
+
 }  // namespace
 }  // namespace es

@@ -12,6 +12,7 @@
 #include "core/metrics/image_metrics.h"
 #include "solvers/optim/lr_schedule.h"
 #include "solvers/train/static_trainer.h"
+#include "solvers/train/water_particles.h"
 
 namespace es {
 namespace {
@@ -67,6 +68,13 @@ class Average {
 };
 
 }  // namespace
+
+int CyclesCovering(int frames, int cycle_length) {
+  CHECK_GT(cycle_length, 0);
+  // p = floor((i - t0) / L) for 0 <= i < frames and 0 <= t0 < L lies in
+  // [-1, (frames - 1) / L]; the encoding is unambiguous for |p| < max.
+  return std::max(1, frames - 1) / cycle_length + 2;
+}
 
 std::vector<int> DynamicSet(const GaussianSet& g, double threshold) {
   std::vector<int> out;
@@ -135,6 +143,8 @@ JointTrainer::JointTrainer(const std::vector<Frame>* frames,
   if (options_.use_residual) {
     ResidualFieldOptions r = options_.residual;
     r.cycle_length = options_.cycle_length;
+    r.max_cycles = CyclesCovering(static_cast<int>(frames_->size()),
+                                  options_.cycle_length);
     model_.residual.emplace(r);
     model_.residual->SetBox(lo, hi);
   }
@@ -188,6 +198,19 @@ void JointTrainer::RefreshDynamicSet() {
   }
   model_.dynamic_index = next;
   model_.start_times = std::move(times);
+  UpdateScaleBounds();
+}
+
+void JointTrainer::UpdateScaleBounds() {
+  if (options_.max_dynamic_pixels <= 0) return;
+  dynamic_max_scale_ =
+      PixelSizeInWorld(model_.gaussians, model_.dynamic_index, *frames_,
+                       train_, options_.max_dynamic_pixels);
+}
+
+void JointTrainer::ClampDynamicScales() {
+  if (options_.max_dynamic_pixels <= 0) return;
+  ClampScales(model_.dynamic_index, dynamic_max_scale_, &model_.gaussians);
 }
 
 GaussianLearningRates JointTrainer::LearningRates() const {
@@ -259,6 +282,7 @@ JointIterationStats JointTrainer::Step() {
   }
 
   adam_.Step(LearningRates(), grad_, &model_.gaussians);
+  ClampDynamicScales();
   ++field_step_;
   const std::vector<double> lr = FieldLearningRates();
   std::vector<std::vector<double>*> blocks = FieldBlocks();
@@ -327,6 +351,7 @@ void JointTrainer::Restore(const JointCheckpoint& c,
   adam_.set_step(c.adam_step);
   model_.dynamic_index = c.dynamic_index;
   model_.start_times = c.start_times;
+  UpdateScaleBounds();
   for (size_t b = 0; b < blocks.size(); ++b) *blocks[b] = c.field_params[b];
   field_m_ = c.field_m;
   field_v_ = c.field_v;
