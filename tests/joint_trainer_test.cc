@@ -363,5 +363,22 @@ TEST(JointTrainerTest, MaxDynamicPixelsKeepsWaterGaussiansSmall) {
   EXPECT_GT(std::exp(g.log_scales[0]), 0.1);
 }
 
+// An empty field box in a corrupt checkpoint used to reach
+// Triplane::SetBox's CHECK on resume; the reader rejects it.
+TEST(JointTrainerTest, CheckpointWithAnEmptyFieldBoxIsAnInputError) {
+  const std::vector<Frame> frames = TrueFrames();
+  JointTrainer trainer(&frames, kTrain, TinyOptions(), TrueCanonical(),
+                       std::nullopt);
+  const std::string path = ::testing::TempDir() + "/empty_box_" +
+                           std::to_string(::getpid()) + ".ckpt";
+  JointCheckpoint c = trainer.Save();
+  WriteJointCheckpoint(c, path);
+  EXPECT_NO_THROW(ReadJointCheckpoint(path));
+  c.field_boxes[3] = c.field_boxes[0];  // V's box: max x == min x
+  WriteJointCheckpoint(c, path);
+  EXPECT_THROW(ReadJointCheckpoint(path), InputError);
+  std::filesystem::remove(path);
+}
+
 }  // namespace
 }  // namespace es

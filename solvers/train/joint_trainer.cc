@@ -370,7 +370,11 @@ void JointTrainer::Restore(const JointCheckpoint& c,
     model_.residual->SetBox(lo, hi);
   }
   field_step_ = c.field_step;
-  sampler_.Restore(c.sampler);
+  try {
+    sampler_.Restore(c.sampler);
+  } catch (const InputError& e) {
+    throw InputError(source + ": " + e.what());
+  }
   std::istringstream rng(c.rng);
   rng >> rng_;
   if (rng.fail()) throw InputError(source + ": bad RNG state in checkpoint");
