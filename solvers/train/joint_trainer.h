@@ -125,8 +125,8 @@ class JointTrainer {
   int64_t iteration_ = 0;
 };
 
-// Held-out quality of a looping model: each frame i is composed at its own
-// index (Alg. 1, t and p from i) and rendered. Means over frames; the water
+// Held-out quality of a looping model: each frame is composed at its time
+// index (Alg. 1, t and p from its place in the video) and rendered. Means over frames; the water
 // variants use the masks (> 0.5) and skip frames without water (NaN when
 // none has any).
 struct LoopMetrics {
