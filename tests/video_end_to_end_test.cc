@@ -139,7 +139,7 @@ TEST(VideoEndToEndTest, FromAnMp4ToTheLoopingVideo) {
   log.clear();
   ASSERT_EQ(RunCommand(driver, &log), 0) << log;
   for (const char* stage :
-       {"[video] skipped", "[masks] skipped", "[static] skipped"})
+       {"[video] skipped", "[masks] using", "[static] skipped"})
     EXPECT_NE(log.find(stage), std::string::npos) << stage << "\n" << log;
 
   // --masks none: a static model, a clear message, no motion training.

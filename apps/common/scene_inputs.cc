@@ -189,6 +189,7 @@ PreparedScene PrepareMasks(const InputRequest& request, const fs::path& scene,
     return out;
   }
   if (fs::is_directory(scene / "masks") && request.masks != "auto") {
+    Say("\n[masks] using " + (scene / "masks").string());
     out.has_masks = true;
     return out;
   }
