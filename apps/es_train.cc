@@ -189,6 +189,7 @@ int Run() {
   Require(!scene.train.empty(), FLAGS_scene + ": no training frames");
   const std::string static_ply = (fs::path(FLAGS_init) / "static.ply").string();
   GaussianSet initial = ReadPly(static_ply);
+  Require(initial.size() > 0, static_ply + ": holds no Gaussians");
   std::printf("loaded %s: %d Gaussians, SH degree %d\n", static_ply.c_str(),
               initial.size(), initial.sh_degree);
 
@@ -234,8 +235,10 @@ int Run() {
   int loss_count = 0;
   while (trainer.iteration() < options.iterations) {
     const JointIterationStats s = trainer.Step();
-    loss_sum += s.loss;
-    ++loss_count;
+    if (!s.skipped) {
+      loss_sum += s.loss;
+      ++loss_count;
+    }
     const int64_t it = trainer.iteration();
     if (FLAGS_log_interval > 0 &&
         (it % FLAGS_log_interval == 0 || it == options.iterations)) {
@@ -253,13 +256,17 @@ int Run() {
       loss_sum = 0;
       loss_count = 0;
     }
+    // Not right after a skipped (non-finite) step: keep the last good one.
     if (FLAGS_checkpoint_interval > 0 &&
-        it % FLAGS_checkpoint_interval == 0) {
+        it % FLAGS_checkpoint_interval == 0 && trainer.last_step_ok()) {
       WriteJointCheckpoint(trainer.Save(), checkpoint_path);
     }
   }
   const double seconds =
       std::chrono::duration<double>(Clock::now() - start).count();
+  if (trainer.skipped_steps() > 0)
+    std::printf("%lld step(s) skipped for a non-finite loss or gradient\n",
+                static_cast<long long>(trainer.skipped_steps()));
 
   SaveLoopModel(trainer.model(), FLAGS_out);
   const LoopMetrics metrics = EvaluateLoopModel(

@@ -23,14 +23,11 @@
 // A stage whose outputs exist is skipped (delete its folder to redo it);
 // interrupted training resumes from its checkpoint.
 
-#include <spawn.h>
-#include <sys/wait.h>
-#include <unistd.h>  // environ
-
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -40,6 +37,8 @@
 #include <opencv2/imgproc.hpp>
 
 #include "apps/common/app_main.h"
+#include "apps/common/child_process.h"
+#include "apps/common/run_lock.h"
 #include "apps/common/scene_inputs.h"
 #include "core/io/colmap_io.h"
 #include "core/io/input_error.h"
@@ -133,7 +132,8 @@ std::string Join(const std::vector<std::string>& args) {
 }
 
 // Runs a stage binary from this binary's directory (no shell: arguments go
-// through untouched). Returns its exit status.
+// through untouched). Returns its exit status; the stage dies with the
+// driver.
 int RunStage(const std::string& binary, const std::vector<std::string>& args) {
   const std::string path = binary.find('/') == std::string::npos
                                ? (BinaryDir() / binary).string()
@@ -142,17 +142,7 @@ int RunStage(const std::string& binary, const std::vector<std::string>& args) {
   all.insert(all.end(), args.begin(), args.end());
   std::printf("\n$ %s\n", Join(all).c_str());
   std::fflush(stdout);
-  std::vector<char*> argv;
-  for (std::string& a : all) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  pid_t pid;
-  if (posix_spawn(&pid, path.c_str(), nullptr, nullptr, argv.data(),
-                  environ) != 0) {
-    throw es::InputError(path + ": cannot run (is the project built?)");
-  }
-  int status = 0;
-  waitpid(pid, &status, 0);
-  return WIFEXITED(status) ? WEXITSTATUS(status) : 128;
+  return es::RunChildProcess(path, args);
 }
 
 void RunOrThrow(const std::string& stage, const std::string& binary,
@@ -257,6 +247,12 @@ struct Pipeline {
   }
 };
 
+// Checkpoints at least six times per stage (at most every 1000
+// iterations), so a killed quick run loses a sixth of a stage, not all.
+int CheckpointInterval(int iterations) {
+  return std::clamp(iterations / 6, 1, 1000);
+}
+
 // Stage 1's flags but --out and --iterations (shared with the mask probe).
 std::vector<std::string> StaticFlags(const Pipeline& run) {
   const Preset& p = run.preset;
@@ -267,7 +263,8 @@ std::vector<std::string> StaticFlags(const Pipeline& run) {
        std::to_string(sh_interval), "--densify_from",
        std::to_string(p.densify_from), "--densify_interval",
        std::to_string(p.densify_interval), "--dynamic_threshold",
-       Number(FLAGS_dynamic_threshold)},
+       Number(FLAGS_dynamic_threshold), "--checkpoint_every",
+       std::to_string(CheckpointInterval(p.static_iterations))},
       true);
 }
 
@@ -331,7 +328,8 @@ void JointStage(const Pipeline& run) {
        std::to_string(p.motion_width), "--residual_resolution",
        std::to_string(p.field_resolution), "--residual_channels",
        std::to_string(p.residual_channels), "--residual_width",
-       std::to_string(p.residual_width)},
+       std::to_string(p.residual_width), "--checkpoint_interval",
+       std::to_string(CheckpointInterval(p.joint_iterations))},
       true);
   if (!run.has_masks) args.insert(args.end(), {"--mask_weight", "0"});
   // Later flags win in gflags, so --train_flags can override the preset's.
@@ -449,6 +447,14 @@ int Main() {
       FLAGS_static_dir.empty() ? run.out / "static" : fs::path(FLAGS_static_dir);
   const auto start = std::chrono::steady_clock::now();
   fs::create_directories(run.out);
+  // One run per output folder; runs sharing a --static_dir take turns.
+  const es::RunLock out_lock(run.out.string(),
+                             es::RunLock::Mode::kFailIfHeld);
+  std::optional<es::RunLock> static_lock;
+  if (!FLAGS_static_dir.empty()) {
+    static_lock.emplace(run.static_folder.string(),
+                        es::RunLock::Mode::kWaitIfHeld);
+  }
   const es::InputRequest request = MakeInputRequest();
   run.scene = es::PrepareFramesAndPoses(request, RunOrThrow);
   const double scale = ImageScale(run.scene, p);

@@ -116,7 +116,11 @@ StaticStageResult RunStaticStage(const StaticStageOptions& o) {
       throw InputError(checkpoint_path + ": SH degree " +
                        std::to_string(checkpoint.gaussians.sh_degree) +
                        " exceeds --sh_degree");
-    trainer.Restore(checkpoint);
+    try {
+      trainer.Restore(checkpoint);
+    } catch (const InputError& e) {
+      throw InputError(checkpoint_path + ": " + e.what());
+    }
     std::printf("resumed from %s at iteration %lld\n", checkpoint_path.c_str(),
                 static_cast<long long>(trainer.iteration()));
   }
@@ -137,7 +141,7 @@ StaticStageResult RunStaticStage(const StaticStageOptions& o) {
   double loss_sum = 0;
   while (trainer.iteration() < o.trainer.iterations) {
     const IterationStats s = trainer.Step();
-    loss_sum += s.loss;
+    if (!s.skipped) loss_sum += s.loss;
     const int64_t it = trainer.iteration();
     if (o.log_every > 0 && it % o.log_every == 0) {
       const auto now = Clock::now();
@@ -155,9 +159,15 @@ StaticStageResult RunStaticStage(const StaticStageOptions& o) {
       last_log_iteration = it;
       loss_sum = 0;
     }
-    if (o.checkpoint_every > 0 && it % o.checkpoint_every == 0)
+    // Never checkpoint right after a skipped (non-finite) step: the file on
+    // disk stays the last good state.
+    if (o.checkpoint_every > 0 && it % o.checkpoint_every == 0 &&
+        trainer.last_step_ok())
       WriteCheckpoint(trainer.Save(), checkpoint_path);
   }
+  if (trainer.skipped_steps() > 0)
+    std::printf("%lld step(s) skipped for a non-finite loss or gradient\n",
+                static_cast<long long>(trainer.skipped_steps()));
   StaticStageResult r;
   r.seconds = std::chrono::duration<double>(Clock::now() - start).count();
   r.iterations_per_second =
