@@ -74,6 +74,7 @@ std::vector<Frame> TrueFrames() {
       for (int j = 0; j < 3; ++j)
         g.means[3 * n + j] += kVelocity[j] * (i % kCycle);
     frames[i].camera = TinyCamera(i);
+    frames[i].time_index = i;
     rasterizer.Forward(frames[i].camera, SplatView::Of(g), RenderOptions(),
                        &render);
     cv::Mat(kHeight, kWidth, CV_64FC3, render.rgb.data())
@@ -147,6 +148,22 @@ TEST(JointTrainerTest, LearnsALoopingTranslation) {
   mean_v /= kNumDynamic;
   EXPECT_LT((mean_v - kVelocity).norm(), 0.2 * kVelocity.norm())
       << mean_v.transpose();
+
+  // Frames COLMAP did not register leave gaps: a frame is still composed
+  // at its place in the video, not at its rank among the frames kept.
+  std::vector<Frame> registered = frames;
+  registered.erase(registered.begin() + 5);
+  registered.erase(registered.begin() + 2);  // times 0 1 3 4 6 7 ...
+  for (int time : {6, 7}) {
+    const int index = time - 2;
+    ASSERT_EQ(registered[index].time_index, time);
+    const LoopMetrics full = EvaluateLoopModel(m, frames, {time},
+                                               trainer.render_options());
+    const LoopMetrics gap = EvaluateLoopModel(m, registered, {index},
+                                              trainer.render_options());
+    EXPECT_EQ(gap.psnr, full.psnr) << "time " << time;
+    EXPECT_GT(full.psnr, 25) << "time " << time;
+  }
 }
 
 void ExpectSameModel(const LoopModel& a, const LoopModel& b) {

@@ -154,7 +154,8 @@ JointTrainer::JointTrainer(const std::vector<Frame>* frames,
     field_v_.emplace_back(block->size(), 0.0);
     field_grad_.emplace_back(block->size(), 0.0);
   }
-  cost_.emplace(&(*frames_)[train_.at(0)], train_.at(0),
+  cost_.emplace(&(*frames_)[train_.at(0)],
+                (*frames_)[train_.at(0)].time_index,
                 LoopStructure::Of(model_), Terms(options_, use_masks_),
                 render_options(), &rasterizer_);
 }
@@ -253,7 +254,8 @@ JointIterationStats JointTrainer::Step() {
   const int n = model_.gaussians.size();
   if (grad_.size() != n || grad_.sh_degree != model_.gaussians.sh_degree)
     grad_ = ZeroGaussians(n, model_.gaussians.sh_degree);
-  cost_->Reset(&(*frames_)[out.frame], out.frame, LoopStructure::Of(model_));
+  const Frame& frame = (*frames_)[out.frame];
+  cost_->Reset(&frame, frame.time_index, LoopStructure::Of(model_));
   std::vector<double*> params = JointBlocks(&model_);
   std::vector<double*> jacobians = SplatRenderCost::Blocks(&grad_);
   for (std::vector<double>& g : field_grad_) jacobians.push_back(g.data());
@@ -383,8 +385,11 @@ void JointTrainer::Restore(const JointCheckpoint& c,
 
 LoopModel JointTrainer::FinalModel(int* pruned) const {
   LoopModel model = model_;
-  const int removed =
-      PruneInvisible(static_cast<int>(frames_->size()), &model);
+  // Every frame of the video, registered by COLMAP or not.
+  int video_frames = 0;
+  for (const Frame& f : *frames_)
+    video_frames = std::max(video_frames, f.time_index + 1);
+  const int removed = PruneInvisible(video_frames, &model);
   if (pruned) *pruned = removed;
   return model;
 }
@@ -437,8 +442,8 @@ LoopMetrics EvaluateLoopModel(const LoopModel& model,
   Average psnr, ssim, psnr_water, ssim_water;
   for (int index : indices) {
     const Frame& f = frames[index];
-    rasterizer.Forward(f.camera, composer.Compose(view, index), options,
-                       &render);
+    rasterizer.Forward(f.camera, composer.Compose(view, f.time_index),
+                       options, &render);
     const cv::Mat x(render.height, render.width, CV_64FC3,
                     render.rgb.data());
     cv::Mat y;
