@@ -301,11 +301,15 @@ int Run() {
     std::printf("%lld step(s) skipped for a non-finite loss or gradient\n",
                 static_cast<long long>(trainer.skipped_steps()));
 
-  SaveLoopModel(trainer.model(), FLAGS_out);
+  int pruned = 0;
+  const LoopModel model = trainer.FinalModel(&pruned);
+  std::printf("pruned %d invisible Gaussians (opacity < 1/255 in every "
+              "frame)\n", pruned);
+  SaveLoopModel(model, FLAGS_out);
   const LoopMetrics metrics = EvaluateLoopModel(
-      trainer.model(), scene.frames, scene.test, trainer.render_options());
+      model, scene.frames, scene.test, trainer.render_options());
   WriteMetrics((fs::path(FLAGS_out) / "metrics.json").string(), metrics,
-               seconds, trainer.iteration(), trainer.model(), flow_init,
+               seconds, trainer.iteration(), model, flow_init,
                final_loss);
   std::printf("test PSNR %.3f SSIM %.4f (water PSNR %.3f SSIM %.4f) over %d "
               "frames; %.1f s\n",

@@ -1,16 +1,24 @@
-// The all-in-one driver: from a scene directory to a looping 4D model, a
-// looping video, metrics and a contact sheet. Runs the stage binaries that
-// sit next to it (es_static, es_flowinit, es_train, es_animate, es_eval),
-// each a process of its own so every stage can also be run, resumed or
-// debugged alone with the very same flags the driver prints.
+// The all-in-one driver: from a video (or a scene directory) to a looping
+// 4D model, a looping video, metrics and a contact sheet. Runs the stage
+// binaries that sit next to it (es_poses, es_masks, es_static, es_flowinit,
+// es_train, es_animate, es_export, es_eval), each a process of its own so
+// every stage can also be run, resumed or debugged alone with the very
+// same flags the driver prints.
 //
+//   eulersplat --video FILE --out DIR [--preset quick|paper]
 //   eulersplat --scene DIR --out DIR [--preset quick|paper]
 //
+// OUT/scene/           the frames of --video, or a view of --scene that
+//                      adds what it lacks (poses, masks) without writing
+//                      into it (apps/common/scene_inputs.h)
+// OUT/masks_sheet.png  auto masks: the frames with their water, to check
 // OUT/static/          Stage 1 (static.ply) and Stage 2 (motion_field.bin);
 //                      --static_dir puts them elsewhere (shared ablations)
 // OUT/model/           Stage 3, the looping model (es_train)
 // OUT/animate/         looping video along the input trajectory, with tracks
 // OUT/animate_fixed/   fixed-view video and its x-t slice
+// OUT/web/             web page that plays the loop (es_export)
+// OUT/frame_0.ply      loop frame 0 as a standard 3DGS PLY
 // OUT/eval/eval.json   metrics (es_eval)
 // OUT/contact_sheet.png
 //
@@ -33,6 +41,7 @@
 #include "apps/common/app_main.h"
 #include "apps/common/child_process.h"
 #include "apps/common/run_lock.h"
+#include "apps/common/scene_inputs.h"
 #include "core/io/colmap_io.h"
 #include "core/io/input_error.h"
 #include "core/io/ply_io.h"
@@ -40,7 +49,23 @@
 #include "solvers/train/joint_trainer.h"
 
 DEFINE_string(scene, "", "Scene directory: images/ (or a video), optional "
-              "masks/, sparse/0/ (made with COLMAP if missing).");
+              "masks/, sparse/0/ (made with COLMAP if missing). Never "
+              "written into: what it lacks is made in OUT/scene.");
+DEFINE_string(video, "", "A video file (mp4, mov, ...) instead of --scene: "
+              "frames are chosen (--fps, --max_frames, --max_width) and "
+              "written to OUT/scene, then poses and masks are made.");
+DEFINE_string(masks, "", "auto: find the water from the video (default "
+              "when the scene has no masks/); none: everything is static; "
+              "or a folder of masks named like the frames (white = water; "
+              "with --video, named by video frame: frame_000000.png, ...).");
+DEFINE_double(fps, 0, "--video: frames per second kept (0: the video's "
+              "own rate).");
+DEFINE_int32(max_frames, 150, "--video: at most this many frames, from "
+             "the start.");
+DEFINE_int32(max_width, 640, "--video: frames wider than this are scaled "
+             "down (0: never).");
+DEFINE_int32(mask_probe_iterations, -1, "Iterations of the static fit "
+             "auto masks are found with (-1: half the preset's Stage 1).");
 DEFINE_string(out, "", "Output directory (created).");
 DEFINE_string(preset, "quick",
               "quick: a few minutes on 2 cores, at most 320 px wide, small "
@@ -67,9 +92,9 @@ DEFINE_string(train_flags, "", "Extra flags for es_train, space-separated, "
               "(ablations).");
 DEFINE_bool(animate, true, "Render the looping videos and contact sheet "
             "(off: train and evaluate only).");
-DEFINE_string(colmap_script, "", "Pose script run when sparse/0 is missing "
-              "(default: scripts/colmap_poses.sh of the source tree this "
-              "binary was built in).");
+DEFINE_string(pose_script, "", "Run as `bash SCRIPT SCENE` instead of "
+              "es_poses (COLMAP) when the scene has no sparse/0; it must "
+              "write SCENE/sparse/0.");
 
 namespace {
 
@@ -145,26 +170,6 @@ std::string Number(double v) {
   char text[32];
   std::snprintf(text, sizeof(text), "%g", v);
   return text;
-}
-
-// Makes sparse/0 with COLMAP when the scene has frames but no poses.
-void EnsurePoses(const fs::path& scene) {
-  if (fs::exists(scene / "sparse" / "0")) return;
-  if (!fs::is_directory(scene / "images")) {
-    throw es::InputError(scene.string() + ": no images/ and no sparse/0");
-  }
-  fs::path script = FLAGS_colmap_script;
-  if (script.empty()) {
-    script = BinaryDir().parent_path().parent_path() / "scripts" /
-             "colmap_poses.sh";
-  }
-  if (!fs::exists(script)) {
-    throw es::InputError(script.string() + ": pose script not found; give "
-                         "--colmap_script or run COLMAP into sparse/0");
-  }
-  std::printf("[poses] %s has no sparse/0: recovering poses with COLMAP\n",
-              scene.string().c_str());
-  RunOrThrow("[poses]", "/bin/bash", {script.string(), scene.string()});
 }
 
 // The preset's image scale for this scene: quick keeps frames at most
@@ -250,24 +255,31 @@ int CheckpointInterval(int iterations) {
   return std::clamp(iterations / 6, 1, 1000);
 }
 
-void StaticStage(const Pipeline& run) {
-  if (AllExist({run.static_ply(), run.static_dir() / "metrics.json"})) {
-    Skip("static", run.static_dir());
-    return;
-  }
+// Stage 1's flags but --out and --iterations (shared with the mask probe).
+std::vector<std::string> StaticFlags(const Pipeline& run) {
   const Preset& p = run.preset;
   const int sh_interval =
       std::max(1, p.static_iterations / (p.sh_degree + 1));
-  std::vector<std::string> args = run.Args(
-      {"--out", run.static_dir().string(), "--iterations",
-       std::to_string(p.static_iterations), "--sh_degree",
-       std::to_string(p.sh_degree), "--sh_degree_interval",
+  return run.Args(
+      {"--sh_degree", std::to_string(p.sh_degree), "--sh_degree_interval",
        std::to_string(sh_interval), "--densify_from",
        std::to_string(p.densify_from), "--densify_interval",
        std::to_string(p.densify_interval), "--dynamic_threshold",
        Number(FLAGS_dynamic_threshold), "--checkpoint_every",
        std::to_string(CheckpointInterval(p.static_iterations))},
       true);
+}
+
+void StaticStage(const Pipeline& run) {
+  if (AllExist({run.static_ply(), run.static_dir() / "metrics.json"})) {
+    Skip("static", run.static_dir());
+    return;
+  }
+  std::vector<std::string> args = {
+      "--out", run.static_dir().string(), "--iterations",
+      std::to_string(run.preset.static_iterations)};
+  const std::vector<std::string> flags = StaticFlags(run);
+  args.insert(args.end(), flags.begin(), flags.end());
   if (!run.has_masks) args.insert(args.end(), {"--mask_weight", "0"});
   // es_static resumes only from a checkpoint that exists.
   if (fs::exists(run.static_dir() / "checkpoint.bin")) {
@@ -356,6 +368,24 @@ void AnimateStage(const Pipeline& run) {
   }
 }
 
+// A web page that plays the loop with orbit controls, and a PLY of loop
+// frame 0 for other 3DGS tools. Not fatal: the page needs the npm packages
+// scripts/setup.sh installs.
+void ExportStage(const Pipeline& run) {
+  const fs::path dir = run.out / "web", ply = run.out / "frame_0.ply";
+  if (AllExist({dir / "view.json", ply})) {
+    Skip("export", dir);
+    return;
+  }
+  if (RunStage("es_export",
+               run.Args({"--model", run.model_dir().string(), "--web",
+                         dir.string(), "--ply", ply.string()},
+                        true)) != 0) {
+    std::printf("[export] failed (its message is above); the other outputs "
+                "are complete\n");
+  }
+}
+
 void EvalStage(const Pipeline& run) {
   if (AllExist({run.eval_dir() / "eval.json"})) {
     Skip("eval", run.eval_dir());
@@ -392,9 +422,32 @@ bool HasDynamicGaussians(const Pipeline& run) {
   return false;
 }
 
+es::InputRequest MakeInputRequest() {
+  es::InputRequest r;
+  r.video = FLAGS_video;
+  r.scene = FLAGS_scene;
+  r.out = FLAGS_out;
+  r.masks = FLAGS_masks;
+  r.import.fps = FLAGS_fps;
+  r.import.max_frames = FLAGS_max_frames;
+  r.import.max_width = FLAGS_max_width;
+  r.pose_script = FLAGS_pose_script;
+  return r;
+}
+
+es::MaskProbe MakeMaskProbe(const Pipeline& run) {
+  es::MaskProbe probe;
+  probe.iterations = FLAGS_mask_probe_iterations >= 0
+                         ? FLAGS_mask_probe_iterations
+                         : std::max(1, run.preset.static_iterations / 2);
+  probe.static_flags = StaticFlags(run);
+  probe.mask_flags = run.Args({}, true);
+  return probe;
+}
+
 int Main() {
-  if (FLAGS_scene.empty() || FLAGS_out.empty()) {
-    throw es::InputError("--scene and --out are required");
+  if (FLAGS_out.empty() || FLAGS_scene.empty() == FLAGS_video.empty()) {
+    throw es::InputError("--out and one of --scene or --video are required");
   }
   if (FLAGS_cycle_length < 1) {
     throw es::InputError("--cycle_length must be >= 1");
@@ -409,14 +462,11 @@ int Main() {
   if (FLAGS_joint_iterations >= 0) {
     p.joint_iterations = FLAGS_joint_iterations;
   }
-  run.scene = FLAGS_scene;
   run.out = FLAGS_out;
   run.static_folder =
       FLAGS_static_dir.empty() ? run.out / "static" : fs::path(FLAGS_static_dir);
-  if (!fs::is_directory(run.scene)) {
-    throw es::InputError(FLAGS_scene + ": no such directory");
-  }
   const auto start = std::chrono::steady_clock::now();
+  fs::create_directories(run.out);
   // One run per output folder; runs sharing a --static_dir take turns.
   const es::RunLock out_lock(run.out.string(),
                              es::RunLock::Mode::kFailIfHeld);
@@ -425,23 +475,36 @@ int Main() {
     static_lock.emplace(run.static_folder.string(),
                         es::RunLock::Mode::kWaitIfHeld);
   }
-  EnsurePoses(run.scene);
+  const es::InputRequest request = MakeInputRequest();
+  run.scene = es::PrepareFramesAndPoses(request, RunOrThrow);
   const double scale = ImageScale(run.scene, p);
-  run.has_masks = fs::is_directory(run.scene / "masks");
   run.common = {"--scene", run.scene.string(), "--image_scale",
                 Number(scale)};
   if (FLAGS_white_background) run.background = {"--white_background"};
-  std::printf("[eulersplat] preset %s: %d static / %d flow / %d joint "
+  const es::PreparedScene prepared =
+      es::PrepareMasks(request, run.scene, MakeMaskProbe(run), RunOrThrow);
+  run.has_masks = prepared.has_masks;
+  std::printf("\n[eulersplat] preset %s: %d static / %d flow / %d joint "
               "iterations, L = %d, image scale %.3g, masks %s\n",
               FLAGS_preset.c_str(), p.static_iterations, p.flow_iterations,
               p.joint_iterations, FLAGS_cycle_length, scale,
               run.has_masks ? "yes" : "no");
 
+  if (prepared.static_only) {
+    std::printf("[eulersplat] %s: training the static model only (no "
+                "motion field, loop or animation)\n",
+                prepared.why_static.c_str());
+    StaticStage(run);
+    std::printf("\n[eulersplat] done: static model %s\n",
+                run.static_ply().c_str());
+    return 0;
+  }
   StaticStage(run);
   if (!HasDynamicGaussians(run)) return 0;
   FlowStage(run);
   JointStage(run);
   if (FLAGS_animate) AnimateStage(run);
+  ExportStage(run);
   EvalStage(run);
   if (FLAGS_animate) WriteContactSheet(run.out, FLAGS_cycle_length);
 
@@ -457,6 +520,12 @@ int Main() {
                 (run.out / "animate_fixed" / "animation.mp4").c_str(),
                 (run.out / "contact_sheet.png").c_str());
   }
+  if (fs::exists(run.out / "web" / "view.json")) {
+    std::printf("  web page       %s (python3 -m http.server --directory "
+                "%s, then open localhost:8000)\n",
+                (run.out / "web" / "index.html").c_str(),
+                (run.out / "web").c_str());
+  }
   return 0;
 }
 
@@ -464,8 +533,10 @@ int Main() {
 
 int main(int argc, char** argv) {
   return es::RunApp(argc, argv,
-                    "Runs every stage: static -> flow init -> joint -> "
-                    "animate -> eval.\n"
+                    "Runs every stage: video -> poses -> masks -> static -> "
+                    "flow init -> joint -> animate -> export -> eval.\n"
+                    "  eulersplat --video FILE --out DIR [--preset "
+                    "quick|paper]\n"
                     "  eulersplat --scene DIR --out DIR [--preset "
                     "quick|paper]",
                     Main);

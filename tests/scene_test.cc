@@ -141,6 +141,21 @@ TEST_F(SceneTest, LoadsFramesInNameOrderWithTheirCameras) {
   EXPECT_NEAR(scene.point_colors[0].z(), 0.2, 1e-12);
 }
 
+TEST_F(SceneTest, UnregisteredFramesKeepTheirPlaceInTime) {
+  WriteScene(6);
+  model_.images.erase(ImageNamed(FrameName(1)).id);
+  model_.images.erase(ImageNamed(FrameName(4)).id);
+  SaveModel();
+  const Scene scene = LoadScene(dir_.string());
+  ASSERT_EQ(scene.frames.size(), 4u);
+  const int expected_times[] = {0, 2, 3, 5};
+  for (int k = 0; k < 4; ++k) {
+    EXPECT_EQ(scene.frames[k].camera.image_name,
+              FrameName(expected_times[k]));
+    EXPECT_EQ(scene.frames[k].time_index, expected_times[k]);
+  }
+}
+
 TEST_F(SceneTest, LoadsMasksAsWaterProbability) {
   WriteScene(3);
   const Scene scene = LoadScene(dir_.string());
@@ -387,6 +402,7 @@ TEST_F(SceneTest, LoadsFramesFromAVideo) {
     EXPECT_NEAR(mean[0], (200 - 30 * f) / 255.0, 0.03) << "frame " << f;
     EXPECT_NEAR(mean[1], 100 / 255.0, 0.03) << "frame " << f;
     EXPECT_NEAR(mean[2], 40 * f / 255.0, 0.03) << "frame " << f;
+    EXPECT_EQ(frame.time_index, f);
   }
 
   ColmapImage extra;

@@ -62,6 +62,7 @@ std::vector<Frame> Frames(double fill = -1) {
   for (int k = 0; k < 6; ++k) {
     Frame f;
     f.camera = CameraAt(0.1 * k - 0.25);
+    f.time_index = k;
     if (fill >= 0) {
       f.image = cv::Mat(kHeight, kWidth, CV_32FC3, cv::Scalar::all(fill));
     } else {

@@ -228,13 +228,17 @@ SceneFlowResult LiftSceneFlow(const Scene& scene, const GaussianSet& model,
   if (options.use_test_frames) {
     for (int i : scene.test) usable[i] = true;
   }
+  // Samples are motion per frame: a pair must be one video frame apart,
+  // not merely neighbours among the frames COLMAP registered.
   std::vector<int> pairs;  // first frame of each pair
   for (int i = 0; i + 1 < num_frames; ++i) {
-    if (usable[i] && usable[i + 1]) pairs.push_back(i);
+    if (usable[i] && usable[i + 1] &&
+        scene.frames[i + 1].time_index == scene.frames[i].time_index + 1)
+      pairs.push_back(i);
   }
   if (pairs.empty()) {
     throw InputError(scene.dir +
-                     ": no two adjacent frames are both training frames, so "
+                     ": no two consecutive video frames are both training frames, so "
                      "there is no optical flow to lift");
   }
   result.num_pairs = static_cast<int>(pairs.size());

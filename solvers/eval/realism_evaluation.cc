@@ -20,12 +20,15 @@ std::vector<cv::Mat> RenderAtInputCameras(const LoopModel& model,
                                           const RenderOptions& options) {
   LoopRenderer renderer(&model, options);
   std::vector<cv::Mat> out;
+  // Each frame at its place in the video: frames COLMAP did not register
+  // are stepped over, not closed up.
+  int time = 0;
   for (size_t i = 0; i < frames.size(); ++i) {
-    if (i == 0) {
-      renderer.Start(0);
-    } else {
-      renderer.Advance();
+    if (i == 0 || frames[i].time_index < time) {
+      time = frames[i].time_index;
+      renderer.Start(time);
     }
+    for (; time < frames[i].time_index; ++time) renderer.Advance();
     const RenderResult& r = renderer.Render(frames[i].camera);
     out.push_back(cv::Mat(r.height, r.width, CV_64FC3,
                           const_cast<double*>(r.rgb.data()))

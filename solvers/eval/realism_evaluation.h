@@ -14,8 +14,8 @@
 namespace es {
 
 // The looping model played with Alg. 2 (p = 0) from frame 0 and seen by
-// every input camera: element i is frame i rendered at frames[i]'s camera
-// (CV_64FC3, RGB). Training and held-out frames alike.
+// every input camera: element i is the loop at frames[i].time_index (its
+// place in the video) rendered at frames[i]'s camera (CV_64FC3, RGB). Training and held-out frames alike.
 std::vector<cv::Mat> RenderAtInputCameras(const LoopModel& model,
                                           const std::vector<Frame>& frames,
                                           const RenderOptions& options);

@@ -154,7 +154,8 @@ JointTrainer::JointTrainer(const std::vector<Frame>* frames,
     field_v_.emplace_back(block->size(), 0.0);
     field_grad_.emplace_back(block->size(), 0.0);
   }
-  cost_.emplace(&(*frames_)[train_.at(0)], train_.at(0),
+  cost_.emplace(&(*frames_)[train_.at(0)],
+                (*frames_)[train_.at(0)].time_index,
                 LoopStructure::Of(model_), Terms(options_, use_masks_),
                 render_options(), &rasterizer_);
 }
@@ -253,7 +254,8 @@ JointIterationStats JointTrainer::Step() {
   const int n = model_.gaussians.size();
   if (grad_.size() != n || grad_.sh_degree != model_.gaussians.sh_degree)
     grad_ = ZeroGaussians(n, model_.gaussians.sh_degree);
-  cost_->Reset(&(*frames_)[out.frame], out.frame, LoopStructure::Of(model_));
+  const Frame& frame = (*frames_)[out.frame];
+  cost_->Reset(&frame, frame.time_index, LoopStructure::Of(model_));
   std::vector<double*> params = JointBlocks(&model_);
   std::vector<double*> jacobians = SplatRenderCost::Blocks(&grad_);
   for (std::vector<double>& g : field_grad_) jacobians.push_back(g.data());
@@ -370,11 +372,63 @@ void JointTrainer::Restore(const JointCheckpoint& c,
     model_.residual->SetBox(lo, hi);
   }
   field_step_ = c.field_step;
-  sampler_.Restore(c.sampler);
+  try {
+    sampler_.Restore(c.sampler);
+  } catch (const InputError& e) {
+    throw InputError(source + ": " + e.what());
+  }
   std::istringstream rng(c.rng);
   rng >> rng_;
   if (rng.fail()) throw InputError(source + ": bad RNG state in checkpoint");
   grad_ = GaussianSet();
+}
+
+LoopModel JointTrainer::FinalModel(int* pruned) const {
+  LoopModel model = model_;
+  // Every frame of the video, registered by COLMAP or not.
+  int video_frames = 0;
+  for (const Frame& f : *frames_)
+    video_frames = std::max(video_frames, f.time_index + 1);
+  const int removed = PruneInvisible(video_frames, &model);
+  if (pruned) *pruned = removed;
+  return model;
+}
+
+int PruneInvisible(int num_frames, LoopModel* model) {
+  GaussianSet& g = model->gaussians;
+  std::vector<double> peak(g.opacity_logits);  // largest logit shown
+  if (model->num_dynamic() > 0 && model->residual) {
+    const LoopSplatView view = LoopSplatView::Of(*model);
+    FrameComposer composer;
+    const int frames = std::max(num_frames, 2 * model->cycle_length);
+    for (int i = 0; i < frames; ++i) {
+      const SplatView& splats = composer.Compose(view, i);
+      for (int g_index : model->dynamic_index)
+        peak[g_index] =
+            std::max(peak[g_index], splats.opacity_logits[g_index]);
+    }
+  }
+  const double threshold = Logit(kInvisibleOpacity);
+  std::vector<bool> keep(g.size());
+  std::vector<int> new_index(g.size(), -1);
+  int kept = 0;
+  for (int i = 0; i < g.size(); ++i) {
+    keep[i] = peak[i] >= threshold;
+    if (keep[i]) new_index[i] = kept++;
+  }
+  const int removed = g.size() - kept;
+  if (removed == 0) return 0;
+  g.Filter(keep);
+  std::vector<int> dynamic_index, start_times;
+  for (int k = 0; k < model->num_dynamic(); ++k) {
+    const int i = model->dynamic_index[k];
+    if (!keep[i]) continue;
+    dynamic_index.push_back(new_index[i]);
+    start_times.push_back(model->start_times[k]);
+  }
+  model->dynamic_index = std::move(dynamic_index);
+  model->start_times = std::move(start_times);
+  return removed;
 }
 
 LoopMetrics EvaluateLoopModel(const LoopModel& model,
@@ -388,8 +442,8 @@ LoopMetrics EvaluateLoopModel(const LoopModel& model,
   Average psnr, ssim, psnr_water, ssim_water;
   for (int index : indices) {
     const Frame& f = frames[index];
-    rasterizer.Forward(f.camera, composer.Compose(view, index), options,
-                       &render);
+    rasterizer.Forward(f.camera, composer.Compose(view, f.time_index),
+                       options, &render);
     const cv::Mat x(render.height, render.width, CV_64FC3,
                     render.rgb.data());
     cv::Mat y;

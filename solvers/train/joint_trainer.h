@@ -110,6 +110,9 @@ class JointTrainer {
 
   int64_t iteration() const { return iteration_; }
   const LoopModel& model() const { return model_; }
+  // The model to keep when training ends: model() without the Gaussians
+  // that no frame shows (PruneInvisible over the video's frames).
+  LoopModel FinalModel(int* pruned = nullptr) const;
   int64_t skipped_steps() const { return guard_.skipped(); }
   // False right after a skipped step: the state is not one to checkpoint.
   bool last_step_ok() const { return guard_.in_a_row() == 0; }
@@ -149,10 +152,22 @@ class JointTrainer {
   DivergenceGuard guard_;
 };
 
-// Held-out quality of a looping model: each frame i is composed at its own
-// index (Alg. 1, t and p from i) and rendered. Means over frames; the water
-// variants use the masks (> 0.5) and skip frames without water (NaN when
-// none has any).
+// Below one 8-bit level of opacity a splat cannot change a pixel (the
+// rasterizer skips alpha < 1/255).
+constexpr double kInvisibleOpacity = 1.0 / 255.0;
+
+// Removes the Gaussians whose opacity is below kInvisibleOpacity in every
+// frame: static ones by their opacity, dynamic ones by their opacity with
+// D's offset at each frame i in [0, max(num_frames, 2 L)) (every training
+// frame, and every cycle index at cycle number 0, as the animation plays
+// it). Dynamic indices are remapped, start times kept. Returns the count
+// removed.
+int PruneInvisible(int num_frames, LoopModel* model);
+
+// Held-out quality of a looping model: each frame is composed at its time
+// index (Alg. 1, t and p from its place in the video) and rendered. Means
+// over frames; the water variants use the masks (> 0.5) and skip frames
+// without water (NaN when none has any).
 struct LoopMetrics {
   int frames = 0;
   double psnr = 0, ssim = 0;
