@@ -5,10 +5,13 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/profile/stage_profile.h"
+
 namespace es {
 
 void AdamUpdate(const AdamOptions& o, int64_t t, double lr, int n,
                 const double* grad, double* m, double* v, double* x) {
+  ScopedStage timer(Stage::kAdam);
   CHECK_GE(t, 1);
   const double bc1 = 1.0 - std::pow(o.beta1, static_cast<double>(t));
   const double bc2 = 1.0 - std::pow(o.beta2, static_cast<double>(t));

@@ -1,0 +1,3 @@
+// The tile kernels for AVX2 + FMA (compile flags: CMakeLists.txt).
+#define ES_TILE_ISA tile_avx2
+#include "core/render/tile_kernels_impl.h"

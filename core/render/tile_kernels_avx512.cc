@@ -1,0 +1,3 @@
+// The tile kernels for AVX-512 F/VL/BW/DQ (compile flags: CMakeLists.txt).
+#define ES_TILE_ISA tile_avx512
+#include "core/render/tile_kernels_impl.h"
