@@ -5,8 +5,8 @@
 // for AVX2 / AVX-512 can be merged into, or called from, code that runs on
 // a CPU without it.
 
-#ifndef ES_TILE_ISA
-#error "define ES_TILE_ISA before including tile_kernels_impl.h"
+#if !defined(ES_TILE_ISA) || !defined(ES_TILE_FULL_ROWS)
+#error "define ES_TILE_ISA and ES_TILE_FULL_ROWS before this header"
 #endif
 
 // Lets GCC turn the selects in the row loops below into vector blends (it
@@ -30,6 +30,12 @@ namespace ES_TILE_ISA {
 namespace {
 
 constexpr int kTilePixels = kTileSize * kTileSize;
+// Whether a Gaussian's rows run over the whole tile row (a fixed trip
+// count of kTileSize, one or two vectors for AVX-512 / AVX2, no scalar
+// remainder) with the pixels outside its box masked to alpha 0, or over its
+// box only (fewer lanes wasted with 4-wide SSE2). Pixels with alpha 0 take
+// no part in either pass, so both give the same sums up to their order.
+constexpr bool kFullRows = ES_TILE_FULL_ROWS;
 
 inline int MinInt(int a, int b) { return a < b ? a : b; }
 inline int MaxInt(int a, int b) { return a > b ? a : b; }
@@ -93,21 +99,35 @@ struct TileRect {
   int Offset(int x, int y) const { return (y - y0) * kTileSize + (x - x0); }
 };
 
-// The Gaussian on pixels [x0, x1) of row y: raw[x - x0] = o exp(-sigma),
-// alpha before the 0.99 clamp, with sigma = 0.5 d^T conic d and 0 where
-// sigma < 0. Forward and backward share it so both take exactly the same
-// skip decisions.
+// The pixels of one row a Gaussian is evaluated on: n pixels from x0, of
+// which those in [lo, hi) (its box within the tile) count.
+struct RowRange {
+  int x0, n, lo, hi;
+};
+
+inline RowRange RowOf(const TileRect& r, const Span& s) {
+  if (kFullRows) return {r.x0, kTileSize, s.x0, s.x1};
+  return {s.x0, s.x1 - s.x0, s.x0, s.x1};
+}
+
+// The Gaussian on the n pixels of row y from x0: raw[i] = o exp(-sigma),
+// alpha before the 0.99 clamp, with sigma = 0.5 d^T conic d, and 0 where
+// sigma < 0 or outside [lo, hi). Forward and backward share it so both take
+// exactly the same skip decisions.
 template <typename S>
-inline void RowAlphas(const Footprint<S>& g, int y, int x0, int x1, S* raw) {
+inline void RowAlphas(const Footprint<S>& g, int y, const RowRange& row,
+                      S* raw) {
   const S dy = static_cast<S>(y) + S(0.5) - g.my;
   const S row_term = S(0.5) * g.cc * dy * dy;
   const S cross = g.cb * dy;
+  const int x0 = row.x0, lo = row.lo, hi = row.hi;
 #pragma omp simd
-  for (int x = x0; x < x1; ++x) {
+  for (int i = 0; i < row.n; ++i) {
+    const int x = x0 + i;
     const S dx = static_cast<S>(x) + S(0.5) - g.mx;
     const S sigma = S(0.5) * g.ca * dx * dx + cross * dx + row_term;
     const S a = g.opacity * ExpNonPositive(-sigma);
-    raw[x - x0] = sigma >= S(0) ? a : S(0);
+    raw[i] = sigma >= S(0) && x >= lo && x < hi ? a : S(0);
   }
 }
 
@@ -197,10 +217,11 @@ long long ForwardTile(const TilePass<S>& p, int tile, S* scratch) {
     evaluations += static_cast<long long>(s.x1 - s.x0) * (s.y1 - s.y0);
     const Footprint<S> g(&p.geom[static_cast<size_t>(kTileGeomStride) * k]);
     const S* f = &p.feature[static_cast<size_t>(nf) * k];
-    const int n = s.x1 - s.x0;
+    const RowRange row = RowOf(r, s);
+    const int n = row.n;
     for (int y = s.y0; y < s.y1; ++y) {
-      RowAlphas(g, y, s.x0, s.x1, raw);
-      const int q = r.Offset(s.x0, y);
+      RowAlphas(g, y, row, raw);
+      const int q = r.Offset(row.x0, y);
       active -= CompositeRow(n, raw, f, e - begin + 1, t + q, done + q,
                              tile_last + q, accum + q,
                              accum + kTilePixels + q,
@@ -303,16 +324,18 @@ inline bool BackwardRow(int n, const S* raw, const Footprint<S>& g,
     const S t_front = t[i] / one_minus;  // T in front of this Gaussian
     const S wi = alpha * t_front;
     w[i] = wi;
-    a0 += g0[i] * wi;
-    a1 += g1[i] * wi;
-    a2 += g2[i] * wi;
-    a3 += g3[i] * wi;
+    // Selects, not products with wi = 0, so a non-finite gradient of a
+    // pixel the Gaussian does not reach cannot leak into its sums.
+    a0 += live ? g0[i] * wi : S(0);
+    a1 += live ? g1[i] * wi : S(0);
+    a2 += live ? g2[i] * wi : S(0);
+    a3 += live ? g3[i] * wi : S(0);
     const S g_dot_f =
         g0[i] * f0 + g1[i] * f1 + g2[i] * f2 + g3[i] * f3 + g_extra_dot[i];
     // out = sum_i f_i a_i T_i + bg T_N: d out / d a_i = f_i T_i -
     // (everything behind i, background and 1 - alpha included) / (1 - a_i).
     const S g_alpha = g_dot_f * t_front - suffix[i] / one_minus;
-    suffix[i] += g_dot_f * wi;  // wi = 0 where not live
+    suffix[i] += live ? g_dot_f * wi : S(0);
     t[i] = t_front;
     // No gradient through the 0.99 clamp.
     const S g_sigma = live && r <= max_alpha ? -g_alpha * alpha : S(0);
@@ -348,14 +371,15 @@ bool BackwardGaussian(const TilePass<S>& p, const TileRect& r, const Span& s,
   const int nf = p.num_features, num_extra = p.num_extra;
   const Footprint<S> g(&p.geom[static_cast<size_t>(kTileGeomStride) * k]);
   const S* f = &p.feature[static_cast<size_t>(nf) * k];
-  const int n = s.x1 - s.x0;
+  const RowRange row = RowOf(r, s);
+  const int n = row.n;
   S w[kTileSize], raw[kTileSize], g_extra_dot[kTileSize];
   for (int i = 0; i < kTileSize; ++i) g_extra_dot[i] = S(0);
   for (int c = 0; c < num_extra; ++c) st->acc_extra[c] = S(0);
   bool touched = false;
   for (int y = s.y0; y < s.y1; ++y) {
-    RowAlphas(g, y, s.x0, s.x1, raw);
-    const int q = r.Offset(s.x0, y);
+    RowAlphas(g, y, row, raw);
+    const int q = r.Offset(row.x0, y);
     const S* gf = st->g_feat + q;
     for (int c = 4; c < nf; ++c) {
       const S* gc = gf + c * kTilePixels;
@@ -363,14 +387,14 @@ bool BackwardGaussian(const TilePass<S>& p, const TileRect& r, const Span& s,
       for (int i = 0; i < n; ++i)
         g_extra_dot[i] = (c == 4 ? S(0) : g_extra_dot[i]) + gc[i] * fc;
     }
-    touched |= BackwardRow(n, raw, g, f, rank, s.x0, y, st->last + q,
+    touched |= BackwardRow(n, raw, g, f, rank, row.x0, y, st->last + q,
                            st->t + q, st->suffix + q, gf, gf + kTilePixels,
                            gf + 2 * kTilePixels, gf + 3 * kTilePixels,
                            g_extra_dot, w, acc);
     for (int c = 4; c < nf; ++c) {
       const S* gc = gf + c * kTilePixels;
       S sum = 0;
-      for (int i = 0; i < n; ++i) sum += gc[i] * w[i];
+      for (int i = 0; i < n; ++i) sum += w[i] != S(0) ? gc[i] * w[i] : S(0);
       st->acc_extra[c - 4] += sum;
     }
   }
@@ -408,6 +432,11 @@ void BackwardTile(const TilePass<S>& p, int tile, S* scratch) {
   st.g_feat = st.suffix + kTilePixels;
   st.acc_extra = st.g_feat + p.num_features * kTilePixels;
   for (int i = 0; i < kTilePixels; ++i) st.last[i] = 0;
+  if (kFullRows && r.x1 - r.x0 < kTileSize) {
+    // Full rows also run over the pixels past the image's right edge.
+    const int n = (p.num_features + 2) * kTilePixels;
+    for (int i = 0; i < n; ++i) st.t[i] = S(0);
+  }
   const int max_last = LoadTileGradients(p, r, &st);
   for (int e = begin + max_last - 1; e >= begin; --e) {
     const int k = p.tile_entries[e];
