@@ -135,9 +135,10 @@ class StageProfile {
 
 class ScopedStage {
  public:
-  explicit ScopedStage(Stage stage) : stage_(stage) {
+  // `active` false skips the timer (for calls too small to time alone).
+  explicit ScopedStage(Stage stage, bool active = true) : stage_(stage) {
     // Inside a parallel region several threads would add up CPU time.
-    if (!StageProfile::On() || omp_in_parallel()) return;
+    if (!active || !StageProfile::On() || omp_in_parallel()) return;
     on_ = true;
     parent_ = Current();
     Current() = this;
