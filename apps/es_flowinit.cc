@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <random>
 #include <string>
 
@@ -17,6 +18,7 @@
 #include "core/io/input_error.h"
 #include "core/io/ply_io.h"
 #include "core/io/scene.h"
+#include "core/profile/stage_profile.h"
 #include "solvers/eval/motion_gt.h"
 #include "solvers/train/flow_pretrain.h"
 #include "solvers/train/joint_trainer.h"
@@ -85,6 +87,10 @@ DEFINE_int32(lbfgs_max_samples, 200000,
              "LBFGS fits a random subset of at most this many samples.");
 DEFINE_int32(seed, 1, "Seed of the field's initialization and sampling.");
 DEFINE_int32(log_every, 100, "Print pretraining progress this often.");
+DEFINE_bool(profile, false,
+            "Print where the time goes, per stage (optical flow and "
+            "lifting, then per pretraining iteration: scene-flow loss, "
+            "fields forward / backward, Adam), after the pretraining.");
 
 namespace {
 
@@ -189,7 +195,11 @@ int Run() {
                 b.c_str(), count);
     std::fflush(stdout);
   };
+  es::StageProfile::Get().Start(FLAGS_profile);
+  std::optional<es::ScopedStage> lifting_timer;
+  lifting_timer.emplace(es::Stage::kOpticalFlow);
   es::SceneFlowResult lifted = es::LiftSceneFlow(scene, model, flow_options);
+  lifting_timer.reset();
   const es::LiftingStats& s = lifted.stats;
   std::printf(
       "water pixels from %s; %ld candidates: %ld accepted, rejected %ld no "
@@ -219,6 +229,10 @@ int Run() {
       es::PretrainMotionField(lifted.samples, fit_options, &field);
   std::printf("fit rmse %.4g (targets rms %.4g, start %.4g) in %.1f s\n",
               fit.fit_rmse, fit.target_rms, fit.initial_rmse, fit.seconds);
+  es::StageProfile::Get().PrintAndStop(
+      "es_flowinit, " + std::to_string(fit_options.iterations) +
+      " pretraining iterations of " + std::to_string(fit_options.batch_size) +
+      " samples (optical flow + lifting: once, before them)");
 
   std::filesystem::create_directories(out_dir);
   es::SaveMotionField(field, out_dir + "/motion_field.bin");

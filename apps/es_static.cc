@@ -57,6 +57,10 @@ DEFINE_double(percent_dense, 0.01,
 DEFINE_double(min_opacity, 0.005, "Prune Gaussians below this opacity.");
 DEFINE_int32(max_gaussians, 1000000, "Cap on the number of Gaussians.");
 DEFINE_bool(white_background, false, "Render on white instead of black.");
+DEFINE_bool(profile, false,
+            "Print where the training iterations' wall time goes, per stage "
+            "(projection, binning, tiles, losses, Adam, densification), "
+            "after the last iteration.");
 
 int main(int argc, char** argv) {
   return es::RunApp(
@@ -72,6 +76,7 @@ int main(int argc, char** argv) {
         o.checkpoint_every = FLAGS_checkpoint_every;
         o.log_every = FLAGS_log_every;
         o.dynamic_threshold = FLAGS_dynamic_threshold;
+        o.profile = FLAGS_profile;
         es::StaticTrainerOptions& t = o.trainer;
         t.iterations = FLAGS_iterations;
         t.seed = FLAGS_seed;

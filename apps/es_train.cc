@@ -18,6 +18,7 @@
 #include "core/io/ply_io.h"
 #include "core/io/scene.h"
 #include "core/model/loop_model.h"
+#include "core/profile/stage_profile.h"
 #include "solvers/checkpoint/joint_checkpoint.h"
 #include "solvers/train/joint_trainer.h"
 #include "solvers/train/water_particles.h"
@@ -28,6 +29,10 @@ DEFINE_string(init, "",
               "motion_field.bin (es_flowinit).");
 DEFINE_string(out, "", "Output model directory (created).");
 DEFINE_int32(iterations, 20000, "Joint training iterations.");
+DEFINE_bool(profile, false,
+            "Print where the training iterations' wall time goes, per stage "
+            "(projection, tiles, losses, Adam, fields, Euler chain, "
+            "composition), after the last iteration.");
 DEFINE_int32(cycle_length, 15, "Loop length L in frames.");
 DEFINE_bool(resume, false,
             "Continue from <out>/joint_checkpoint.bin if it exists.");
@@ -266,6 +271,7 @@ int Run() {
   const int64_t first = trainer.iteration();
   double loss_sum = 0, final_loss = NAN;
   int loss_count = 0;
+  StageProfile::Get().Start(FLAGS_profile);
   while (trainer.iteration() < options.iterations) {
     const JointIterationStats s = trainer.Step();
     if (!s.skipped) {
@@ -300,6 +306,11 @@ int Run() {
   if (trainer.skipped_steps() > 0)
     std::printf("%lld step(s) skipped for a non-finite loss or gradient\n",
                 static_cast<long long>(trainer.skipped_steps()));
+  StageProfile::Get().PrintAndStop(
+      "es_train, " + std::to_string(trainer.iteration() - first) +
+      " iterations, " + std::to_string(trainer.model().gaussians.size()) +
+      " Gaussians, " + std::to_string(trainer.model().num_dynamic()) +
+      " dynamic");
 
   int pruned = 0;
   const LoopModel model = trainer.FinalModel(&pruned);

@@ -125,6 +125,22 @@ void LiftingStats::Add(const LiftingStats& o) {
   accepted += o.accepted;
 }
 
+namespace {
+
+// Whether LiftFlow would look at any pixel of `water` (the first frame's):
+// one on its stride grid at or above the threshold. Pairs without one give
+// no samples, so their optical flow is not computed.
+bool HasWaterCandidate(const cv::Mat& water, const LiftingOptions& options) {
+  for (int y = 0; y < water.rows; y += options.stride) {
+    for (int x = 0; x < water.cols; x += options.stride) {
+      if (water.at<float>(y, x) >= options.water_threshold) return true;
+    }
+  }
+  return false;
+}
+
+}  // namespace
+
 void LiftFlow(const LiftingView& first, const LiftingView& second,
               const FlowPair& flow, const LiftingOptions& options,
               std::vector<SceneFlowSample>* samples, LiftingStats* stats) {
@@ -281,6 +297,16 @@ SceneFlowResult LiftSceneFlow(const Scene& scene, const GaussianSet& model,
                                     : render_frame(i);
     const RenderedFrame second = render_frame(i + 1);
     previous = second;
+    if (first.water.type() == CV_32FC1 &&
+        !HasWaterCandidate(first.water, options.lifting)) {
+      ++result.num_dry_pairs;
+      if (options.progress) {
+        options.progress(static_cast<int>(k), result.num_pairs,
+                         scene.frames[i].camera.image_name,
+                         scene.frames[i + 1].camera.image_name, 0);
+      }
+      continue;
+    }
 
     auto start = Clock::now();
     const FlowPair pair =

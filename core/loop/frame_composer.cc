@@ -5,6 +5,7 @@
 #include <glog/logging.h>
 
 #include "core/loop/cycle_time.h"
+#include "core/profile/stage_profile.h"
 
 namespace es {
 namespace {
@@ -48,6 +49,7 @@ EulerChain* FrameComposer::ChainFor(const MotionField* field) {
 
 const SplatView& FrameComposer::Compose(const LoopSplatView& model,
                                         int frame) {
+  ScopedStage timer(Stage::kComposition);
   const int m = model.num_dynamic;
   CHECK_GT(model.cycle_length, 0);
   canonical_.resize(3 * static_cast<size_t>(m));
@@ -80,6 +82,7 @@ const SplatView& FrameComposer::ComposeAdvected(const LoopSplatView& model,
                                                 const double* positions,
                                                 const int* cycle_indices,
                                                 int cycle_number) {
+  ScopedStage timer(Stage::kComposition);
   const int m = model.num_dynamic;
   canonical_.resize(3 * static_cast<size_t>(m));
   for (int k = 0; k < m; ++k) {
@@ -139,6 +142,7 @@ void FrameComposer::Backward(const LoopSplatView& model,
                              const SplatGradients& grads,
                              const double* d_residuals,
                              const LoopSplatGradients& out) {
+  ScopedStage timer(Stage::kComposition);
   const SplatView& c = model.canonical;
   const int m = model.num_dynamic;
   const int count = c.count;

@@ -11,6 +11,7 @@
 #include <glog/logging.h>
 
 #include "core/io/input_error.h"
+#include "core/profile/stage_profile.h"
 #include "costs/scene_flow_cost.h"
 #include "solvers/optim/adam.h"
 #include "solvers/optim/lr_schedule.h"
@@ -68,6 +69,7 @@ int FitWithAdam(const std::vector<SceneFlowSample>& samples,
   adam.eps = options.adam_eps;
   DivergenceGuard guard("V pretraining", options.max_nonfinite_steps);
   for (int it = 1; it <= options.iterations; ++it) {
+    ScopedStage timer(Stage::kIteration);
     for (int& i : indices) i = pick(rng);
     batch.Assign(samples, indices);
     std::fill(g_tri.begin(), g_tri.end(), 0.0);

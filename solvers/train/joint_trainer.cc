@@ -10,6 +10,7 @@
 #include "core/io/input_error.h"
 #include "core/loop/frame_composer.h"
 #include "core/metrics/image_metrics.h"
+#include "core/profile/stage_profile.h"
 #include "solvers/optim/lr_schedule.h"
 #include "solvers/train/static_trainer.h"
 #include "solvers/train/water_particles.h"
@@ -246,6 +247,7 @@ std::vector<double> JointTrainer::FieldLearningRates() const {
 }
 
 JointIterationStats JointTrainer::Step() {
+  ScopedStage timer(Stage::kIteration);
   if (iteration_ > 0 && iteration_ % options_.refresh_interval == 0)
     RefreshDynamicSet();
   JointIterationStats out;

@@ -10,6 +10,7 @@
 #include "core/io/input_error.h"
 #include "core/io/ply_io.h"
 #include "core/model/gaussian_init.h"
+#include "core/profile/stage_profile.h"
 #include "solvers/checkpoint/checkpoint.h"
 
 namespace es {
@@ -139,6 +140,7 @@ StaticStageResult RunStaticStage(const StaticStageOptions& o) {
   const int64_t first = trainer.iteration();
   int64_t last_log_iteration = first;
   double loss_sum = 0;
+  StageProfile::Get().Start(o.profile);
   while (trainer.iteration() < o.trainer.iterations) {
     const IterationStats s = trainer.Step();
     if (!s.skipped) loss_sum += s.loss;
@@ -168,6 +170,10 @@ StaticStageResult RunStaticStage(const StaticStageOptions& o) {
   if (trainer.skipped_steps() > 0)
     std::printf("%lld step(s) skipped for a non-finite loss or gradient\n",
                 static_cast<long long>(trainer.skipped_steps()));
+  StageProfile::Get().PrintAndStop(
+      "es_static, " + std::to_string(trainer.iteration() - first) +
+      " iterations, " + std::to_string(trainer.gaussians().size()) +
+      " Gaussians at the end");
   StaticStageResult r;
   r.seconds = std::chrono::duration<double>(Clock::now() - start).count();
   r.iterations_per_second =

@@ -19,6 +19,7 @@ struct StaticStageOptions {
   int checkpoint_every = 1000;     // iterations; 0: never
   int log_every = 100;             // iterations; 0: silent
   double dynamic_threshold = 0.2;  // sigmoid(dynamic_logit) above: water
+  bool profile = false;  // print the per-stage time of the iterations
 };
 
 struct StaticStageResult {

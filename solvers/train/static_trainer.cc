@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "core/io/input_error.h"
+#include "core/profile/stage_profile.h"
 #include "solvers/optim/lr_schedule.h"
 
 namespace es {
@@ -90,6 +91,7 @@ GaussianLearningRates StaticTrainer::LearningRates() const {
 }
 
 IterationStats StaticTrainer::Step() {
+  ScopedStage timer(Stage::kIteration);
   if (iteration_ > 0 && options_.sh_degree_interval > 0 &&
       iteration_ % options_.sh_degree_interval == 0 &&
       g_.sh_degree < options_.max_sh_degree) {
@@ -128,6 +130,7 @@ IterationStats StaticTrainer::Step() {
       options_.densify &&
       iteration_ < std::min<int64_t>(d.until_iteration, options_.iterations / 2);
   if (densifying) {
+    ScopedStage stats_timer(Stage::kDensifyStats);
     // The cost's Backward ran on rasterizer_ with d loss / d image, so these
     // are this view's exact screen-space statistics.
     rasterizer_.Radii(&radii_);
