@@ -6,17 +6,18 @@
 //
 //   es_eval --model DIR --scene DIR --out DIR
 
-#include <cmath>
+#include <chrono>
 #include <cstdio>
-#include <filesystem>
-#include <fstream>
 #include <string>
 #include <vector>
 
 #include <gflags/gflags.h>
 
 #include "apps/common/app_main.h"
+#include "apps/common/flag_checks.h"
 #include "core/io/input_error.h"
+#include "core/io/json_file.h"
+#include "core/io/output_dir.h"
 #include "core/io/scene.h"
 #include "core/model/loop_model.h"
 #include "solvers/eval/loop_evaluation.h"
@@ -38,32 +39,30 @@ DEFINE_int32(timing_frames, 0, "Frames timed for Alg. 1 vs Alg. 2; 0: 2 L.");
 
 namespace {
 
-// JSON number; NaN and infinity, which JSON lacks, become null.
-std::string Number(double v) {
-  if (!std::isfinite(v)) return "null";
-  char text[32];
-  std::snprintf(text, sizeof(text), "%.6g", v);
-  return text;
-}
-
-// JSON string literal.
-std::string Quoted(const std::string& s) {
-  std::string out = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\') out += '\\';
-    out += c;
-  }
-  return out + "\"";
+// Prints "[eval k/4] what" with the seconds since the start: the steps
+// differ too much in cost for an ETA to mean anything.
+void Step(int k, const char* what,
+          std::chrono::steady_clock::time_point start) {
+  std::printf("[eval %d/4] %s (%.1f s)\n", k, what,
+              std::chrono::duration<double>(
+                  std::chrono::steady_clock::now() - start)
+                  .count());
+  std::fflush(stdout);
 }
 
 int Run() {
-  if (FLAGS_model.empty() || FLAGS_scene.empty() || FLAGS_out.empty()) {
-    throw es::InputError("--model, --scene and --out are required");
-  }
+  es::RequireFlag("model", FLAGS_model);
+  es::RequireFlag("scene", FLAGS_scene);
+  es::RequireFlag("out", FLAGS_out);
+  es::RequirePositive("image_scale", FLAGS_image_scale);
   if (FLAGS_seam_cycles < 2) {
     throw es::InputError("--seam_cycles must be >= 2 (a boundary needs a "
                          "cycle on each side)");
   }
+  es::RequireAtLeast("anchor_frame", FLAGS_anchor_frame, -1);
+  es::RequireAtLeast("timing_frames", FLAGS_timing_frames, 0);
+  es::PrepareOutputDirectory(FLAGS_out, "out");
+  const auto start = std::chrono::steady_clock::now();
   es::RenderOptions options;
   if (FLAGS_white_background) options.background.setOnes();
   es::SceneOptions scene_options;
@@ -81,9 +80,11 @@ int Run() {
   }
   const es::Camera& anchor_camera = scene.frames[anchor].camera;
 
+  Step(1, "held-out frames", start);
   const es::LoopMetrics held_out =
       es::EvaluateLoopModel(model, scene.frames, scene.test, options);
 
+  Step(2, "motion against ground truth", start);
   bool has_motion_gt = es::HasMotionGt(FLAGS_scene) && model.motion;
   es::MotionGtMetrics motion;
   if (has_motion_gt) {
@@ -95,52 +96,51 @@ int Run() {
                                   es::LoadMotionGt(FLAGS_scene));
   }
 
+  Step(3, "loop seam", start);
   const es::LoopSeamScore seam = es::EvaluateLoopSeam(
       model, anchor_camera, FLAGS_seam_cycles, options);
+  Step(4, "Alg. 1 vs Alg. 2 timing", start);
   const int timing_frames =
       FLAGS_timing_frames > 0 ? FLAGS_timing_frames : 2 * model.cycle_length;
   const es::AnimationTiming timing =
       es::TimeAnimation(model, anchor_camera, timing_frames, options);
 
-  std::filesystem::create_directories(FLAGS_out);
   const std::string path = FLAGS_out + "/eval.json";
-  std::ofstream json(path);
-  json << "{\n"
-       << "  \"model\": " << Quoted(FLAGS_model) << ",\n"
-       << "  \"scene\": " << Quoted(FLAGS_scene) << ",\n"
-       << "  \"gaussians\": " << model.gaussians.size() << ",\n"
-       << "  \"dynamic_gaussians\": " << model.num_dynamic() << ",\n"
-       << "  \"cycle_length\": " << model.cycle_length << ",\n"
-       << "  \"held_out\": {\"frames\": " << held_out.frames
-       << ", \"psnr\": " << Number(held_out.psnr)
-       << ", \"ssim\": " << Number(held_out.ssim)
-       << ", \"psnr_water\": " << Number(held_out.psnr_water)
-       << ", \"ssim_water\": " << Number(held_out.ssim_water) << "},\n"
-       << "  \"motion_gt\": ";
+  nlohmann::ordered_json json = {
+      {"model", FLAGS_model},
+      {"scene", FLAGS_scene},
+      {"gaussians", model.gaussians.size()},
+      {"dynamic_gaussians", model.num_dynamic()},
+      {"cycle_length", model.cycle_length},
+      {"held_out",
+       {{"frames", held_out.frames},
+        {"psnr", held_out.psnr},
+        {"ssim", held_out.ssim},
+        {"psnr_water", held_out.psnr_water},
+        {"ssim_water", held_out.ssim_water}}},
+      {"motion_gt", nullptr},
+      {"loop_seam",
+       {{"anchor_frame", anchor},
+        {"cycles", FLAGS_seam_cycles},
+        {"score", seam.score},
+        {"boundary_change", seam.boundary_change},
+        {"within_change", seam.within_change}}},
+      {"render_time_ms",
+       {{"frames", timing.frames},
+        {"alg1_advect", timing.alg1_advect_ms},
+        {"alg2_advect", timing.alg2_advect_ms},
+        {"render", timing.render_ms},
+        {"alg1_frame", timing.alg1_frame_ms()},
+        {"alg2_frame", timing.alg2_frame_ms()},
+        {"alg1_alg2_max_position_difference",
+         timing.max_position_difference}}}};
   if (has_motion_gt) {
-    json << "{\"points\": " << motion.num_points
-         << ", \"epe\": " << Number(motion.epe)
-         << ", \"mean_speed\": " << Number(motion.mean_speed)
-         << ", \"rel_epe\": " << Number(motion.rel_epe) << "},\n";
-  } else {
-    json << "null,\n";
+    json["motion_gt"] = {{"points", motion.num_points},
+                         {"epe", motion.epe},
+                         {"mean_speed", motion.mean_speed},
+                         {"rel_epe", motion.rel_epe}};
   }
-  json << "  \"loop_seam\": {\"anchor_frame\": " << anchor
-       << ", \"cycles\": " << FLAGS_seam_cycles
-       << ", \"score\": " << Number(seam.score)
-       << ", \"boundary_change\": " << Number(seam.boundary_change)
-       << ", \"within_change\": " << Number(seam.within_change) << "},\n"
-       << "  \"render_time_ms\": {\"frames\": " << timing.frames
-       << ", \"alg1_advect\": " << Number(timing.alg1_advect_ms)
-       << ", \"alg2_advect\": " << Number(timing.alg2_advect_ms)
-       << ", \"render\": " << Number(timing.render_ms)
-       << ", \"alg1_frame\": " << Number(timing.alg1_frame_ms())
-       << ", \"alg2_frame\": " << Number(timing.alg2_frame_ms())
-       << ", \"alg1_alg2_max_position_difference\": "
-       << Number(timing.max_position_difference) << "}\n"
-       << "}\n";
-  json.close();
-  if (!json) throw es::InputError(path + ": cannot write");
+  es::WriteJsonFile(path, json);
 
   std::printf("%s: %d Gaussians (%d dynamic), L = %d\n", FLAGS_model.c_str(),
               model.gaussians.size(), model.num_dynamic(),
@@ -175,6 +175,8 @@ int Run() {
 int main(int argc, char** argv) {
   return es::RunApp(argc, argv,
                     "Evaluates a trained looping model.\n"
-                    "  es_eval --model DIR --scene DIR --out DIR",
+                    "  es_eval --model DIR --scene DIR --out DIR\n"
+                    "Writes OUT/eval.json (held-out PSNR / SSIM, motion "
+                    "error vs ground truth, loop seam, render times).",
                     Run);
 }

@@ -6,7 +6,7 @@ cd "$(dirname "$0")/.."
 
 PACKAGES=(cmake g++ make pkg-config libceres-dev libeigen3-dev libopencv-dev
           libopencv-contrib-dev libgoogle-glog-dev libgflags-dev libgtest-dev
-          libbenchmark-dev colmap ffmpeg)
+          libbenchmark-dev nlohmann-json3-dev colmap ffmpeg)
 missing=()
 for p in "${PACKAGES[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" \
