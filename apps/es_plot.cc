@@ -5,16 +5,16 @@
 //       loss.png (every loss term vs iteration, log scale), psnr.png
 //       (held-out PSNR vs training wall time) and gaussians.png (Gaussians
 //       and dynamic Gaussians vs iteration), for the columns the file has.
-//   es_plot --csv FILE --x COLUMN --y COLUMN[,COLUMN...] [--group COLUMN]
-//           --out FILE.png
-//       any table: one curve per y column, or per value of --group.
+//   es_plot --csv FILE[,FILE...] --x COLUMN --y COLUMN[,COLUMN...]
+//           [--labels A,B] --out FILE.png
+//       any tables: one curve per y column, or per file.
 
 #include <gflags/gflags.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <map>
+#include <filesystem>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -34,13 +34,14 @@ DEFINE_string(prefix, "",
               "With --history: prefix of the PNG names, e.g. "
               "static_ gives static_loss.png.");
 DEFINE_string(csv, "",
-              "Any numeric CSV table with a header (instead of "
-              "--history); --out is then the PNG file.");
+              "Numeric CSV table(s) with a header, comma-separated (instead "
+              "of --history); --out is then the PNG file. Several files: "
+              "one curve per file.");
 DEFINE_string(x, "", "With --csv: the x column.");
 DEFINE_string(y, "", "With --csv: y column(s), comma-separated.");
-DEFINE_string(group, "",
-              "With --csv: one curve per value of this column "
-              "(a single --y then).");
+DEFINE_string(labels, "",
+              "With several --csv files: their curves' labels, "
+              "comma-separated (default: the file names).");
 DEFINE_string(title, "", "Title (default: from the file and columns).");
 DEFINE_string(x_label, "", "x-axis label (default: the x column).");
 DEFINE_string(y_label, "", "y-axis label (default: the y column(s)).");
@@ -86,6 +87,15 @@ bool HasValues(const CsvTable& table, const std::string& column) {
                      [](double x) { return std::isfinite(x); });
 }
 
+// The last two components of a path: "model/history.csv" says which run
+// without a long absolute prefix.
+std::string ShortName(const std::string& path) {
+  const std::filesystem::path p(path);
+  const std::filesystem::path parent = p.parent_path().filename();
+  return parent.empty() ? p.filename().string()
+                        : (parent / p.filename()).string();
+}
+
 bool IsLoss(const std::string& column) {
   return column != "iteration" && column != "seconds" &&
          column != "gaussians" && column != "dynamic" &&
@@ -113,8 +123,8 @@ void PlotHistory() {
   }
   if (!losses.empty()) {
     Write(stem + "loss.png", losses,
-          Options("training loss by term: " + FLAGS_history, "iteration",
-                  "loss (mean over the log interval)", true));
+          Options("training loss by term: " + ShortName(FLAGS_history),
+                  "iteration", "loss (mean over the log interval)", true));
   }
   std::vector<PlotSeries> psnr;
   for (const char* c : {"psnr_test", "psnr_test_water"}) {
@@ -126,7 +136,7 @@ void PlotHistory() {
   }
   if (!psnr.empty()) {
     Write(stem + "psnr.png", psnr,
-          Options("held-out PSNR vs training time: " + FLAGS_history,
+          Options("held-out PSNR vs training time: " + ShortName(FLAGS_history),
                   "training wall time (s)", "PSNR (dB)", false));
   }
   std::vector<PlotSeries> counts;
@@ -139,61 +149,45 @@ void PlotHistory() {
   }
   if (!counts.empty()) {
     Write(stem + "gaussians.png", counts,
-          Options("Gaussians: " + FLAGS_history, "iteration", "count", false));
+          Options("Gaussians: " + ShortName(FLAGS_history), "iteration",
+                  "count", false));
   }
 }
 
-void PlotTable() {
+void PlotTables() {
   RequireFlag("x", FLAGS_x);
   RequireFlag("y", FLAGS_y);
-  const CsvTable table = ReadCsvTable(FLAGS_csv);
+  const std::vector<std::string> files = SplitList(FLAGS_csv);
   const std::vector<std::string> ys = SplitList(FLAGS_y);
-  for (const std::string& c : ys) {
-    if (table.Column(c) < 0) {
-      throw InputError("--y=" + FLAGS_y + ": " + FLAGS_csv +
-                       " has no column '" + c + "'");
-    }
+  std::vector<std::string> labels = SplitList(FLAGS_labels);
+  if (files.size() > 1 && ys.size() != 1) {
+    throw InputError("--csv with several files needs exactly one --y column");
   }
-  if (table.Column(FLAGS_x) < 0) {
-    throw InputError("--x=" + FLAGS_x + ": " + FLAGS_csv + " has no column '" +
-                     FLAGS_x + "'");
+  if (!labels.empty() && labels.size() != files.size()) {
+    throw InputError("--labels=" + FLAGS_labels + ": " +
+                     std::to_string(labels.size()) + " labels for " +
+                     std::to_string(files.size()) + " files");
   }
   std::vector<PlotSeries> series;
-  if (!FLAGS_group.empty()) {
-    if (table.Column(FLAGS_group) < 0) {
-      throw InputError("--group=" + FLAGS_group + ": " + FLAGS_csv +
-                       " has no such column");
-    }
-    if (ys.size() != 1) {
-      throw InputError("--group needs exactly one --y column");
-    }
-    const int g = table.Column(FLAGS_group), x = table.Column(FLAGS_x),
-              y = table.Column(ys[0]);
-    std::map<double, PlotSeries> groups;
-    for (const auto& row : table.rows) {
-      PlotSeries& s = groups[row[g]];
-      s.x.push_back(row[x]);
-      s.y.push_back(row[y]);
-    }
-    for (auto& [value, s] : groups) {
-      char label[64];
-      std::snprintf(label, sizeof(label), "%s %g", FLAGS_group.c_str(), value);
-      s.label = label;
-      // Sorted by x, so a group is one curve from left to right.
-      std::vector<size_t> order(s.x.size());
-      for (size_t i = 0; i < order.size(); ++i) order[i] = i;
-      std::sort(order.begin(), order.end(),
-                [&](size_t a, size_t b) { return s.x[a] < s.x[b]; });
-      PlotSeries sorted{s.label, {}, {}};
-      for (size_t i : order) {
-        sorted.x.push_back(s.x[i]);
-        sorted.y.push_back(s.y[i]);
-      }
-      series.push_back(std::move(sorted));
-    }
-  } else {
+  for (size_t f = 0; f < files.size(); ++f) {
+    const CsvTable table = ReadCsvTable(files[f]);
     for (const std::string& c : ys) {
-      series.push_back({c, table.Values(FLAGS_x), table.Values(c)});
+      if (table.Column(c) < 0) {
+        throw InputError("--y=" + FLAGS_y + ": " + files[f] +
+                         " has no column '" + c + "'");
+      }
+    }
+    if (table.Column(FLAGS_x) < 0) {
+      throw InputError("--x=" + FLAGS_x + ": " + files[f] + " has no column '" +
+                       FLAGS_x + "'");
+    }
+    for (const std::string& c : ys) {
+      std::string label = c;
+      if (files.size() > 1) {
+        label = labels.empty() ? std::filesystem::path(files[f]).stem().string()
+                               : labels[f];
+      }
+      series.push_back({label, table.Values(FLAGS_x), table.Values(c)});
     }
   }
   Write(FLAGS_out, series,
@@ -212,7 +206,7 @@ int Run() {
   if (!FLAGS_history.empty()) {
     PlotHistory();
   } else {
-    PlotTable();
+    PlotTables();
   }
   return 0;
 }
@@ -225,7 +219,7 @@ int main(int argc, char** argv) {
       argc, argv,
       "Draws training histories and result tables as PNG line charts.\n"
       "  es_plot --history DIR/history.csv --out DIR [--prefix NAME_]\n"
-      "  es_plot --csv FILE --x COL --y COL[,COL...] [--group COL] "
-      "--out FILE.png",
+      "  es_plot --csv FILE[,FILE...] --x COL --y COL[,COL...] "
+      "[--labels A,B] --out FILE.png",
       es::Run);
 }

@@ -12,6 +12,10 @@
 # MATCHER (sequential or exhaustive, default sequential), COLMAP (binary).
 set -euo pipefail
 
+if [[ "${1:-}" == -h || "${1:-}" == --help ]]; then
+  sed -n '2,12p' "$0"
+  exit 0
+fi
 if [[ $# -lt 1 || $# -gt 2 ]]; then
   echo "usage: $0 SCENE_DIR [OUT_DIR]" >&2
   exit 2
@@ -44,11 +48,21 @@ start=$(date +%s)
 # COLMAP's Qt GUI parts need no display when told so.
 export QT_QPA_PLATFORM=offscreen
 
+# Progress: the step (k/4) and the time so far; COLMAP's own logs go to
+# files that are shown only when a step fails.
+step() {
+  echo "[colmap $1/4] $2 ($(( $(date +%s) - start )) s so far)"
+}
+num_images=$(find "$images" -maxdepth 1 -type f \( -iname '*.png' \
+  -o -iname '*.jpg' -o -iname '*.jpeg' \) | wc -l)
+
+step 1 "feature extraction, $num_images images"
 "$colmap" feature_extractor --database_path "$db" --image_path "$images" \
   --ImageReader.single_camera 1 --ImageReader.camera_model "$camera_model" \
   --SiftExtraction.use_gpu 0 > "$work/extract.log" 2>&1 \
   || { tail -20 "$work/extract.log" >&2; exit 1; }
 
+step 2 "$matcher matching"
 if [[ "$matcher" == sequential ]]; then
   # Loop detection needs a vocabulary tree; video overlap is enough here.
   "$colmap" sequential_matcher --database_path "$db" \
@@ -60,11 +74,13 @@ else
     || { tail -20 "$work/match.log" >&2; exit 1; }
 fi
 
+step 3 "incremental mapping"
 mkdir -p "$work/sparse"
 "$colmap" mapper --database_path "$db" --image_path "$images" \
   --output_path "$work/sparse" > "$work/map.log" 2>&1 \
   || { tail -20 "$work/map.log" >&2; exit 1; }
 
+step 4 "choosing the largest model, writing text"
 # The mapper may split the video into several models; keep the largest.
 best="" best_count=-1
 for model in "$work"/sparse/*/; do

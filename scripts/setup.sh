@@ -2,6 +2,11 @@
 # Installs the Debian packages eulersplat needs (only those missing), then
 # configures and builds into build/. Idempotent: re-running only rebuilds.
 set -euo pipefail
+case "${1:-}" in
+  -h|--help) sed -n '2,3p' "$0"; echo "usage: scripts/setup.sh"; exit 0 ;;
+  "") ;;
+  *) echo "setup.sh: unknown argument '$1' (see --help)" >&2; exit 2 ;;
+esac
 cd "$(dirname "$0")/.."
 
 PACKAGES=(cmake g++ make pkg-config libceres-dev libeigen3-dev libopencv-dev

@@ -205,22 +205,46 @@ cv::Mat DrawLinePlot(const std::vector<PlotSeries>& series,
     }
   }
 
-  // Legend, top right inside the area.
+  // Legend in the corner of the area that hides the fewest data points.
   int legend_width = 0;
   for (const PlotSeries& s : series) {
     legend_width = std::max(legend_width, TextWidth(s.label));
   }
   if (series.size() > 1 || (series.size() == 1 && !series[0].label.empty())) {
-    const int x0 = a.x + a.width - legend_width - 46;
-    cv::Rect box(x0 - 6, a.y + 6, legend_width + 46,
-                 static_cast<int>(series.size()) * 20 + 8);
+    const cv::Size box_size(legend_width + 46,
+                            static_cast<int>(series.size()) * 20 + 8);
+    const cv::Point corners[] = {
+        {a.x + a.width - box_size.width - 6, a.y + 6},
+        {a.x + a.width - box_size.width - 6,
+         a.y + a.height - box_size.height - 6},
+        {a.x + 6, a.y + 6},
+        {a.x + 6, a.y + a.height - box_size.height - 6}};
+    cv::Rect box(corners[0], box_size);
+    int fewest = std::numeric_limits<int>::max();
+    for (const cv::Point& corner : corners) {
+      const cv::Rect candidate(corner, box_size);
+      int hidden = 0;
+      for (const PlotSeries& s : series) {
+        for (size_t i = 0; i < s.x.size() && i < s.y.size(); ++i) {
+          double x, y;
+          if (AxisValue(s.x[i], false, &x) &&
+              AxisValue(s.y[i], options.log_y, &y)) {
+            hidden += candidate.contains(m.ToPixel(s.x[i], s.y[i]));
+          }
+        }
+      }
+      if (hidden < fewest) {
+        fewest = hidden;
+        box = candidate;
+      }
+    }
     cv::rectangle(image, box, cv::Scalar(255, 255, 255), cv::FILLED);
     cv::rectangle(image, box, kGrid, 1);
     for (size_t k = 0; k < series.size(); ++k) {
-      const int y = a.y + 22 + static_cast<int>(k) * 20;
-      cv::line(image, {x0, y - 4}, {x0 + 28, y - 4},
+      const int y = box.y + 16 + static_cast<int>(k) * 20;
+      cv::line(image, {box.x + 6, y - 4}, {box.x + 34, y - 4},
                SeriesColor(static_cast<int>(k)), 3, cv::LINE_AA);
-      Text(&image, series[k].label, {x0 + 34, y});
+      Text(&image, series[k].label, {box.x + 40, y});
     }
   }
   return image;
