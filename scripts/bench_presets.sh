@@ -10,8 +10,9 @@
 #
 # Defaults: the default scene (out/default_scene, made by
 # scripts/run_default.sh), runs in out/bench_presets, figures and tables in
-# docs/benchmarks. The default run is short (a few minutes on 2 cores);
-# raise --budgets for the real curve. Re-running skips finished runs.
+# docs/benchmarks. The default run is short (four runs of at most 300
+# iterations per stage); raise --budgets for the real curve. Re-running
+# skips finished runs.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -27,7 +28,7 @@ while [[ $# -gt 0 ]]; do
     --docs) docs=$2; shift 2 ;;
     --presets) presets=$2; shift 2 ;;
     --budgets) budgets=$2; shift 2 ;;
-    -h|--help) sed -n '2,14p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,15p' "$0"; exit 0 ;;
     *) echo "bench_presets.sh: unknown argument '$1' (see --help)" >&2
        exit 2 ;;
   esac

@@ -114,11 +114,13 @@ TEST_F(CliTest, HelpShowsReadableDefaults) {
   }
 }
 
-// Shared plumbing (apps/common): a few binaries stand for all.
+// Shared plumbing (apps/common, and benchmark_main.h for the Google
+// Benchmark binaries): a few binaries stand for all.
 TEST_F(CliTest, VersionNamesTheCommit) {
   const std::regex version(
       R"(eulersplat [0-9]+\.[0-9]+\.[0-9]+ \(commit ([0-9a-f]{12}|unknown)\)\n)");
-  for (const std::string& app : {"es_train", "eulersplat", "es_plot"}) {
+  for (const std::string app :
+       {"es_train", "eulersplat", "es_plot", "bench_looping"}) {
     const Result r = RunCommand((kBin / app).string() + " --version");
     EXPECT_EQ(r.status, 0) << app;
     EXPECT_TRUE(std::regex_match(r.output, version)) << app << ": " << r.output;
