@@ -196,6 +196,7 @@ int Run() {
                     " frames");
   const std::string static_ply = (fs::path(FLAGS_init) / "static.ply").string();
   GaussianSet initial = ReadPly(static_ply);
+  Require(initial.size() > 0, static_ply + ": holds no Gaussians");
   std::printf("loaded %s: %d Gaussians, SH degree %d\n", static_ply.c_str(),
               initial.size(), initial.sh_degree);
 
@@ -247,14 +248,18 @@ int Run() {
   const int64_t first = trainer.iteration();
   int64_t last_row = first;
   double sums[4] = {0, 0, 0, 0};  // loss, photometric, mask, residual
+  int64_t counted = 0;             // steps in the sums
   double final_loss = NAN;
   std::vector<double> final_row;
   while (trainer.iteration() < options.iterations) {
     const JointIterationStats s = trainer.Step();
-    sums[0] += s.loss;
-    sums[1] += s.photometric;
-    sums[2] += s.mask;
-    sums[3] += s.residual;
+    if (!s.skipped) {  // a skipped step's loss is not finite
+      sums[0] += s.loss;
+      sums[1] += s.photometric;
+      sums[2] += s.mask;
+      sums[3] += s.residual;
+      ++counted;
+    }
     const int64_t it = trainer.iteration();
     const bool log =
         FLAGS_log_interval > 0 &&
@@ -263,7 +268,7 @@ int Run() {
                       it % FLAGS_eval_interval == 0 &&
                       it < options.iterations;  // the end is below
     if (log || eval) {
-      const double window = static_cast<double>(it - last_row);
+      const double window = counted > 0 ? counted : NAN;
       final_loss = sums[0] / window;
       const double elapsed = training_seconds();
       LoopMetrics held_out;
@@ -301,13 +306,18 @@ int Run() {
       std::fflush(stdout);
       last_row = it;
       for (double& v : sums) v = 0;
+      counted = 0;
     }
+    // Not right after a skipped (non-finite) step: keep the last good one.
     if (FLAGS_checkpoint_interval > 0 &&
-        it % FLAGS_checkpoint_interval == 0) {
+        it % FLAGS_checkpoint_interval == 0 && trainer.last_step_ok()) {
       WriteJointCheckpoint(trainer.Save(), checkpoint_path);
     }
   }
   const double seconds = training_seconds();
+  if (trainer.skipped_steps() > 0)
+    std::printf("%lld step(s) skipped for a non-finite loss or gradient\n",
+                static_cast<long long>(trainer.skipped_steps()));
 
   SaveLoopModel(trainer.model(), FLAGS_out);
   const LoopMetrics metrics = EvaluateLoopModel(
@@ -316,7 +326,7 @@ int Run() {
                seconds, trainer.iteration(), trainer.model(), flow_init,
                final_loss);
   if (final_row.empty() && trainer.iteration() > last_row) {
-    const double window = static_cast<double>(trainer.iteration() - last_row);
+    const double window = counted > 0 ? counted : NAN;
     final_row = {sums[0] / window, sums[1] / window, sums[2] / window,
                  sums[3] / window,
                  static_cast<double>(trainer.model().gaussians.size()),

@@ -19,14 +19,11 @@
 // A stage whose outputs exist is skipped (delete its folder to redo it);
 // interrupted training resumes from its checkpoint.
 
-#include <spawn.h>
-#include <sys/wait.h>
-#include <unistd.h>  // environ
-
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -36,7 +33,9 @@
 #include <opencv2/imgproc.hpp>
 
 #include "apps/common/app_main.h"
+#include "apps/common/child_process.h"
 #include "apps/common/flag_checks.h"
+#include "apps/common/run_lock.h"
 #include "core/io/colmap_io.h"
 #include "core/io/image_file.h"
 #include "core/io/input_error.h"
@@ -117,7 +116,8 @@ std::string Join(const std::vector<std::string>& args) {
 }
 
 // Runs a stage binary from this binary's directory (no shell: arguments go
-// through untouched). Returns its exit status.
+// through untouched). Returns its exit status; the stage dies with the
+// driver.
 int RunStage(const std::string& binary, const std::vector<std::string>& args) {
   const std::string path = binary.find('/') == std::string::npos
                                ? (BinaryDir() / binary).string()
@@ -126,17 +126,7 @@ int RunStage(const std::string& binary, const std::vector<std::string>& args) {
   all.insert(all.end(), args.begin(), args.end());
   std::printf("\n$ %s\n", Join(all).c_str());
   std::fflush(stdout);
-  std::vector<char*> argv;
-  for (std::string& a : all) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  pid_t pid;
-  if (posix_spawn(&pid, path.c_str(), nullptr, nullptr, argv.data(),
-                  environ) != 0) {
-    throw es::InputError(path + ": cannot run (is the project built?)");
-  }
-  int status = 0;
-  waitpid(pid, &status, 0);
-  return WIFEXITED(status) ? WEXITSTATUS(status) : 128;
+  return es::RunChildProcess(path, args);
 }
 
 void RunOrThrow(const std::string& stage, const std::string& binary,
@@ -326,6 +316,12 @@ struct Pipeline {
   }
 };
 
+// Checkpoints at least six times per stage (at most every 1000
+// iterations), so a killed quick run loses a sixth of a stage, not all.
+int CheckpointInterval(int iterations) {
+  return std::clamp(iterations / 6, 1, 1000);
+}
+
 void StaticStage(const Pipeline& run) {
   run.stages->Begin("static model (es_static)");
   if (AllExist({run.static_ply(), run.static_dir() / "metrics.json"})) {
@@ -342,7 +338,8 @@ void StaticStage(const Pipeline& run) {
        std::to_string(sh_interval), "--densify_from",
        std::to_string(p.densify_from), "--densify_interval",
        std::to_string(p.densify_interval), "--dynamic_threshold",
-       Number(FLAGS_dynamic_threshold), "--log_every",
+       Number(FLAGS_dynamic_threshold), "--checkpoint_every",
+       std::to_string(CheckpointInterval(p.static_iterations)), "--log_every",
        LogEvery(p.static_iterations), "--eval_every",
        EvalEvery(p.static_iterations)},
       true);
@@ -399,8 +396,9 @@ void JointStage(const Pipeline& run) {
        std::to_string(p.motion_width), "--residual_resolution",
        std::to_string(p.field_resolution), "--residual_channels",
        std::to_string(p.residual_channels), "--residual_width",
-       std::to_string(p.residual_width), "--log_interval",
-       LogEvery(p.joint_iterations), "--eval_interval",
+       std::to_string(p.residual_width), "--checkpoint_interval",
+       std::to_string(CheckpointInterval(p.joint_iterations)),
+       "--log_interval", LogEvery(p.joint_iterations), "--eval_interval",
        EvalEvery(p.joint_iterations)},
       true);
   if (!run.has_masks) args.insert(args.end(), {"--mask_weight", "0"});
@@ -534,6 +532,14 @@ int Main() {
   }
   const auto start = std::chrono::steady_clock::now();
   es::PrepareOutputDirectory(FLAGS_out, "out");
+  // One run per output folder; runs sharing a --static_dir take turns.
+  const es::RunLock out_lock(run.out.string(),
+                             es::RunLock::Mode::kFailIfHeld);
+  std::optional<es::RunLock> static_lock;
+  if (!FLAGS_static_dir.empty()) {
+    static_lock.emplace(run.static_folder.string(),
+                        es::RunLock::Mode::kWaitIfHeld);
+  }
   const bool needs_poses = !fs::exists(run.scene / "sparse" / "0");
   StageLog stages((needs_poses ? 1 : 0) + 5 + (FLAGS_animate ? 3 : 0));
   run.stages = &stages;

@@ -232,6 +232,31 @@ TEST(JointTrainerTest, AblationsTrainAndStayFinite) {
   }
 }
 
+// A frame with a NaN pixel: its steps are skipped and counted, the model
+// and fields stay finite; a NaN learning rate stops at the first update.
+TEST(JointTrainerTest, NonFiniteStepsAreSkippedAndDivergenceStops) {
+  std::vector<Frame> frames = TrueFrames();
+  frames[kTrain[4]].image.at<cv::Vec3f>(3, 3)[0] = NAN;
+  JointTrainerOptions options = TinyOptions();
+  JointTrainer trainer(&frames, kTrain, options, TrueCanonical(),
+                       std::nullopt);
+  int skipped = 0;
+  for (int i = 0; i < 18; ++i) skipped += trainer.Step().skipped;
+  EXPECT_EQ(skipped, 2);  // two epochs of nine frames
+  EXPECT_EQ(trainer.skipped_steps(), 2);
+  EXPECT_TRUE(AllFinite(trainer.model().gaussians));
+  const MotionField& v = *trainer.model().motion;
+  const ResidualField& d = *trainer.model().residual;
+  EXPECT_TRUE(AllFinite(v.params().triplane, v.triplane().num_params()));
+  EXPECT_TRUE(AllFinite(d.params().mlp, d.mlp().num_params()));
+
+  const std::vector<Frame> good = TrueFrames();
+  options.lr_motion_mlp = NAN;
+  JointTrainer diverging(&good, kTrain, options, TrueCanonical(),
+                         std::nullopt);
+  EXPECT_THROW(diverging.Step(), TrainingDiverged);
+}
+
 TEST(JointTrainerTest, MismatchedCheckpointIsAnInputError) {
   const std::vector<Frame> frames = TrueFrames();
   JointTrainerOptions options = TinyOptions();

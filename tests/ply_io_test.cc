@@ -274,5 +274,69 @@ TEST_F(PlyIoTest, BadHeaderNamesFile) {
   ExpectInputErrorNaming(Path("novertex.ply"), "no vertex element");
 }
 
+// Fuzzer finding (D1): an element without properties announcing 9e18 rows
+// before the vertices occupies no bytes; the reader used to loop over every
+// empty row and never return.
+TEST_F(PlyIoTest, HugeElementWithoutPropertiesIsSkipped) {
+  StandardPly ply;
+  ply.num_vertices = 1;
+  ply.WriteAscii(Path("base.ply"));
+  std::string text = ReadText(Path("base.ply"));
+  text.insert(text.find("element vertex"),
+              "element junk 9000000000000000000\n");
+  WriteText(Path("junk.ply"), text);
+  EXPECT_EQ(ReadPly(Path("junk.ply")).size(), 1);
+
+  WriteText(Path("junk0.ply"),
+            "ply\nformat ascii 1.0\nelement junk 9000000000000000000\n"
+            "element vertex 0\nproperty float x\nproperty float y\n"
+            "property float z\nproperty float f_dc_0\nproperty float f_dc_1\n"
+            "property float f_dc_2\nproperty float opacity\n"
+            "property float scale_0\nproperty float scale_1\n"
+            "property float scale_2\nproperty float rot_0\n"
+            "property float rot_1\nproperty float rot_2\n"
+            "property float rot_3\nend_header\n");
+  EXPECT_EQ(ReadPly(Path("junk0.ply")).size(), 0);
+}
+
+// Fuzzer finding (D7): a list length stored as a float that is NaN, Inf,
+// negative, fractional or larger than the file was cast to an integer
+// (undefined behaviour, or a loop over 9e18 items); each is now a bad-file
+// error naming the file.
+TEST_F(PlyIoTest, BadFloatListLengthIsAnInputError) {
+  StandardPly ply;
+  ply.num_vertices = 1;
+  for (const char* length : {"nan", "inf", "-inf", "-1", "1.5", "1e300"}) {
+    ply.WriteAscii(Path("base.ply"));
+    std::string text = ReadText(Path("base.ply"));
+    text.insert(text.find("element vertex"),
+                "element f 1\nproperty list float int i\n");
+    text.insert(text.find("end_header\n") + 11, std::string(length) + " 7\n");
+    WriteText(Path("list.ply"), text);
+    ExpectInputErrorNaming(Path("list.ply"), length);
+  }
+  // Binary: a float32 NaN length.
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  std::string binary =
+      "ply\nformat binary_little_endian 1.0\nelement f 1\n"
+      "property list float int i\nend_header\n";
+  binary.append(reinterpret_cast<const char*>(&nan), sizeof(nan));
+  WriteText(Path("list_binary.ply"), binary);
+  ExpectInputErrorNaming(Path("list_binary.ply"), "binary NaN length");
+}
+
+// A list of a plausible length is still read and skipped.
+TEST_F(PlyIoTest, FloatListLengthThatIsWholeIsRead) {
+  StandardPly ply;
+  ply.num_vertices = 2;
+  ply.WriteAscii(Path("base.ply"));
+  std::string text = ReadText(Path("base.ply"));
+  text.insert(text.find("element vertex"),
+              "element f 2\nproperty list float int i\n");
+  text.insert(text.find("end_header\n") + 11, "2 7 8\n0\n");
+  WriteText(Path("list.ply"), text);
+  ply.ExpectMatches(ReadPly(Path("list.ply")));
+}
+
 }  // namespace
 }  // namespace es

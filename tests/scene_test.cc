@@ -206,6 +206,49 @@ TEST_F(SceneTest, UnsupportedCameraModelIsNamed) {
   ExpectLoadError({"OPENCV_FISHEYE", "cameras.txt"});
 }
 
+// D6: a zero focal length used to fail a CHECK in the rasterizer (exit
+// 134) once training started; it is an input error naming cameras.txt.
+TEST_F(SceneTest, ZeroOrNonFiniteFocalLengthIsNamed) {
+  WriteScene(2);
+  model_.cameras[2] = {2, "PINHOLE", kWidth, kHeight, {0, 0, 16, 12}};
+  SaveModel();
+  ExpectLoadError({"cameras.txt", "camera 2", "focal length"});
+  model_.cameras[2] = {2, "SIMPLE_RADIAL", kWidth, kHeight, {-5, 16, 12, 0.1}};
+  SaveModel();
+  ExpectLoadError({"cameras.txt", "camera 2", "focal length"});
+}
+
+// D8: a one-line cameras.txt announcing a 50000 x 50000 distorted camera
+// made the loader allocate two 10 GB undistortion maps before it looked at
+// a frame; the frames' real size is now checked first.
+TEST_F(SceneTest, HugeDistortedCameraIsRejectedBeforeAllocating) {
+  WriteScene(2, /*masks=*/false);
+  model_.cameras[2] = {2, "SIMPLE_RADIAL", 50000, 50000, {30, 16, 12, 0.1}};
+  SaveModel();
+  ExpectLoadError({(dir_ / "images" / FrameName(0)).string(), "32x24",
+                   "50000x50000"});
+}
+
+TEST_F(SceneTest, UndecodableImageOrVideoIsNamed) {
+  WriteScene(2, /*masks=*/false);
+  std::ofstream((dir_ / "images" / FrameName(1)).string()) << "not a png";
+  ExpectLoadError({(dir_ / "images" / FrameName(1)).string(), "decode"});
+
+  // A video that is not one: every frame the model names is reported.
+  fs::remove_all(dir_ / "images");
+  fs::create_directories(dir_ / "images");
+  std::ofstream((dir_ / "images" / "clip.mp4").string()) << "garbage";
+  model_ = ColmapModel();
+  model_.cameras[1] = {1, "SIMPLE_PINHOLE", kWidth, kHeight, {30, 16, 12}};
+  ColmapImage im;
+  im.id = 1;
+  im.camera_id = 1;
+  im.name = "frame_000000.png";
+  model_.images[1] = im;
+  SaveModel();
+  ExpectLoadError({(dir_ / "images" / "clip.mp4").string()});
+}
+
 TEST_F(SceneTest, ImageScaleResizesFramesMasksAndIntrinsics) {
   WriteScene(2);
   SceneOptions options;

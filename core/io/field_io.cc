@@ -1,5 +1,6 @@
 #include "core/io/field_io.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -7,6 +8,7 @@
 #include <fstream>
 #include <vector>
 
+#include "core/io/atomic_file.h"
 #include "core/io/input_error.h"
 
 namespace es {
@@ -15,14 +17,12 @@ namespace {
 constexpr char kMotionMagic[] = "eulersplat motion field v1\n";
 constexpr char kResidualMagic[] = "eulersplat residual field v1\n";
 
+// Collects the records in memory; Commit writes them atomically.
 class Writer {
  public:
-  explicit Writer(const std::string& path)
-      : path_(path), tmp_(path + ".tmp"), out_(tmp_, std::ios::binary) {
-    if (!out_) throw InputError(path_ + ": cannot open for writing");
-  }
+  explicit Writer(const std::string& path) : path_(path) {}
   void Raw(const void* data, size_t bytes) {
-    out_.write(static_cast<const char*>(data), bytes);
+    bytes_.append(static_cast<const char*>(data), bytes);
   }
   void Int(int32_t v) { Raw(&v, sizeof(v)); }
   void Real(double v) { Raw(&v, sizeof(v)); }
@@ -31,20 +31,32 @@ class Writer {
     Raw(v, n * sizeof(double));
   }
   void Commit() {
-    out_.close();
-    if (!out_) throw InputError(path_ + ": write failed");
-    std::filesystem::rename(tmp_, path_);
+    WriteFileAtomically(path_, [this](std::ofstream& out) {
+      out.write(bytes_.data(), bytes_.size());
+    });
   }
 
  private:
-  std::string path_, tmp_;
-  std::ofstream out_;
+  std::string path_;
+  std::string bytes_;
 };
 
 class Reader {
  public:
-  explicit Reader(const std::string& path) : path_(path), in_(path, std::ios::binary) {
+  explicit Reader(const std::string& path)
+      : path_(path), in_(path, std::ios::binary) {
     if (!in_) throw InputError(path_ + ": cannot open field file");
+    in_.seekg(0, std::ios::end);
+    size_ = in_.tellg();
+    in_.seekg(0);
+  }
+  // Rejects a parameter count the rest of the file cannot hold, before the
+  // field allocates it (a corrupt header must not allocate gigabytes).
+  void CheckFits(double num_doubles, const char* what) {
+    const double remaining = size_ - static_cast<double>(in_.tellg());
+    if (num_doubles * sizeof(double) > remaining)
+      throw InputError(path_ + ": truncated field file (" + what +
+                       " options imply more parameters than it holds)");
   }
   void Magic(const char* magic) {
     std::string line(std::char_traits<char>::length(magic), '\0');
@@ -85,6 +97,7 @@ class Reader {
  private:
   std::string path_;
   std::ifstream in_;
+  double size_ = 0;
 };
 
 void WriteTriplaneOptions(const TriplaneOptions& o, Writer* w) {
@@ -92,6 +105,10 @@ void WriteTriplaneOptions(const TriplaneOptions& o, Writer* w) {
   w->Int(o.channels);
   w->Int(static_cast<int32_t>(o.combination));
   w->Real(o.init_noise);
+}
+
+double TriplaneParams(const TriplaneOptions& o) {
+  return 3.0 * o.resolution * o.resolution * o.channels;
 }
 
 TriplaneOptions ReadTriplaneOptions(Reader* r) {
@@ -103,6 +120,7 @@ TriplaneOptions ReadTriplaneOptions(Reader* r) {
   if (o.resolution < 2 || o.resolution > 4096 || o.channels < 1 ||
       o.channels > 1024 || combination < 0 || combination > 2)
     throw InputError(r->path() + ": invalid triplane options");
+  r->CheckFits(TriplaneParams(o), "triplane");
   o.combination = static_cast<PlaneCombination>(combination);
   return o;
 }
@@ -125,10 +143,15 @@ void WriteParams(const FieldParams& p, const Triplane& t, const Mlp& m,
   w->Array(p.mlp, m.num_params());
 }
 
-void CheckMlpShape(int width, int depth, const Reader& r) {
+// The triplane's parameters still to come are read first: `triplane_params`.
+void CheckMlpShape(int width, int depth, double triplane_params, Reader* r) {
   if (width < 1 || width > 4096 || depth < 0 || depth > 64)
-    throw InputError(r.path() + ": invalid MLP shape");
+    throw InputError(r->path() + ": invalid MLP shape");
+  // Hidden layers alone hold width^2 weights each.
+  r->CheckFits(triplane_params + double(width) * width * std::max(depth - 1, 0),
+               "MLP");
 }
+
 
 }  // namespace
 
@@ -154,7 +177,7 @@ MotionField LoadMotionField(const std::string& path) {
   o.triplane = ReadTriplaneOptions(&r);
   o.mlp_width = r.Int();
   o.mlp_depth = r.Int();
-  CheckMlpShape(o.mlp_width, o.mlp_depth, r);
+  CheckMlpShape(o.mlp_width, o.mlp_depth, TriplaneParams(o.triplane), &r);
   o.velocity_scale = r.Real();
   o.last_layer_init_scale = r.Real();
   o.seed = static_cast<uint32_t>(r.Int());
@@ -200,7 +223,7 @@ ResidualField LoadResidualField(const std::string& path) {
     throw InputError(path + ": invalid residual field options");
   o.mlp_width = r.Int();
   o.mlp_depth = r.Int();
-  CheckMlpShape(o.mlp_width, o.mlp_depth, r);
+  CheckMlpShape(o.mlp_width, o.mlp_depth, TriplaneParams(o.triplane), &r);
   o.position_scale = r.Real();
   o.last_layer_init_scale = r.Real();
   o.seed = static_cast<uint32_t>(r.Int());

@@ -6,6 +6,7 @@
 
 #include <glog/logging.h>
 
+#include "core/io/atomic_file.h"
 #include "core/io/field_io.h"
 #include "core/io/input_error.h"
 #include "core/io/ply_io.h"
@@ -24,25 +25,16 @@ std::string Join(const std::string& dir, const char* name) {
   return (fs::path(dir) / name).string();
 }
 
-void Rename(const std::string& from, const std::string& to) {
-  std::error_code error;
-  fs::rename(from, to, error);
-  if (error) throw InputError(to + ": cannot rename " + from + " over it");
-}
-
 void WriteLoopFile(const LoopModel& model, const std::string& path) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp);
-    if (!out) throw InputError(tmp + ": cannot open for writing");
-    out << "cycle_length " << model.cycle_length << "\n";
-    out << "num_dynamic " << model.num_dynamic() << "\n";
-    for (int k = 0; k < model.num_dynamic(); ++k)
-      out << model.dynamic_index[k] << " " << model.start_times[k] << "\n";
-    out.flush();
-    if (!out) throw InputError(tmp + ": write failed");
-  }
-  Rename(tmp, path);
+  WriteFileAtomically(
+      path,
+      [&model](std::ofstream& out) {
+        out << "cycle_length " << model.cycle_length << "\n";
+        out << "num_dynamic " << model.num_dynamic() << "\n";
+        for (int k = 0; k < model.num_dynamic(); ++k)
+          out << model.dynamic_index[k] << " " << model.start_times[k] << "\n";
+      },
+      /*binary=*/false);
 }
 
 // Reads "<key> <int>" from the stream or throws naming the file.
@@ -100,8 +92,7 @@ void SaveLoopModel(const LoopModel& model, const std::string& dir) {
   fs::create_directories(dir, error);
   if (error) throw InputError(dir + ": cannot create directory");
   const std::string ply = Join(dir, kCanonicalFile);
-  WritePly(model.gaussians, ply + ".tmp");
-  Rename(ply + ".tmp", ply);
+  WritePly(model.gaussians, ply);  // atomic on its own
   WriteLoopFile(model, Join(dir, kLoopFile));
   // A field the model lacks must not be picked up from an earlier save.
   const std::string motion = Join(dir, kMotionFile);

@@ -22,7 +22,7 @@ struct Checkpoint {
   std::vector<double> grad_sum, grad_count, max_radius;  // DensityStats
 };
 
-// Writes a binary file atomically: to path + ".tmp", then renamed over path,
+// Writes a binary file atomically (temp file, fsync, rename over path),
 // so a run killed mid-write leaves the previous checkpoint intact.
 void WriteCheckpoint(const Checkpoint& checkpoint, const std::string& path);
 

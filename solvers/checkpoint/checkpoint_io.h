@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "core/io/atomic_file.h"
 #include "core/io/input_error.h"
 #include "core/model/gaussians.h"
 #include "solvers/train/frame_sampler.h"
@@ -57,7 +58,11 @@ class CheckpointReader {
  public:
   CheckpointReader(std::ifstream* in, const std::string& path,
                    const std::string& kind)
-      : in_(in), path_(path), kind_(kind) {}
+      : in_(in), path_(path), kind_(kind) {
+    in_->seekg(0, std::ios::end);
+    size_ = in_->tellg();
+    in_->seekg(0);
+  }
   template <typename T>
   T Pod() {
     T v;
@@ -67,7 +72,9 @@ class CheckpointReader {
   template <typename T>
   std::vector<T> Vector() {
     const uint64_t n = Pod<uint64_t>();
-    if (n > (uint64_t{1} << 40) / sizeof(T)) Fail("implausible array size");
+    // Checked against the bytes left before allocating: a corrupt length
+    // must not allocate gigabytes.
+    if (n > RemainingBytes() / sizeof(T)) Fail("truncated");
     std::vector<T> v(n);
     Read(v.data(), n * sizeof(T));
     return v;
@@ -111,36 +118,34 @@ class CheckpointReader {
   }
 
  private:
+  uint64_t RemainingBytes() {
+    const std::streamoff at = in_->tellg();
+    return at < 0 || at > size_ ? 0 : static_cast<uint64_t>(size_ - at);
+  }
   void Read(void* dst, size_t bytes) {
     in_->read(static_cast<char*>(dst), bytes);
     if (!*in_) Fail("truncated");
   }
   std::ifstream* in_;
   std::string path_, kind_;
+  std::streamoff size_ = 0;
 };
 
 // Every checkpoint file starts with an 8-byte tag naming its kind and
 // version.
 using CheckpointMagic = char[8];
 
-// Writes PATH atomically: `write_records(CheckpointWriter&)` fills PATH.tmp,
-// which then replaces PATH, so a run killed mid-write keeps its previous
-// checkpoint.
+// Writes PATH atomically (core/io/atomic_file.h): a run killed mid-write
+// keeps its previous checkpoint, and a failed write (disk full) throws
+// InputError and keeps it too.
 template <typename WriteRecords>
 void WriteCheckpointFile(const std::string& path, const CheckpointMagic& magic,
                          WriteRecords write_records) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw InputError(tmp + ": cannot open for writing");
+  WriteFileAtomically(path, [&](std::ofstream& out) {
     out.write(magic, sizeof(CheckpointMagic));
     CheckpointWriter writer(&out);
     write_records(writer);
-    out.flush();
-    if (!out) throw InputError(tmp + ": write failed");
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0)
-    throw InputError(path + ": cannot rename " + tmp + " over it");
+  });
 }
 
 // Opens PATH, checks its tag and returns `read_records(CheckpointReader&)`;

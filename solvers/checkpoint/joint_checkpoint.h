@@ -30,7 +30,7 @@ struct JointCheckpoint {
   std::string rng;  // the start-time RNG (std::mt19937_64 text form)
 };
 
-// Binary, written atomically (path + ".tmp" renamed over path).
+// Binary, written atomically (temp file, fsync, rename over path).
 void WriteJointCheckpoint(const JointCheckpoint& checkpoint,
                           const std::string& path);
 

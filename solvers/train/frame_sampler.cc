@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <sstream>
 
+#include "core/io/input_error.h"
+
 namespace es {
 
 FrameSampler::FrameSampler(std::vector<int> frames, uint64_t seed)
@@ -37,10 +39,22 @@ FrameSampler::State FrameSampler::state() const {
 }
 
 void FrameSampler::Restore(const State& s) {
+  // The state comes from a file: a checkpoint of another scene or a corrupt
+  // one is an input error, not a crash.
   std::istringstream in(s.rng);
-  in >> rng_;
-  CHECK(!in.fail()) << "bad sampler RNG state";
-  CHECK_LE(s.position, static_cast<int>(s.order.size()));
+  std::mt19937_64 rng;
+  in >> rng;
+  if (in.fail()) throw InputError("checkpoint: bad frame sampler RNG state");
+  if (s.position < 0 || s.position > static_cast<int>(s.order.size()))
+    throw InputError("checkpoint: frame sampler position out of range");
+  std::vector<int> sorted_order = s.order, sorted_frames = frames_;
+  std::sort(sorted_order.begin(), sorted_order.end());
+  std::sort(sorted_frames.begin(), sorted_frames.end());
+  if (!s.order.empty() && sorted_order != sorted_frames)
+    throw InputError(
+        "checkpoint: its frame order is not a permutation of this run's "
+        "training frames (another scene or split?)");
+  rng_ = rng;
   order_ = s.order;
   position_ = s.position;
 }

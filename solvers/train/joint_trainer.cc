@@ -112,7 +112,8 @@ JointTrainer::JointTrainer(const std::vector<Frame>* frames,
       use_masks_(options.mask_weight > 0 && AllHaveMasks(*frames, train_)),
       extent_(CameraExtent(*frames, train_)),
       sampler_(train_, options.seed),
-      rng_(options.seed + 1) {
+      rng_(options.seed + 1),
+      guard_("Stage 3 training", options.max_nonfinite_steps) {
   CHECK_GT(options_.cycle_length, 0);
   CHECK_GT(options_.refresh_interval, 0);
   initial.CheckConsistent();
@@ -248,6 +249,14 @@ JointIterationStats JointTrainer::Step() {
   out.mask = cost_->last_mask();
   out.residual = cost_->last_residual();
   out.euler = cost_->last_euler_stats();
+  bool finite = std::isfinite(r) && AllFinite(grad_);
+  for (const std::vector<double>& g : field_grad_)
+    finite = finite && AllFinite(g);
+  if (!guard_.Accept(iteration_ + 1, finite)) {
+    out.skipped = true;
+    ++iteration_;
+    return out;
+  }
 
   adam_.Step(LearningRates(), grad_, &model_.gaussians);
   ++field_step_;
@@ -260,6 +269,10 @@ JointIterationStats JointTrainer::Step() {
                field_m_[b].data(), field_v_[b].data(), blocks[b]->data());
   }
   ++iteration_;
+  bool params_finite = AllFinite(model_.gaussians);
+  for (const std::vector<double>* block : blocks)
+    params_finite = params_finite && AllFinite(*block);
+  guard_.CheckParameters(iteration_, params_finite);
   return out;
 }
 

@@ -17,6 +17,7 @@
 #include "costs/joint_render_cost.h"
 #include "solvers/checkpoint/joint_checkpoint.h"
 #include "solvers/optim/adam.h"
+#include "solvers/train/divergence_guard.h"
 #include "solvers/train/frame_sampler.h"
 
 namespace es {
@@ -55,6 +56,8 @@ struct JointTrainerOptions {
   ResidualFieldOptions residual;
   EulerOptions euler;
   Eigen::Vector3d background = Eigen::Vector3d::Zero();
+  // This many non-finite steps in a row stop the run (DivergenceGuard).
+  int max_nonfinite_steps = 10;
 };
 
 struct JointIterationStats {
@@ -65,6 +68,7 @@ struct JointIterationStats {
   double residual = 0;
   int num_dynamic = 0;
   EulerStats euler;
+  bool skipped = false;  // non-finite loss or gradient: no update
 };
 
 // The Gaussians whose sigmoid(dynamic_logit) exceeds threshold, ascending.
@@ -90,10 +94,16 @@ class JointTrainer {
                const JointTrainerOptions& options, GaussianSet initial,
                std::optional<MotionField> motion);
 
+  // One iteration. A non-finite loss or gradient skips the update (counted
+  // in skipped_steps()); throws TrainingDiverged after too many in a row or
+  // if the parameters become non-finite.
   JointIterationStats Step();
 
   int64_t iteration() const { return iteration_; }
   const LoopModel& model() const { return model_; }
+  int64_t skipped_steps() const { return guard_.skipped(); }
+  // False right after a skipped step: the state is not one to checkpoint.
+  bool last_step_ok() const { return guard_.in_a_row() == 0; }
   bool uses_masks() const { return use_masks_; }
   RenderOptions render_options() const;
 
@@ -123,6 +133,7 @@ class JointTrainer {
   Rasterizer rasterizer_;
   std::optional<JointRenderCost> cost_;
   int64_t iteration_ = 0;
+  DivergenceGuard guard_;
 };
 
 // Held-out quality of a looping model: each frame i is composed at its own

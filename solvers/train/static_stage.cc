@@ -123,7 +123,11 @@ StaticStageResult RunStaticStage(const StaticStageOptions& o) {
       throw InputError(checkpoint_path + ": SH degree " +
                        std::to_string(checkpoint.gaussians.sh_degree) +
                        " exceeds --sh_degree");
-    trainer.Restore(checkpoint);
+    try {
+      trainer.Restore(checkpoint);
+    } catch (const InputError& e) {
+      throw InputError(checkpoint_path + ": " + e.what());
+    }
     std::printf("resumed from %s at iteration %lld\n", checkpoint_path.c_str(),
                 static_cast<long long>(trainer.iteration()));
   }
@@ -158,12 +162,16 @@ StaticStageResult RunStaticStage(const StaticStageOptions& o) {
           ? std::min<int64_t>(d.until_iteration, o.trainer.iterations / 2)
           : 0;
   double loss_sum = 0, photometric_sum = 0, mask_sum = 0;
+  int64_t counted = 0;  // steps in the sums
   std::vector<double> final_row;
   while (trainer.iteration() < o.trainer.iterations) {
     const IterationStats s = trainer.Step();
-    loss_sum += s.loss;
-    photometric_sum += s.photometric;
-    mask_sum += s.mask;
+    if (!s.skipped) {  // a skipped step's loss is not finite
+      loss_sum += s.loss;
+      photometric_sum += s.photometric;
+      mask_sum += s.mask;
+      ++counted;
+    }
     const int64_t it = trainer.iteration();
     const bool log = o.log_every > 0 && it % o.log_every == 0;
     const bool eval = o.eval_every > 0 && it % o.eval_every == 0 &&
@@ -171,6 +179,7 @@ StaticStageResult RunStaticStage(const StaticStageOptions& o) {
     if (log || eval) {
       const double now = training_seconds();
       const int64_t window = it - last_log_iteration;
+      const double n = counted > 0 ? counted : NAN;
       StaticMetrics held_out;
       if (eval) {
         const auto eval_start = Clock::now();
@@ -180,7 +189,7 @@ StaticStageResult RunStaticStage(const StaticStageOptions& o) {
       }
       const GaussianSet& g = trainer.gaussians();
       const std::vector<double> row = {
-          loss_sum / window, photometric_sum / window, mask_sum / window,
+          loss_sum / n, photometric_sum / n, mask_sum / n,
           static_cast<double>(g.size()),
           static_cast<double>(
               CountDynamic(StaticModel(trainer), o.dynamic_threshold)),
@@ -204,7 +213,7 @@ StaticStageResult RunStaticStage(const StaticStageOptions& o) {
       eta.max_gaussians = d.max_gaussians;
       std::printf(
           "iter %lld/%d  loss %.5f  gaussians %d  %.1f it/s  ETA %.0f s",
-          static_cast<long long>(it), o.trainer.iterations, loss_sum / window,
+          static_cast<long long>(it), o.trainer.iterations, loss_sum / n,
           g.size(), window / std::max(now - last_log_seconds, 1e-9),
           DensifyingEta(eta));
       if (eval) std::printf("  held-out PSNR %.2f dB", held_out.psnr);
@@ -214,10 +223,17 @@ StaticStageResult RunStaticStage(const StaticStageOptions& o) {
       last_log_iteration = it;
       last_log_gaussians = g.size();
       loss_sum = photometric_sum = mask_sum = 0;
+      counted = 0;
     }
-    if (o.checkpoint_every > 0 && it % o.checkpoint_every == 0)
+    // Never checkpoint right after a skipped (non-finite) step: the file on
+    // disk stays the last good state.
+    if (o.checkpoint_every > 0 && it % o.checkpoint_every == 0 &&
+        trainer.last_step_ok())
       WriteCheckpoint(trainer.Save(), checkpoint_path);
   }
+  if (trainer.skipped_steps() > 0)
+    std::printf("%lld step(s) skipped for a non-finite loss or gradient\n",
+                static_cast<long long>(trainer.skipped_steps()));
   StaticStageResult r;
   r.seconds = training_seconds();
   r.iterations_per_second =
@@ -229,7 +245,7 @@ StaticStageResult RunStaticStage(const StaticStageOptions& o) {
   r.num_gaussians = model.size();
   r.num_dynamic = CountDynamic(model, o.dynamic_threshold);
   if (final_row.empty() && trainer.iteration() > last_log_iteration) {
-    const double w = trainer.iteration() - last_log_iteration;
+    const double w = counted > 0 ? counted : NAN;
     final_row = {loss_sum / w, photometric_sum / w, mask_sum / w,
                  static_cast<double>(r.num_gaussians),
                  static_cast<double>(r.num_dynamic), NAN, NAN};

@@ -3,8 +3,10 @@
 #include <glog/logging.h>
 
 #include <algorithm>
+#include <cmath>
 #include <sstream>
 
+#include "core/io/input_error.h"
 #include "solvers/optim/lr_schedule.h"
 
 namespace es {
@@ -61,7 +63,8 @@ StaticTrainer::StaticTrainer(const std::vector<Frame>* frames,
       sampler_(train_, options.seed),
       rng_(options.seed + 1),
       cost_(&(*frames)[train_.at(0)], 0, 0, Terms(options, use_masks_),
-            MakeRenderOptions(options), &rasterizer_) {
+            MakeRenderOptions(options), &rasterizer_),
+      guard_("Stage 1 training", options.max_nonfinite_steps) {
   g_.CheckConsistent();
   CHECK_LE(g_.sh_degree, options_.max_sh_degree);
   adam_.Reset(g_);
@@ -112,6 +115,11 @@ IterationStats StaticTrainer::Step() {
   out.loss = 0.5 * r * r;
   out.photometric = cost_.last_photometric();
   out.mask = cost_.last_mask();
+  if (!guard_.Accept(iteration_ + 1, std::isfinite(r) && AllFinite(grad_))) {
+    out.skipped = true;
+    ++iteration_;
+    return out;
+  }
 
   const DensifyOptions& d = options_.densify_options;
   // As 3DGS (15k of 30k), the second half of a run only refines: a model
@@ -129,6 +137,7 @@ IterationStats StaticTrainer::Step() {
   }
   adam_.Step(LearningRates(), grad_, &g_);
   ++iteration_;
+  guard_.CheckParameters(iteration_, AllFinite(g_));
 
   if (densifying && iteration_ > d.from_iteration &&
       iteration_ % d.interval == 0) {
@@ -169,7 +178,7 @@ void StaticTrainer::Restore(const Checkpoint& c) {
   sampler_.Restore(c.sampler);
   std::istringstream rng(c.rng);
   rng >> rng_;
-  CHECK(!rng.fail()) << "bad RNG state in checkpoint";
+  if (rng.fail()) throw InputError("checkpoint: bad densification RNG state");
   stats_.grad_sum = c.grad_sum;
   stats_.count = c.grad_count;
   stats_.max_radius = c.max_radius;

@@ -1,0 +1,32 @@
+#ifndef EULERSPLAT_SOLVERS_EVAL_REALISM_EVALUATION_H_
+#define EULERSPLAT_SOLVERS_EVAL_REALISM_EVALUATION_H_
+
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "core/io/scene.h"
+#include "core/metrics/realism.h"
+#include "core/model/loop_model.h"
+#include "core/render/rasterizer.h"
+
+namespace es {
+
+// The looping model played with Alg. 2 (p = 0) from frame 0 and seen by
+// every input camera: element i is frame i rendered at frames[i]'s camera
+// (CV_64FC3, RGB). Training and held-out frames alike.
+std::vector<cv::Mat> RenderAtInputCameras(const LoopModel& model,
+                                          const std::vector<Frame>& frames,
+                                          const RenderOptions& options);
+
+// core/metrics/realism.h of that video against the input frames, inside
+// the input's water masks (when the scene has them), the static rest and
+// the whole frame.
+RealismMetrics EvaluateRealism(const LoopModel& model,
+                               const std::vector<Frame>& frames,
+                               const RenderOptions& options,
+                               const RealismOptions& realism = {});
+
+}  // namespace es
+
+#endif  // EULERSPLAT_SOLVERS_EVAL_REALISM_EVALUATION_H_
