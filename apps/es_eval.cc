@@ -39,6 +39,9 @@ DEFINE_int32(seam_cycles, 3, "Loops of the fixed-view animation the "
 DEFINE_int32(anchor_frame, -1, "Frame whose camera the fixed view uses; "
              "-1: the first held-out frame.");
 DEFINE_int32(timing_frames, 0, "Frames timed for Alg. 1 vs Alg. 2; 0: 2 L.");
+DEFINE_int32(compare_frames, 4, "Frames of the realism video written to "
+             "OUT/compare/ (rendered left, input right) to look at; 0: "
+             "none.");
 DEFINE_int32(realism_patches, 4096, "Random patches per region for the "
              "realism distribution distances (more: less sampling noise).");
 
@@ -65,6 +68,9 @@ void CheckFlags() {
   if (FLAGS_seam_cycles < 2) {
     throw es::InputError("--seam_cycles must be >= 2 (a boundary needs a "
                          "cycle on each side)");
+  }
+  if (FLAGS_compare_frames < 0) {
+    throw es::InputError("--compare_frames must be >= 0");
   }
   if (FLAGS_realism_patches < 16) {
     throw es::InputError("--realism_patches must be >= 16");
@@ -115,7 +121,13 @@ Evaluation Evaluate(const es::LoopModel& model, const es::Scene& scene,
        start);
   es::RealismOptions realism;
   realism.patch_samples = FLAGS_realism_patches;
-  e.realism = es::EvaluateRealism(model, scene.frames, options, realism);
+  const std::vector<cv::Mat> rendered =
+      es::RenderAtInputCameras(model, scene.frames, options);
+  e.realism = es::EvaluateRealism(rendered, scene.frames, realism);
+  if (FLAGS_compare_frames > 0) {
+    es::WriteComparisonFrames(rendered, scene.frames, FLAGS_compare_frames,
+                              FLAGS_out + "/compare");
+  }
   Step(3, "loop seam", start);
   e.seam = es::EvaluateLoopSeam(model, anchor, FLAGS_seam_cycles, options);
   Step(4, "Alg. 1 vs Alg. 2 timing", start);

@@ -23,6 +23,7 @@
 #include "solvers/checkpoint/joint_checkpoint.h"
 #include "solvers/train/joint_trainer.h"
 #include "solvers/train/training_history.h"
+#include "solvers/train/water_particles.h"
 
 DEFINE_string(scene, "", "Scene directory (images/, masks/, sparse/0/).");
 DEFINE_string(init, "",
@@ -88,6 +89,18 @@ DEFINE_int32(residual_channels, 16, "D triplane channels.");
 DEFINE_int32(residual_width, 128, "D MLP width.");
 DEFINE_int32(residual_depth, 2, "D MLP hidden layers.");
 DEFINE_bool(white_background, false, "Render on white instead of black.");
+DEFINE_double(particle_pixels, 0,
+              "> 0: before training, split every water Gaussian larger "
+              "than this (std dev in pixels on screen) into particles of "
+              "this size drawn from its volume; 0: keep the static "
+              "model's water as it is.");
+DEFINE_int32(max_particle_children, 16,
+             "Most particles one water Gaussian is split into.");
+DEFINE_int32(max_particles, 20000,
+             "Most water Gaussians after the particle split.");
+DEFINE_double(max_dynamic_pixels, 0,
+              "> 0: keep water Gaussians at most this large on screen (std "
+              "dev in pixels) during training; 0: no limit.");
 
 namespace es {
 namespace {
@@ -124,6 +137,10 @@ JointTrainerOptions OptionsFromFlags() {
   RequireAtLeast("residual_width", FLAGS_residual_width, 1);
   RequireAtLeast("motion_depth", FLAGS_motion_depth, 0);
   RequireAtLeast("residual_depth", FLAGS_residual_depth, 0);
+  RequireNonNegative("particle_pixels", FLAGS_particle_pixels);
+  RequireNonNegative("max_dynamic_pixels", FLAGS_max_dynamic_pixels);
+  RequireAtLeast("max_particle_children", FLAGS_max_particle_children, 1);
+  RequireAtLeast("max_particles", FLAGS_max_particles, 1);
   JointTrainerOptions o;
   o.iterations = FLAGS_iterations;
   o.seed = FLAGS_seed;
@@ -149,6 +166,7 @@ JointTrainerOptions OptionsFromFlags() {
   o.lr_residual_triplane = FLAGS_lr_residual_triplane;
   o.lr_residual_mlp = FLAGS_lr_residual_mlp;
   o.field_lr_final_factor = FLAGS_field_lr_final_factor;
+  o.max_dynamic_pixels = FLAGS_max_dynamic_pixels;
   o.motion.triplane.resolution = FLAGS_motion_resolution;
   o.motion.triplane.channels = FLAGS_motion_channels;
   o.motion.mlp_width = FLAGS_motion_width;
@@ -216,6 +234,20 @@ int Run() {
     }
   }
 
+  if (FLAGS_particle_pixels > 0) {
+    WaterParticleOptions particles;
+    particles.particle_pixels = FLAGS_particle_pixels;
+    particles.max_children = FLAGS_max_particle_children;
+    particles.max_particles = FLAGS_max_particles;
+    particles.dynamic_threshold = options.dynamic_threshold;
+    particles.seed = FLAGS_seed;
+    const ParticleSplitStats split = SplitWaterIntoParticles(
+        particles, scene.frames, scene.train, &initial);
+    std::printf("water split into particles: %d blobs -> %d particles "
+                "(water Gaussians %d -> %d)\n",
+                split.blobs, split.particles, split.dynamic_before,
+                split.dynamic_after);
+  }
   JointTrainer trainer(&scene.frames, scene.train, options,
                        std::move(initial), std::move(motion));
   std::printf("dynamic Gaussians: %d of %d; V %s, D %s; masks %s\n",
@@ -319,11 +351,15 @@ int Run() {
     std::printf("%lld step(s) skipped for a non-finite loss or gradient\n",
                 static_cast<long long>(trainer.skipped_steps()));
 
-  SaveLoopModel(trainer.model(), FLAGS_out);
+  int pruned = 0;
+  const LoopModel model = trainer.FinalModel(&pruned);
+  std::printf("pruned %d invisible Gaussians (opacity < 1/255 in every "
+              "frame)\n", pruned);
+  SaveLoopModel(model, FLAGS_out);
   const LoopMetrics metrics = EvaluateLoopModel(
-      trainer.model(), scene.frames, scene.test, trainer.render_options());
+      model, scene.frames, scene.test, trainer.render_options());
   WriteMetrics((fs::path(FLAGS_out) / "metrics.json").string(), metrics,
-               seconds, trainer.iteration(), trainer.model(), flow_init,
+               seconds, trainer.iteration(), model, flow_init,
                final_loss);
   if (final_row.empty() && trainer.iteration() > last_row) {
     const double window = counted > 0 ? counted : NAN;

@@ -1,8 +1,8 @@
 // The all-in-one driver: from a scene directory to a looping 4D model, a
 // looping video, metrics and a contact sheet. Runs the stage binaries that
-// sit next to it (es_static, es_flowinit, es_train, es_animate, es_eval),
-// each a process of its own so every stage can also be run, resumed or
-// debugged alone with the very same flags the driver prints.
+// sit next to it (es_static, es_flowinit, es_train, es_animate, es_export,
+// es_eval), each a process of its own so every stage can also be run,
+// resumed or debugged alone with the very same flags the driver prints.
 //
 //   eulersplat --scene DIR --out DIR [--preset quick|paper]
 //
@@ -11,6 +11,8 @@
 // OUT/model/           Stage 3, the looping model (es_train)
 // OUT/animate/         looping video along the input trajectory, with tracks
 // OUT/animate_fixed/   fixed-view video and its x-t slice
+// OUT/web/             web page that plays the loop (es_export)
+// OUT/frame_0.ply      loop frame 0 as a standard 3DGS PLY
 // OUT/eval/eval.json   metrics (es_eval)
 // OUT/plots/           training plots: loss by term, held-out PSNR vs wall
 //                      time, Gaussians (es_plot on each history.csv)
@@ -437,6 +439,25 @@ void AnimateStage(const Pipeline& run) {
   }
 }
 
+// A web page that plays the loop with orbit controls, and a PLY of loop
+// frame 0 for other 3DGS tools. Not fatal: the page needs the npm packages
+// scripts/setup.sh installs.
+void ExportStage(const Pipeline& run) {
+  run.stages->Begin("web page and frame PLY (es_export)");
+  const fs::path dir = run.out / "web", ply = run.out / "frame_0.ply";
+  if (AllExist({dir / "view.json", ply})) {
+    Skip("export", dir);
+    return;
+  }
+  if (RunStage("es_export",
+               run.Args({"--model", run.model_dir().string(), "--web",
+                         dir.string(), "--ply", ply.string()},
+                        true)) != 0) {
+    std::printf("[export] failed (its message is above); the other outputs "
+                "are complete\n");
+  }
+}
+
 void EvalStage(const Pipeline& run) {
   run.stages->Begin("evaluation (es_eval)");
   if (AllExist({run.eval_dir() / "eval.json"})) {
@@ -541,7 +562,7 @@ int Main() {
                         es::RunLock::Mode::kWaitIfHeld);
   }
   const bool needs_poses = !fs::exists(run.scene / "sparse" / "0");
-  StageLog stages((needs_poses ? 1 : 0) + 5 + (FLAGS_animate ? 3 : 0));
+  StageLog stages((needs_poses ? 1 : 0) + 6 + (FLAGS_animate ? 3 : 0));
   run.stages = &stages;
   if (needs_poses) stages.Begin("camera poses (COLMAP)");
   EnsurePoses(run.scene);
@@ -569,6 +590,7 @@ int Main() {
   FlowStage(run);
   JointStage(run);
   if (FLAGS_animate) AnimateStage(run);
+  ExportStage(run);
   EvalStage(run);
   PlotStage(run);
   if (FLAGS_animate) {
@@ -590,6 +612,12 @@ int Main() {
                 (run.out / "animate_fixed" / "animation.mp4").c_str(),
                 (run.out / "contact_sheet.png").c_str());
   }
+  if (fs::exists(run.out / "web" / "view.json")) {
+    std::printf("  web page       %s (python3 -m http.server --directory "
+                "%s, then open localhost:8000)\n",
+                (run.out / "web" / "index.html").c_str(),
+                (run.out / "web").c_str());
+  }
   return 0;
 }
 
@@ -598,7 +626,7 @@ int Main() {
 int main(int argc, char** argv) {
   return es::RunApp(argc, argv,
                     "Runs every stage: static -> flow init -> joint -> "
-                    "animate -> eval -> plots.\n"
+                    "animate -> export -> eval -> plots.\n"
                     "  eulersplat --scene DIR --out DIR [--preset "
                     "quick|paper]\n"
                     "Writes OUT/static, OUT/model, OUT/animate, "

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include <glog/logging.h>
 #include <gtest/gtest.h>
 
 #include "core/io/input_error.h"
@@ -253,13 +254,49 @@ TEST_F(PlyIoTest, TruncatedFileNamesIt) {
 }
 
 TEST_F(PlyIoTest, NonFiniteValueNamesFile) {
-  for (float bad : {std::numeric_limits<float>::quiet_NaN(),
-                    std::numeric_limits<float>::infinity()}) {
+  const float kInf = std::numeric_limits<float>::infinity();
+  for (float bad : {std::numeric_limits<float>::quiet_NaN(), kInf}) {
     GaussianSet g = RandomGaussians(4, 0, 5);
-    g.opacity_logits[2] = bad;
+    g.means[7] = bad;
     WritePly(g, Path("nan.ply"));
     ExpectInputErrorNaming(Path("nan.ply"), "non-finite");
   }
+  GaussianSet g = RandomGaussians(4, 0, 5);
+  g.opacity_logits[2] = std::numeric_limits<float>::quiet_NaN();
+  WritePly(g, Path("nan_opacity.ply"));
+  ExpectInputErrorNaming(Path("nan_opacity.ply"), "non-finite");
+}
+
+// Collects the WARNING lines glog emits while it is alive.
+class WarningCollector : public google::LogSink {
+ public:
+  WarningCollector() { google::AddLogSink(this); }
+  ~WarningCollector() override { google::RemoveLogSink(this); }
+  void send(google::LogSeverity severity, const char*, const char*, int,
+            const struct ::tm*, const char* message, size_t size) override {
+    if (severity == google::GLOG_WARNING) lines.emplace_back(message, size);
+  }
+  std::vector<std::string> lines;
+};
+
+TEST_F(PlyIoTest, InfiniteOpacityIsClampedToRenderTheSame) {
+  const float kInf = std::numeric_limits<float>::infinity();
+  GaussianSet g = RandomGaussians(6, 1, 9);
+  g.opacity_logits = {1.5, kInf, -2.0, -kInf, 0.25, kInf};
+  WritePly(g, Path("inf.ply"));
+  WarningCollector warnings;
+  const GaussianSet read = ReadPly(Path("inf.ply"));
+  const double limit = std::log(9999.0);
+  EXPECT_EQ(read.opacity_logits,
+            std::vector<double>({1.5, limit, -2.0, -limit, 0.25, limit}));
+  EXPECT_EQ(read.means, g.means);
+  // Opacity 0.9999 saturates alpha as 1 does; 0.0001 is skipped as 0 is.
+  EXPECT_GT(Sigmoid(limit), 0.99);
+  EXPECT_LT(Sigmoid(-limit), 1.0 / 255);
+  ASSERT_EQ(warnings.lines.size(), 1u);
+  EXPECT_NE(warnings.lines[0].find(Path("inf.ply")), std::string::npos);
+  EXPECT_NE(warnings.lines[0].find(" 3 "), std::string::npos)
+      << warnings.lines[0];
 }
 
 TEST_F(PlyIoTest, BadHeaderNamesFile) {

@@ -12,6 +12,8 @@
 #include <string>
 #include <vector>
 
+#include <glog/logging.h>
+
 #include "core/io/atomic_file.h"
 #include "core/io/input_error.h"
 
@@ -413,9 +415,22 @@ VertexLayout MapVertexProperties(const std::string& path,
   return layout;
 }
 
+// Tools that store opacity in 8 bits write opacity 1 and 0 back as logits
+// +Inf and -Inf. The largest finite logit we keep, that of opacity 0.9999,
+// renders exactly as opacity 1 (alpha saturates at 0.99) and its negative
+// exactly as 0 (alpha below 1/255 is skipped), yet leaves a gradient if the
+// model is trained further.
+const double kOpacityLogitLimit = std::log(9999.0);
+
 // The one place a vertex value is accepted or rejected: the model never
-// holds a NaN or an infinity.
-double AcceptedValue(const std::string& path, int64_t vertex, double v) {
+// holds a NaN or an infinity. Infinite opacity logits are clamped to
+// +/-kOpacityLogitLimit and counted in *clamped (for one warning).
+double AcceptedValue(const std::string& path, int64_t vertex, const Target& t,
+                     double v, int64_t* clamped) {
+  if (t.field == Field::kOpacity && std::isinf(v)) {
+    ++*clamped;
+    return v > 0 ? kOpacityLogitLimit : -kOpacityLogitLimit;
+  }
   if (!std::isfinite(v))
     throw InputError(path + ": vertex " + std::to_string(vertex) +
                      " has a non-finite value");
@@ -472,18 +487,25 @@ GaussianSet ReadPly(const std::string& path) {
   RowReader reader(path, data, header);
   for (int e = 0; e < vertex_index; ++e) reader.Skip(header.elements[e]);
   std::vector<double> values;
+  int64_t clamped = 0;
   for (int64_t n = 0; n < vertex.count; ++n) {
     reader.Read(vertex, n, &values);
     for (size_t p = 0; p < layout.targets.size(); ++p) {
       const Target& t = layout.targets[p];
       if (t.field == Field::kIgnored) continue;
-      Store(t, n, AcceptedValue(path, n, values[p]), &g);
+      Store(t, n, AcceptedValue(path, n, t, values[p], &clamped), &g);
     }
+  }
+  if (clamped > 0) {
+    LOG(WARNING) << path << ": " << clamped
+                 << " opacity logits are +/-Inf (opacity exactly 1 or 0, as "
+                    "8-bit formats write them back); clamped to +/-"
+                 << kOpacityLogitLimit;
   }
   return g;
 }
 
-void WritePly(const GaussianSet& gaussians, const std::string& path) {
+std::string EncodePly(const GaussianSet& gaussians) {
   gaussians.CheckConsistent();
   const int n = gaussians.size();
   const int k_count = gaussians.sh_coeffs();
@@ -523,11 +545,16 @@ void WritePly(const GaussianSet& gaussians, const std::string& path) {
     tail[8] = gaussians.dynamic_logits[i];
   }
 
-  const std::string h = header.str();
-  WriteFileAtomically(path, [&](std::ofstream& file) {
-    file.write(h.data(), h.size());
-    file.write(reinterpret_cast<const char*>(body.data()),
+  std::string bytes = header.str();
+  bytes.append(reinterpret_cast<const char*>(body.data()),
                body.size() * sizeof(float));
+  return bytes;
+}
+
+void WritePly(const GaussianSet& gaussians, const std::string& path) {
+  const std::string bytes = EncodePly(gaussians);
+  WriteFileAtomically(path, [&bytes](std::ofstream& file) {
+    file.write(bytes.data(), bytes.size());
   });
 }
 

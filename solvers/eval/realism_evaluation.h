@@ -1,6 +1,7 @@
 #ifndef EULERSPLAT_SOLVERS_EVAL_REALISM_EVALUATION_H_
 #define EULERSPLAT_SOLVERS_EVAL_REALISM_EVALUATION_H_
 
+#include <string>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -22,10 +23,15 @@ std::vector<cv::Mat> RenderAtInputCameras(const LoopModel& model,
 // core/metrics/realism.h of that video against the input frames, inside
 // the input's water masks (when the scene has them), the static rest and
 // the whole frame.
-RealismMetrics EvaluateRealism(const LoopModel& model,
+RealismMetrics EvaluateRealism(const std::vector<cv::Mat>& rendered,
                                const std::vector<Frame>& frames,
-                               const RenderOptions& options,
                                const RealismOptions& realism = {});
+
+// Writes `count` frames spread over the video as DIR/frame_NNNNNN.png,
+// rendered (left) beside the input (right), 8-bit RGB: to look at.
+void WriteComparisonFrames(const std::vector<cv::Mat>& rendered,
+                           const std::vector<Frame>& frames, int count,
+                           const std::string& dir);
 
 }  // namespace es
 

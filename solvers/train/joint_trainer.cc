@@ -12,6 +12,7 @@
 #include "core/metrics/image_metrics.h"
 #include "solvers/optim/lr_schedule.h"
 #include "solvers/train/static_trainer.h"
+#include "solvers/train/water_particles.h"
 
 namespace es {
 namespace {
@@ -67,6 +68,13 @@ class Average {
 };
 
 }  // namespace
+
+int CyclesCovering(int frames, int cycle_length) {
+  CHECK_GT(cycle_length, 0);
+  // p = floor((i - t0) / L) for 0 <= i < frames and 0 <= t0 < L lies in
+  // [-1, (frames - 1) / L]; the encoding is unambiguous for |p| < max.
+  return std::max(1, frames - 1) / cycle_length + 2;
+}
 
 std::vector<int> DynamicSet(const GaussianSet& g, double threshold) {
   std::vector<int> out;
@@ -135,6 +143,8 @@ JointTrainer::JointTrainer(const std::vector<Frame>* frames,
   if (options_.use_residual) {
     ResidualFieldOptions r = options_.residual;
     r.cycle_length = options_.cycle_length;
+    r.max_cycles = CyclesCovering(static_cast<int>(frames_->size()),
+                                  options_.cycle_length);
     model_.residual.emplace(r);
     model_.residual->SetBox(lo, hi);
   }
@@ -188,6 +198,19 @@ void JointTrainer::RefreshDynamicSet() {
   }
   model_.dynamic_index = next;
   model_.start_times = std::move(times);
+  UpdateScaleBounds();
+}
+
+void JointTrainer::UpdateScaleBounds() {
+  if (options_.max_dynamic_pixels <= 0) return;
+  dynamic_max_scale_ =
+      PixelSizeInWorld(model_.gaussians, model_.dynamic_index, *frames_,
+                       train_, options_.max_dynamic_pixels);
+}
+
+void JointTrainer::ClampDynamicScales() {
+  if (options_.max_dynamic_pixels <= 0) return;
+  ClampScales(model_.dynamic_index, dynamic_max_scale_, &model_.gaussians);
 }
 
 GaussianLearningRates JointTrainer::LearningRates() const {
@@ -259,6 +282,7 @@ JointIterationStats JointTrainer::Step() {
   }
 
   adam_.Step(LearningRates(), grad_, &model_.gaussians);
+  ClampDynamicScales();
   ++field_step_;
   const std::vector<double> lr = FieldLearningRates();
   std::vector<std::vector<double>*> blocks = FieldBlocks();
@@ -327,6 +351,7 @@ void JointTrainer::Restore(const JointCheckpoint& c,
   adam_.set_step(c.adam_step);
   model_.dynamic_index = c.dynamic_index;
   model_.start_times = c.start_times;
+  UpdateScaleBounds();
   for (size_t b = 0; b < blocks.size(); ++b) *blocks[b] = c.field_params[b];
   field_m_ = c.field_m;
   field_v_ = c.field_v;
@@ -345,11 +370,60 @@ void JointTrainer::Restore(const JointCheckpoint& c,
     model_.residual->SetBox(lo, hi);
   }
   field_step_ = c.field_step;
-  sampler_.Restore(c.sampler);
+  try {
+    sampler_.Restore(c.sampler);
+  } catch (const InputError& e) {
+    throw InputError(source + ": " + e.what());
+  }
   std::istringstream rng(c.rng);
   rng >> rng_;
   if (rng.fail()) throw InputError(source + ": bad RNG state in checkpoint");
   grad_ = GaussianSet();
+}
+
+LoopModel JointTrainer::FinalModel(int* pruned) const {
+  LoopModel model = model_;
+  const int removed =
+      PruneInvisible(static_cast<int>(frames_->size()), &model);
+  if (pruned) *pruned = removed;
+  return model;
+}
+
+int PruneInvisible(int num_frames, LoopModel* model) {
+  GaussianSet& g = model->gaussians;
+  std::vector<double> peak(g.opacity_logits);  // largest logit shown
+  if (model->num_dynamic() > 0 && model->residual) {
+    const LoopSplatView view = LoopSplatView::Of(*model);
+    FrameComposer composer;
+    const int frames = std::max(num_frames, 2 * model->cycle_length);
+    for (int i = 0; i < frames; ++i) {
+      const SplatView& splats = composer.Compose(view, i);
+      for (int g_index : model->dynamic_index)
+        peak[g_index] =
+            std::max(peak[g_index], splats.opacity_logits[g_index]);
+    }
+  }
+  const double threshold = Logit(kInvisibleOpacity);
+  std::vector<bool> keep(g.size());
+  std::vector<int> new_index(g.size(), -1);
+  int kept = 0;
+  for (int i = 0; i < g.size(); ++i) {
+    keep[i] = peak[i] >= threshold;
+    if (keep[i]) new_index[i] = kept++;
+  }
+  const int removed = g.size() - kept;
+  if (removed == 0) return 0;
+  g.Filter(keep);
+  std::vector<int> dynamic_index, start_times;
+  for (int k = 0; k < model->num_dynamic(); ++k) {
+    const int i = model->dynamic_index[k];
+    if (!keep[i]) continue;
+    dynamic_index.push_back(new_index[i]);
+    start_times.push_back(model->start_times[k]);
+  }
+  model->dynamic_index = std::move(dynamic_index);
+  model->start_times = std::move(start_times);
+  return removed;
 }
 
 LoopMetrics EvaluateLoopModel(const LoopModel& model,

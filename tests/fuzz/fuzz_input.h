@@ -40,14 +40,18 @@ inline std::vector<std::string> SplitFuzzInput(const uint8_t* data,
   std::vector<std::string> parts;
   size_t pos = 0;
   for (int i = 0; i < n; ++i) {
-    const size_t end = i + 1 < n ? all.find(kSeparator, pos) : std::string::npos;
-    if (pos > all.size()) {
+    if (pos == std::string::npos) {
       parts.emplace_back();
       continue;
     }
-    parts.push_back(all.substr(pos, end == std::string::npos ? std::string::npos
-                                                             : end - pos));
-    pos = end == std::string::npos ? all.size() + 1 : end + kSeparator.size();
+    const size_t end = i + 1 < n ? all.find(kSeparator, pos) : all.size();
+    if (end == std::string::npos) {
+      parts.push_back(all.substr(pos));
+      pos = std::string::npos;
+    } else {
+      parts.push_back(all.substr(pos, end - pos));
+      pos = end + kSeparator.size();
+    }
   }
   return parts;
 }
