@@ -42,9 +42,9 @@ Result RunCommand(const std::string& command) {
 }
 
 const std::vector<std::string> kApps = {
-    "es_static", "es_flowinit", "es_train",    "es_animate",
-    "es_eval",   "es_render",   "es_synth",    "es_contact_sheet",
-    "es_plot",   "eulersplat",  "bench_static"};
+    "es_static", "es_flowinit", "es_train",     "es_animate",
+    "es_eval",   "es_render",   "es_synth",     "es_contact_sheet",
+    "es_plot",   "eulersplat",  "bench_static", "es_export"};
 
 class CliTest : public ::testing::Test {
  protected:
