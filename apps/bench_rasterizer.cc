@@ -17,6 +17,7 @@
 #include <benchmark/benchmark.h>
 #include <Eigen/Geometry>
 
+#include "apps/common/benchmark_main.h"
 #include "core/model/camera.h"
 #include "core/model/gaussians.h"
 #include "core/render/rasterizer.h"
@@ -147,4 +148,4 @@ BENCHMARK(BM_ForwardBackward)->Apply(Sizes);
 }  // namespace
 }  // namespace es
 
-BENCHMARK_MAIN();
+int main(int argc, char** argv) { return es::RunBenchmarks(argc, argv); }

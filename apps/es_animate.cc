@@ -10,7 +10,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <filesystem>
 #include <optional>
 #include <string>
 #include <vector>
@@ -21,7 +20,10 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "apps/common/app_main.h"
+#include "apps/common/flag_checks.h"
+#include "core/io/image_file.h"
 #include "core/io/input_error.h"
+#include "core/io/output_dir.h"
 #include "core/io/scene.h"
 #include "core/loop/loop_renderer.h"
 #include "core/model/loop_model.h"
@@ -29,12 +31,14 @@
 #include "core/viz/tracks.h"
 #include "core/viz/video_writer.h"
 #include "core/viz/xt_slice.h"
+#include "core/viz/xt_slice_figure.h"
 
 DEFINE_string(model, "", "Trained looping model directory (es_train --out).");
 DEFINE_string(scene, "", "Scene directory the model was trained on "
               "(its cameras and held-out split).");
 DEFINE_string(out, "", "Output directory: frames/, animation.mp4, and "
-              "tracks/ + tracks.mp4 or xt_slice.png when asked for.");
+              "tracks/ + tracks.mp4 or xt_slice.png + xt_slice_raw.png when "
+              "asked for.");
 DEFINE_int32(frames, 60, "Number of frames to render (any number: the "
              "animation loops with period L).");
 DEFINE_int32(start_frame, 0, "Animation frame of the first output frame.");
@@ -60,10 +64,12 @@ DEFINE_bool(tracks, false, "Also write tracks/ and tracks.mp4: the frames "
 DEFINE_int32(track_count, 300, "Water Gaussians whose tracks are drawn.");
 DEFINE_int32(track_length, 10, "Positions per track polyline.");
 DEFINE_uint64(track_seed, 1, "Seed of the tracked subset.");
-DEFINE_string(xt_slice, "", "With --camera fixed: write xt_slice.png, image "
-              "row ROW of every frame stacked over time. ROW is a number, "
-              "or auto: the row with the most water in the anchor frame's "
-              "mask (the middle row without masks). Empty: off.");
+DEFINE_string(xt_slice, "", "With --camera fixed: image row ROW of every "
+              "frame stacked over time, as xt_slice_raw.png (one pixel row "
+              "per frame) and xt_slice.png (enlarged, with axes, the sliced "
+              "row shown on the first frame and loop boundaries marked). "
+              "ROW is a number, or auto: the row through the most temporal "
+              "change, i.e. through moving water. Empty: off.");
 
 namespace {
 
@@ -103,24 +109,55 @@ int AnchorFrame(const es::Scene& scene) {
   return anchor;
 }
 
-// The image row of --xt_slice.
-int XtSliceRow(const es::Frame& anchor) {
-  if (FLAGS_xt_slice != "auto") {
-    try {
-      size_t used = 0;
-      const int row = std::stoi(FLAGS_xt_slice, &used);
-      if (used == FLAGS_xt_slice.size()) return row;
-    } catch (const std::exception&) {
-    }
-    throw es::InputError("--xt_slice: '" + FLAGS_xt_slice +
-                         "' is neither a row number nor auto");
+// The image row of --xt_slice ROW; -1 for auto (chosen after rendering).
+int XtSliceRow(int height) {
+  if (FLAGS_xt_slice == "auto") return -1;
+  int row = -1;
+  try {
+    size_t used = 0;
+    row = std::stoi(FLAGS_xt_slice, &used);
+    if (used != FLAGS_xt_slice.size()) row = -2;
+  } catch (const std::exception&) {
+    row = -2;
   }
-  if (anchor.mask.empty()) return anchor.camera.height / 2;
-  cv::Mat water;
-  cv::reduce(anchor.mask, water, 1, cv::REDUCE_SUM, CV_64F);
-  cv::Point best;
-  cv::minMaxLoc(water, nullptr, nullptr, nullptr, &best);
-  return best.y;
+  if (row == -2) {
+    throw es::InputError("--xt_slice=" + FLAGS_xt_slice +
+                         ": neither a row number nor auto");
+  }
+  if (row < 0 || row >= height) {
+    throw es::InputError("--xt_slice=" + FLAGS_xt_slice +
+                         ": the rendered frames have rows 0.." +
+                         std::to_string(height - 1));
+  }
+  return row;
+}
+
+// Writes xt_slice_raw.png and the labelled xt_slice.png (last: the driver
+// takes it as the sign that the animation is complete) from the frames
+// already written to frame_dir.
+void WriteXtSlice(const std::string& frame_dir, int frames, int row,
+                  bool automatic, int cycle_length) {
+  es::XtSlice slice(row);
+  cv::Mat first;
+  for (int k = 0; k < frames; ++k) {
+    const std::string path = frame_dir + "/" + es::AnimationFrameName(k);
+    const cv::Mat frame = cv::imread(path, cv::IMREAD_COLOR);
+    if (frame.empty()) throw es::InputError(path + ": cannot read back");
+    if (k == 0) first = frame;
+    slice.Add(frame);
+  }
+  const std::string raw = FLAGS_out + "/xt_slice_raw.png";
+  es::WriteImageAtomically(raw, slice.image());
+  const std::string title =
+      "x-t slice of row " + std::to_string(row) +
+      (automatic ? " (auto: the row of most temporal change)" : "") +
+      ", loop L = " + std::to_string(cycle_length);
+  const std::string path = FLAGS_out + "/xt_slice.png";
+  es::WriteImageAtomically(
+      path, es::XtSliceFigure(first, slice.image(), row, cycle_length, title));
+  std::printf("x-t slice of row %d%s -> %s (%s: %d x %d)\n", row,
+              automatic ? " (auto)" : "", path.c_str(), raw.c_str(),
+              slice.image().cols, slice.image().rows);
 }
 
 std::vector<es::Camera> CameraPath(const es::Scene& scene,
@@ -143,15 +180,17 @@ std::vector<es::Camera> CameraPath(const es::Scene& scene,
 }
 
 int Run() {
-  if (FLAGS_model.empty() || FLAGS_scene.empty() || FLAGS_out.empty()) {
-    throw es::InputError("--model, --scene and --out are required");
-  }
-  if (FLAGS_frames < 1) throw es::InputError("--frames must be >= 1");
-  if (FLAGS_start_frame < 0) throw es::InputError("--start_frame must be >= 0");
-  if (!(FLAGS_fps > 0)) throw es::InputError("--fps must be positive");
-  if (FLAGS_track_length < 2) {
-    throw es::InputError("--track_length must be >= 2");
-  }
+  es::RequireFlag("model", FLAGS_model);
+  es::RequireFlag("scene", FLAGS_scene);
+  es::RequireFlag("out", FLAGS_out);
+  es::RequireAtLeast("frames", FLAGS_frames, 1);
+  es::RequireAtLeast("start_frame", FLAGS_start_frame, 0);
+  es::RequireAtLeast("anchor_frame", FLAGS_anchor_frame, -1);
+  es::RequirePositive("fps", FLAGS_fps);
+  es::RequirePositive("image_scale", FLAGS_image_scale);
+  es::RequirePositive("orbit_degrees", FLAGS_orbit_degrees);
+  es::RequireAtLeast("track_count", FLAGS_track_count, 1);
+  es::RequireAtLeast("track_length", FLAGS_track_length, 2);
   const es::CameraMode mode = es::ParseCameraMode(FLAGS_camera);
   if (!FLAGS_xt_slice.empty() && mode != es::CameraMode::kFixed) {
     throw es::InputError("--xt_slice needs --camera fixed (a moving camera "
@@ -168,9 +207,11 @@ int Run() {
   const es::LoopModel model = es::LoadLoopModel(FLAGS_model);
   const std::vector<es::Camera> cameras =
       CameraPath(scene, model, mode, FLAGS_frames);
+  const bool xt_auto = FLAGS_xt_slice == "auto";
+  const int xt_row =
+      FLAGS_xt_slice.empty() ? -1 : XtSliceRow(cameras.front().height);
 
-  namespace fs = std::filesystem;
-  fs::create_directories(FLAGS_out);
+  es::PrepareOutputDirectory(FLAGS_out, "out");
   es::VideoWriter video(FLAGS_out + "/frames", FLAGS_fps);
   std::optional<es::VideoWriter> track_video;
   std::optional<es::TrackHistory> tracks;
@@ -181,10 +222,7 @@ int Run() {
                                     FLAGS_track_seed);
     tracks.emplace(static_cast<int>(tracked.size()), FLAGS_track_length);
   }
-  std::optional<es::XtSlice> slice;
-  if (!FLAGS_xt_slice.empty()) {
-    slice.emplace(XtSliceRow(scene.frames[AnchorFrame(scene)]));
-  }
+  es::RowChange row_change;  // for --xt_slice auto
 
   es::LoopRenderer renderer(&model, options);
   const bool frozen = mode == es::CameraMode::kFixedTime;
@@ -192,6 +230,9 @@ int Run() {
   std::vector<int> previous_cycle;
   std::vector<double> track_positions(3 * tracked.size());
   double render_ms = 0;
+  const auto start_time = std::chrono::steady_clock::now();
+  // About 20 progress lines per run.
+  const int progress_every = std::max(1, FLAGS_frames / 20);
   for (int k = 0; k < FLAGS_frames; ++k) {
     if (k > 0 && !frozen) renderer.Advance();
     const auto start = std::chrono::steady_clock::now();
@@ -201,7 +242,7 @@ int Run() {
                      .count();
     const cv::Mat bgr = es::RgbToBgr8(r.rgb.data(), r.width, r.height);
     video.Add(bgr);
-    if (slice) slice->Add(bgr);
+    if (xt_auto) row_change.Add(bgr);
     if (tracks) {
       const std::vector<double>& x = renderer.positions();
       const std::vector<int>& cycle = renderer.cycle_indices();
@@ -218,6 +259,14 @@ int Run() {
       tracks->Draw(cameras[k], &overlay);
       track_video->Add(overlay);
     }
+    if ((k + 1) % progress_every == 0 || k + 1 == FLAGS_frames) {
+      const double seconds = std::chrono::duration<double>(
+                                 std::chrono::steady_clock::now() - start_time)
+                                 .count();
+      std::printf("frame %d/%d  %.1f s  ETA %.0f s\n", k + 1, FLAGS_frames,
+                  seconds, seconds / (k + 1) * (FLAGS_frames - k - 1));
+      std::fflush(stdout);
+    }
   }
   const std::string encoder = video.Finish(FLAGS_out + "/animation.mp4");
   std::printf("%d frames (%s camera, period L = %d) -> %s/animation.mp4 "
@@ -229,13 +278,10 @@ int Run() {
     std::printf("tracks of %zu of %d water Gaussians -> %s/tracks.mp4\n",
                 tracked.size(), model.num_dynamic(), FLAGS_out.c_str());
   }
-  if (slice) {
-    const std::string path = FLAGS_out + "/xt_slice.png";
-    if (!cv::imwrite(path, slice->image())) {
-      throw es::InputError(path + ": cannot write");
-    }
-    std::printf("x-t slice of row %d -> %s (%d x %d)\n", slice->row(),
-                path.c_str(), slice->image().cols, slice->image().rows);
+  if (!FLAGS_xt_slice.empty()) {
+    WriteXtSlice(FLAGS_out + "/frames", FLAGS_frames,
+                 xt_auto ? row_change.BusiestRow() : xt_row, xt_auto,
+                 model.cycle_length);
   }
   return 0;
 }

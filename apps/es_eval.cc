@@ -8,18 +8,18 @@
 //
 //   es_eval --model DIR --scene DIR --out DIR
 
-#include <cmath>
+#include <chrono>
 #include <cstdio>
-#include <filesystem>
-#include <sstream>
 #include <string>
 #include <vector>
 
 #include <gflags/gflags.h>
 
 #include "apps/common/app_main.h"
-#include "core/io/atomic_file.h"
+#include "apps/common/flag_checks.h"
 #include "core/io/input_error.h"
+#include "core/io/json_file.h"
+#include "core/io/output_dir.h"
 #include "core/io/scene.h"
 #include "core/model/loop_model.h"
 #include "solvers/eval/loop_evaluation.h"
@@ -59,9 +59,12 @@ struct Evaluation {
 };
 
 void CheckFlags() {
-  if (FLAGS_model.empty() || FLAGS_scene.empty() || FLAGS_out.empty()) {
-    throw es::InputError("--model, --scene and --out are required");
-  }
+  es::RequireFlag("model", FLAGS_model);
+  es::RequireFlag("scene", FLAGS_scene);
+  es::RequireFlag("out", FLAGS_out);
+  es::RequirePositive("image_scale", FLAGS_image_scale);
+  es::RequireAtLeast("anchor_frame", FLAGS_anchor_frame, -1);
+  es::RequireAtLeast("timing_frames", FLAGS_timing_frames, 0);
   if (FLAGS_seam_cycles < 2) {
     throw es::InputError("--seam_cycles must be >= 2 (a boundary needs a "
                          "cycle on each side)");
@@ -84,12 +87,24 @@ int AnchorFrame(const es::Scene& scene) {
   return anchor;
 }
 
+// Prints "[eval k/4] what" with the seconds since `start`: the steps differ
+// too much in cost for an ETA to mean anything.
+void Step(int k, const char* what,
+          std::chrono::steady_clock::time_point start) {
+  std::printf("[eval %d/4] %s (%.1f s so far)\n", k, what,
+              std::chrono::duration<double>(
+                  std::chrono::steady_clock::now() - start)
+                  .count());
+  std::fflush(stdout);
+}
+
 Evaluation Evaluate(const es::LoopModel& model, const es::Scene& scene,
                     const es::RenderOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
   Evaluation e;
   e.anchor_frame = AnchorFrame(scene);
   const es::Camera& anchor = scene.frames[e.anchor_frame].camera;
-  std::printf("[eval] held-out frames\n");
+  Step(1, "held-out frames and motion", start);
   e.held_out = es::EvaluateLoopModel(model, scene.frames, scene.test,
                                      options);
   e.has_motion_gt = es::HasMotionGt(FLAGS_scene) && model.motion;
@@ -101,8 +116,9 @@ Evaluation Evaluate(const es::LoopModel& model, const es::Scene& scene,
     e.motion = es::EvaluateMotionGt(*model.motion, points,
                                     es::LoadMotionGt(FLAGS_scene));
   }
-  std::printf("[eval] realism over %zu input frames\n",
-              scene.frames.size());
+  Step(2, ("realism over " + std::to_string(scene.frames.size()) +
+           " input frames").c_str(),
+       start);
   es::RealismOptions realism;
   realism.patch_samples = FLAGS_realism_patches;
   const std::vector<cv::Mat> rendered =
@@ -112,91 +128,68 @@ Evaluation Evaluate(const es::LoopModel& model, const es::Scene& scene,
     es::WriteComparisonFrames(rendered, scene.frames, FLAGS_compare_frames,
                               FLAGS_out + "/compare");
   }
-  std::printf("[eval] loop seam and timing\n");
+  Step(3, "loop seam", start);
   e.seam = es::EvaluateLoopSeam(model, anchor, FLAGS_seam_cycles, options);
+  Step(4, "Alg. 1 vs Alg. 2 timing", start);
   const int timing_frames =
       FLAGS_timing_frames > 0 ? FLAGS_timing_frames : 2 * model.cycle_length;
   e.timing = es::TimeAnimation(model, anchor, timing_frames, options);
   return e;
 }
 
-// JSON number; NaN and infinity, which JSON lacks, become null.
-std::string Number(double v) {
-  if (!std::isfinite(v)) return "null";
-  char text[32];
-  std::snprintf(text, sizeof(text), "%.6g", v);
-  return text;
+nlohmann::ordered_json RealismJson(const es::RealismRegion& r) {
+  return {{"pixels", r.pixels},
+          {"detail_ratio", r.detail_ratio},
+          {"band_ratio", r.band_ratio},
+          {"motion_ratio", r.motion_ratio},
+          {"real_detail", r.real_detail},
+          {"real_motion", r.real_motion},
+          {"patches", r.patches},
+          {"distance_2d", r.distance_2d},
+          {"distance_3d", r.distance_3d}};
 }
 
-// JSON string literal.
-std::string Quoted(const std::string& s) {
-  std::string out = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\') out += '\\';
-    out += c;
-  }
-  return out + "\"";
-}
-
-std::string RealismJson(const es::RealismRegion& r) {
-  std::ostringstream json;
-  json << "{\"pixels\": " << r.pixels
-       << ", \"detail_ratio\": " << Number(r.detail_ratio)
-       << ", \"band_ratio\": [";
-  for (size_t b = 0; b < r.band_ratio.size(); ++b) {
-    json << (b ? ", " : "") << Number(r.band_ratio[b]);
-  }
-  json << "], \"motion_ratio\": " << Number(r.motion_ratio)
-       << ", \"real_detail\": " << Number(r.real_detail)
-       << ", \"real_motion\": " << Number(r.real_motion)
-       << ", \"patches\": " << r.patches
-       << ", \"distance_2d\": " << Number(r.distance_2d)
-       << ", \"distance_3d\": " << Number(r.distance_3d) << "}";
-  return json.str();
-}
-
-std::string EvalJson(const es::LoopModel& model, const Evaluation& e) {
-  std::ostringstream json;
-  json << "{\n"
-       << "  \"model\": " << Quoted(FLAGS_model) << ",\n"
-       << "  \"scene\": " << Quoted(FLAGS_scene) << ",\n"
-       << "  \"gaussians\": " << model.gaussians.size() << ",\n"
-       << "  \"dynamic_gaussians\": " << model.num_dynamic() << ",\n"
-       << "  \"cycle_length\": " << model.cycle_length << ",\n"
-       << "  \"held_out\": {\"frames\": " << e.held_out.frames
-       << ", \"psnr\": " << Number(e.held_out.psnr)
-       << ", \"ssim\": " << Number(e.held_out.ssim)
-       << ", \"psnr_water\": " << Number(e.held_out.psnr_water)
-       << ", \"ssim_water\": " << Number(e.held_out.ssim_water) << "},\n"
-       << "  \"motion_gt\": ";
+nlohmann::ordered_json EvalJson(const es::LoopModel& model,
+                                const Evaluation& e) {
+  nlohmann::ordered_json json = {
+      {"model", FLAGS_model},
+      {"scene", FLAGS_scene},
+      {"gaussians", model.gaussians.size()},
+      {"dynamic_gaussians", model.num_dynamic()},
+      {"cycle_length", model.cycle_length},
+      {"held_out",
+       {{"frames", e.held_out.frames},
+        {"psnr", e.held_out.psnr},
+        {"ssim", e.held_out.ssim},
+        {"psnr_water", e.held_out.psnr_water},
+        {"ssim_water", e.held_out.ssim_water}}},
+      {"motion_gt", nullptr},
+      {"realism",
+       {{"water", RealismJson(e.realism.water)},
+        {"static", RealismJson(e.realism.static_region)},
+        {"frame", RealismJson(e.realism.frame)}}},
+      {"loop_seam",
+       {{"anchor_frame", e.anchor_frame},
+        {"cycles", FLAGS_seam_cycles},
+        {"score", e.seam.score},
+        {"boundary_change", e.seam.boundary_change},
+        {"within_change", e.seam.within_change}}},
+      {"render_time_ms",
+       {{"frames", e.timing.frames},
+        {"alg1_advect", e.timing.alg1_advect_ms},
+        {"alg2_advect", e.timing.alg2_advect_ms},
+        {"render", e.timing.render_ms},
+        {"alg1_frame", e.timing.alg1_frame_ms()},
+        {"alg2_frame", e.timing.alg2_frame_ms()},
+        {"alg1_alg2_max_position_difference",
+         e.timing.max_position_difference}}}};
   if (e.has_motion_gt) {
-    json << "{\"points\": " << e.motion.num_points
-         << ", \"epe\": " << Number(e.motion.epe)
-         << ", \"mean_speed\": " << Number(e.motion.mean_speed)
-         << ", \"rel_epe\": " << Number(e.motion.rel_epe) << "},\n";
-  } else {
-    json << "null,\n";
+    json["motion_gt"] = {{"points", e.motion.num_points},
+                         {"epe", e.motion.epe},
+                         {"mean_speed", e.motion.mean_speed},
+                         {"rel_epe", e.motion.rel_epe}};
   }
-  json << "  \"realism\": {\n"
-       << "    \"water\": " << RealismJson(e.realism.water) << ",\n"
-       << "    \"static\": " << RealismJson(e.realism.static_region)
-       << ",\n"
-       << "    \"frame\": " << RealismJson(e.realism.frame) << "},\n"
-       << "  \"loop_seam\": {\"anchor_frame\": " << e.anchor_frame
-       << ", \"cycles\": " << FLAGS_seam_cycles
-       << ", \"score\": " << Number(e.seam.score)
-       << ", \"boundary_change\": " << Number(e.seam.boundary_change)
-       << ", \"within_change\": " << Number(e.seam.within_change) << "},\n"
-       << "  \"render_time_ms\": {\"frames\": " << e.timing.frames
-       << ", \"alg1_advect\": " << Number(e.timing.alg1_advect_ms)
-       << ", \"alg2_advect\": " << Number(e.timing.alg2_advect_ms)
-       << ", \"render\": " << Number(e.timing.render_ms)
-       << ", \"alg1_frame\": " << Number(e.timing.alg1_frame_ms())
-       << ", \"alg2_frame\": " << Number(e.timing.alg2_frame_ms())
-       << ", \"alg1_alg2_max_position_difference\": "
-       << Number(e.timing.max_position_difference) << "}\n"
-       << "}\n";
-  return json.str();
+  return json;
 }
 
 void PrintRealism(const char* name, const es::RealismRegion& r) {
@@ -246,6 +239,7 @@ void PrintSummary(const es::LoopModel& model, const es::Scene& scene,
 
 int Run() {
   CheckFlags();
+  es::PrepareOutputDirectory(FLAGS_out, "out");
   es::RenderOptions options;
   if (FLAGS_white_background) options.background.setOnes();
   es::SceneOptions scene_options;
@@ -257,9 +251,8 @@ int Run() {
                          "(see split.txt)");
   }
   const Evaluation e = Evaluate(model, scene, options);
-  std::filesystem::create_directories(FLAGS_out);
   const std::string path = FLAGS_out + "/eval.json";
-  es::WriteTextFileAtomically(path, EvalJson(model, e));
+  es::WriteJsonFile(path, EvalJson(model, e));
   PrintSummary(model, scene, e);
   std::printf("wrote %s\n", path.c_str());
   return 0;
@@ -270,6 +263,9 @@ int Run() {
 int main(int argc, char** argv) {
   return es::RunApp(argc, argv,
                     "Evaluates a trained looping model.\n"
-                    "  es_eval --model DIR --scene DIR --out DIR",
+                    "  es_eval --model DIR --scene DIR --out DIR\n"
+                    "Writes OUT/eval.json (held-out PSNR / SSIM, motion "
+                    "error vs ground truth, realism, loop seam, render "
+                    "times).",
                     Run);
 }

@@ -14,7 +14,7 @@
 #include <gflags/gflags.h>
 
 #include "apps/common/app_main.h"
-#include "core/io/input_error.h"
+#include "apps/common/flag_checks.h"
 #include "synth/scene.h"
 #include "synth/writer.h"
 
@@ -45,7 +45,9 @@ int main(int argc, char** argv) {
       "[--frames 120]\n"
       "           [--width 320 --height 240] [--seed N] [--stochasticity S]",
       [] {
-        if (FLAGS_out.empty()) throw es::InputError("--out is required");
+        es::RequireFlag("out", FLAGS_out);
+        // Stage 1 seeds its Gaussians from these points: none is useless.
+        es::RequireAtLeast("num_points", FLAGS_num_points, 1);
         es::SynthSettings s;
         s.preset = FLAGS_preset;
         s.frames = FLAGS_frames;

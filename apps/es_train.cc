@@ -6,21 +6,24 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <optional>
 #include <string>
 
 #include <gflags/gflags.h>
 
 #include "apps/common/app_main.h"
+#include "apps/common/flag_checks.h"
 #include "core/io/field_io.h"
 #include "core/io/input_error.h"
+#include "core/io/json_file.h"
+#include "core/io/output_dir.h"
 #include "core/io/ply_io.h"
 #include "core/io/scene.h"
 #include "core/model/loop_model.h"
 #include "core/profile/stage_profile.h"
 #include "solvers/checkpoint/joint_checkpoint.h"
 #include "solvers/train/joint_trainer.h"
+#include "solvers/train/training_history.h"
 #include "solvers/train/water_particles.h"
 
 DEFINE_string(scene, "", "Scene directory (images/, masks/, sparse/0/).");
@@ -33,13 +36,19 @@ DEFINE_bool(profile, false,
             "Print where the training iterations' wall time goes, per stage "
             "(projection, tiles, losses, Adam, fields, Euler chain, "
             "composition), after the last iteration.");
-DEFINE_int32(cycle_length, 15, "Loop length L in frames.");
+DEFINE_int32(cycle_length, 15,
+             "Loop length L in frames (at most the number of frames).");
 DEFINE_bool(resume, false,
             "Continue from <out>/joint_checkpoint.bin if it exists.");
 DEFINE_int32(checkpoint_interval, 1000,
              "Write <out>/joint_checkpoint.bin every this many iterations "
              "(0: never).");
-DEFINE_int32(log_interval, 100, "Print progress every this many iterations.");
+DEFINE_int32(log_interval, 100,
+             "Print progress and add a row to <out>/history.csv every this "
+             "many iterations (0: neither).");
+DEFINE_int32(eval_interval, 1000,
+             "Measure held-out PSNR into <out>/history.csv every this many "
+             "iterations (and at the end; 0: only at the end).");
 DEFINE_uint64(seed, 0, "Seed of frame sampling and loop start times.");
 DEFINE_double(image_scale, 1.0, "Resize frames (and intrinsics) by this.");
 DEFINE_bool(no_motion_field, false,
@@ -108,21 +117,35 @@ void Require(bool ok, const std::string& message) {
 }
 
 JointTrainerOptions OptionsFromFlags() {
-  Require(FLAGS_iterations >= 0, "--iterations must be >= 0");
-  Require(FLAGS_cycle_length >= 1, "--cycle_length must be >= 1");
-  Require(FLAGS_refresh_interval >= 1, "--refresh_interval must be >= 1");
-  Require(FLAGS_checkpoint_interval >= 0,
-          "--checkpoint_interval must be >= 0");
-  Require(FLAGS_particle_pixels >= 0 && FLAGS_max_dynamic_pixels >= 0,
-          "--particle_pixels and --max_dynamic_pixels must be >= 0");
-  Require(FLAGS_max_particle_children >= 1 && FLAGS_max_particles >= 1,
-          "--max_particle_children and --max_particles must be >= 1");
-  Require(FLAGS_motion_resolution >= 2 && FLAGS_residual_resolution >= 2,
-          "triplane resolutions must be >= 2");
-  Require(FLAGS_motion_channels >= 1 && FLAGS_residual_channels >= 1 &&
-              FLAGS_motion_width >= 1 && FLAGS_residual_width >= 1 &&
-              FLAGS_motion_depth >= 0 && FLAGS_residual_depth >= 0,
-          "field channels and widths must be >= 1, depths >= 0");
+  RequireFlag("scene", FLAGS_scene);
+  RequireFlag("init", FLAGS_init);
+  RequireFlag("out", FLAGS_out);
+  RequireAtLeast("iterations", FLAGS_iterations, 0);
+  RequireAtLeast("cycle_length", FLAGS_cycle_length, 1);
+  RequireAtLeast("refresh_interval", FLAGS_refresh_interval, 1);
+  RequireAtLeast("checkpoint_interval", FLAGS_checkpoint_interval, 0);
+  RequireAtLeast("log_interval", FLAGS_log_interval, 0);
+  RequireAtLeast("eval_interval", FLAGS_eval_interval, 0);
+  RequirePositive("image_scale", FLAGS_image_scale);
+  RequireInOpenRange("dynamic_threshold", FLAGS_dynamic_threshold, 0, 1);
+  RequireInRange("ssim_weight", FLAGS_ssim_weight, 0, 1);
+  RequireNonNegative("mask_weight", FLAGS_mask_weight);
+  RequireNonNegative("residual_weight", FLAGS_residual_weight);
+  RequireInRange("field_lr_final_factor", FLAGS_field_lr_final_factor, 0, 1);
+  Require(FLAGS_lr_means_final <= FLAGS_lr_means,
+          "--lr_means_final must not exceed --lr_means");
+  RequireAtLeast("motion_resolution", FLAGS_motion_resolution, 2);
+  RequireAtLeast("residual_resolution", FLAGS_residual_resolution, 2);
+  RequireAtLeast("motion_channels", FLAGS_motion_channels, 1);
+  RequireAtLeast("residual_channels", FLAGS_residual_channels, 1);
+  RequireAtLeast("motion_width", FLAGS_motion_width, 1);
+  RequireAtLeast("residual_width", FLAGS_residual_width, 1);
+  RequireAtLeast("motion_depth", FLAGS_motion_depth, 0);
+  RequireAtLeast("residual_depth", FLAGS_residual_depth, 0);
+  RequireNonNegative("particle_pixels", FLAGS_particle_pixels);
+  RequireNonNegative("max_dynamic_pixels", FLAGS_max_dynamic_pixels);
+  RequireAtLeast("max_particle_children", FLAGS_max_particle_children, 1);
+  RequireAtLeast("max_particles", FLAGS_max_particles, 1);
   JointTrainerOptions o;
   o.iterations = FLAGS_iterations;
   o.seed = FLAGS_seed;
@@ -161,55 +184,39 @@ JointTrainerOptions OptionsFromFlags() {
   return o;
 }
 
-// JSON has no NaN: an undefined metric is null.
-std::string JsonNumber(double v) {
-  if (!std::isfinite(v)) return "null";
-  char buffer[32];
-  std::snprintf(buffer, sizeof(buffer), "%.6g", v);
-  return buffer;
-}
-
 void WriteMetrics(const std::string& path, const LoopMetrics& m,
                   double seconds, int64_t iterations, const LoopModel& model,
                   bool flow_init, double final_loss) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp);
-    if (!out) throw InputError(tmp + ": cannot open for writing");
-    out << "{\n"
-        << "  \"psnr_test\": " << JsonNumber(m.psnr) << ",\n"
-        << "  \"ssim_test\": " << JsonNumber(m.ssim) << ",\n"
-        << "  \"psnr_test_water\": " << JsonNumber(m.psnr_water) << ",\n"
-        << "  \"ssim_test_water\": " << JsonNumber(m.ssim_water) << ",\n"
-        << "  \"test_frames\": " << m.frames << ",\n"
-        << "  \"seconds\": " << JsonNumber(seconds) << ",\n"
-        << "  \"iterations\": " << iterations << ",\n"
-        << "  \"num_gaussians\": " << model.gaussians.size() << ",\n"
-        << "  \"num_dynamic\": " << model.num_dynamic() << ",\n"
-        << "  \"cycle_length\": " << model.cycle_length << ",\n"
-        << "  \"motion_field\": " << (model.motion ? "true" : "false")
-        << ",\n"
-        << "  \"flow_init\": " << (flow_init ? "true" : "false") << ",\n"
-        << "  \"residual_field\": " << (model.residual ? "true" : "false")
-        << ",\n"
-        << "  \"random_start\": " << (FLAGS_no_random_start ? "false" : "true")
-        << ",\n"
-        << "  \"final_loss\": " << JsonNumber(final_loss) << "\n"
-        << "}\n";
-    if (!out) throw InputError(tmp + ": write failed");
-  }
-  fs::rename(tmp, path);
+  WriteJsonFile(path, {{"psnr_test", m.psnr},
+                       {"ssim_test", m.ssim},
+                       {"psnr_test_water", m.psnr_water},
+                       {"ssim_test_water", m.ssim_water},
+                       {"test_frames", m.frames},
+                       {"seconds", seconds},
+                       {"iterations", iterations},
+                       {"num_gaussians", model.gaussians.size()},
+                       {"num_dynamic", model.num_dynamic()},
+                       {"cycle_length", model.cycle_length},
+                       {"motion_field", model.motion.has_value()},
+                       {"flow_init", flow_init},
+                       {"residual_field", model.residual.has_value()},
+                       {"random_start", !FLAGS_no_random_start},
+                       {"final_loss", final_loss}});
 }
 
 int Run() {
-  Require(!FLAGS_scene.empty(), "--scene is required");
-  Require(!FLAGS_init.empty(), "--init is required");
-  Require(!FLAGS_out.empty(), "--out is required");
   const JointTrainerOptions options = OptionsFromFlags();
+  PrepareOutputDirectory(FLAGS_out, "out");
   SceneOptions scene_options;
   scene_options.image_scale = FLAGS_image_scale;
   const Scene scene = LoadScene(FLAGS_scene, scene_options);
   Require(!scene.train.empty(), FLAGS_scene + ": no training frames");
+  // A loop longer than the video has frames no training image shows (and
+  // its cost grows with L).
+  RequireAtMost("cycle_length", FLAGS_cycle_length,
+                static_cast<int64_t>(scene.frames.size()),
+                FLAGS_scene + " has " + std::to_string(scene.frames.size()) +
+                    " frames");
   const std::string static_ply = (fs::path(FLAGS_init) / "static.ply").string();
   GaussianSet initial = ReadPly(static_ply);
   Require(initial.size() > 0, static_ply + ": holds no Gaussians");
@@ -246,10 +253,6 @@ int Run() {
                 split.blobs, split.particles, split.dynamic_before,
                 split.dynamic_after);
   }
-
-  std::error_code error;
-  fs::create_directories(FLAGS_out, error);
-  Require(!error, FLAGS_out + ": cannot create directory");
   JointTrainer trainer(&scene.frames, scene.train, options,
                        std::move(initial), std::move(motion));
   std::printf("dynamic Gaussians: %d of %d; V %s, D %s; masks %s\n",
@@ -266,34 +269,82 @@ int Run() {
                 static_cast<long long>(trainer.iteration()));
   }
 
+  TrainingHistory history(
+      (fs::path(FLAGS_out) / "history.csv").string(),
+      {"loss", "photometric", "mask", "residual", "gaussians", "dynamic",
+       "psnr_test", "psnr_test_water"});
+  const double seconds_before = history.Resume(trainer.iteration());
+
   using Clock = std::chrono::steady_clock;
   const Clock::time_point start = Clock::now();
+  double eval_seconds = 0;  // kept out of the training clock
+  const auto training_seconds = [&] {
+    return std::chrono::duration<double>(Clock::now() - start).count() -
+           eval_seconds;
+  };
   const int64_t first = trainer.iteration();
-  double loss_sum = 0, final_loss = NAN;
-  int loss_count = 0;
+  int64_t last_row = first;
+  double sums[4] = {0, 0, 0, 0};  // loss, photometric, mask, residual
+  int64_t counted = 0;             // steps in the sums
+  double final_loss = NAN;
+  std::vector<double> final_row;
   StageProfile::Get().Start(FLAGS_profile);
   while (trainer.iteration() < options.iterations) {
     const JointIterationStats s = trainer.Step();
-    if (!s.skipped) {
-      loss_sum += s.loss;
-      ++loss_count;
+    if (!s.skipped) {  // a skipped step's loss is not finite
+      sums[0] += s.loss;
+      sums[1] += s.photometric;
+      sums[2] += s.mask;
+      sums[3] += s.residual;
+      ++counted;
     }
     const int64_t it = trainer.iteration();
-    if (FLAGS_log_interval > 0 &&
-        (it % FLAGS_log_interval == 0 || it == options.iterations)) {
-      final_loss = loss_sum / loss_count;
-      const double elapsed =
-          std::chrono::duration<double>(Clock::now() - start).count();
+    const bool log =
+        FLAGS_log_interval > 0 &&
+        (it % FLAGS_log_interval == 0 || it == options.iterations);
+    const bool eval = FLAGS_eval_interval > 0 &&
+                      it % FLAGS_eval_interval == 0 &&
+                      it < options.iterations;  // the end is below
+    if (log || eval) {
+      const double window = counted > 0 ? counted : NAN;
+      final_loss = sums[0] / window;
+      const double elapsed = training_seconds();
+      LoopMetrics held_out;
+      if (eval) {
+        const Clock::time_point eval_start = Clock::now();
+        held_out = EvaluateLoopModel(trainer.model(), scene.frames,
+                                     scene.test, trainer.render_options());
+        eval_seconds +=
+            std::chrono::duration<double>(Clock::now() - eval_start).count();
+      }
+      const std::vector<double> row = {
+          sums[0] / window,
+          sums[1] / window,
+          sums[2] / window,
+          sums[3] / window,
+          static_cast<double>(trainer.model().gaussians.size()),
+          static_cast<double>(s.num_dynamic),
+          eval ? held_out.psnr : NAN,
+          eval ? held_out.psnr_water : NAN};
+      if (it < options.iterations) {
+        history.Add(it, seconds_before + elapsed, row);
+        history.Write();
+      } else {
+        final_row = row;  // completed with the final metrics below
+      }
       const double rate = (it - first) / std::max(elapsed, 1e-9);
       std::printf(
           "iter %lld/%d  loss %.5f (photo %.5f mask %.5f res %.2e)  "
-          "dynamic %d  %.2f it/s  ETA %.0f s\n",
+          "dynamic %d  %.2f it/s  ETA %.0f s",
           static_cast<long long>(it), options.iterations, final_loss,
-          s.photometric, s.mask, s.residual, s.num_dynamic, rate,
-          (options.iterations - it) / rate);
+          sums[1] / window, sums[2] / window, sums[3] / window,
+          s.num_dynamic, rate, (options.iterations - it) / rate);
+      if (eval) std::printf("  held-out PSNR %.2f dB", held_out.psnr);
+      std::printf("\n");
       std::fflush(stdout);
-      loss_sum = 0;
-      loss_count = 0;
+      last_row = it;
+      for (double& v : sums) v = 0;
+      counted = 0;
     }
     // Not right after a skipped (non-finite) step: keep the last good one.
     if (FLAGS_checkpoint_interval > 0 &&
@@ -301,8 +352,7 @@ int Run() {
       WriteJointCheckpoint(trainer.Save(), checkpoint_path);
     }
   }
-  const double seconds =
-      std::chrono::duration<double>(Clock::now() - start).count();
+  const double seconds = training_seconds();
   if (trainer.skipped_steps() > 0)
     std::printf("%lld step(s) skipped for a non-finite loss or gradient\n",
                 static_cast<long long>(trainer.skipped_steps()));
@@ -322,6 +372,24 @@ int Run() {
   WriteMetrics((fs::path(FLAGS_out) / "metrics.json").string(), metrics,
                seconds, trainer.iteration(), model, flow_init,
                final_loss);
+  if (final_row.empty() && trainer.iteration() > last_row) {
+    const double window = counted > 0 ? counted : NAN;
+    final_row = {sums[0] / window, sums[1] / window, sums[2] / window,
+                 sums[3] / window,
+                 static_cast<double>(trainer.model().gaussians.size()),
+                 static_cast<double>(trainer.model().num_dynamic()), NAN,
+                 NAN};
+  }
+  if (!final_row.empty()) {
+    final_row[6] = metrics.psnr;
+    final_row[7] = metrics.psnr_water;
+    history.Add(trainer.iteration(), seconds_before + seconds, final_row);
+  } else {
+    history.SetFinalMetrics(trainer.iteration(), seconds_before + seconds,
+                            {{"psnr_test", metrics.psnr},
+                             {"psnr_test_water", metrics.psnr_water}});
+  }
+  history.Write();
   std::printf("test PSNR %.3f SSIM %.4f (water PSNR %.3f SSIM %.4f) over %d "
               "frames; %.1f s\n",
               metrics.psnr, metrics.ssim, metrics.psnr_water,
@@ -334,7 +402,11 @@ int Run() {
 
 int main(int argc, char** argv) {
   return es::RunApp(argc, argv,
-                    "es_train --scene DIR --init DIR --out DIR "
-                    "[--iterations N] [--cycle_length L] [--resume]",
+                    "Stage 3: joint training of the looping model.\n"
+                    "  es_train --scene DIR --init DIR --out DIR "
+                    "[--iterations N] [--cycle_length L] [--resume]\n"
+                    "Writes the model (loop.txt, canonical.ply, fields), "
+                    "<out>/metrics.json, <out>/history.csv and "
+                    "<out>/joint_checkpoint.bin.",
                     es::Run);
 }

@@ -20,7 +20,9 @@
 // OUT/web/             web page that plays the loop (es_export)
 // OUT/frame_0.ply      loop frame 0 as a standard 3DGS PLY
 // OUT/eval/eval.json   metrics (es_eval)
-// OUT/contact_sheet.png
+// OUT/plots/           training plots: loss by term, held-out PSNR vs wall
+//                      time, Gaussians (es_plot on each history.csv)
+// OUT/contact_sheet.png  frames of both videos and the main plots
 //
 // A stage whose outputs exist is skipped (delete its folder to redo it);
 // interrupted training resumes from its checkpoint.
@@ -40,10 +42,13 @@
 
 #include "apps/common/app_main.h"
 #include "apps/common/child_process.h"
+#include "apps/common/flag_checks.h"
 #include "apps/common/run_lock.h"
 #include "apps/common/scene_inputs.h"
 #include "core/io/colmap_io.h"
+#include "core/io/image_file.h"
 #include "core/io/input_error.h"
+#include "core/io/output_dir.h"
 #include "core/io/ply_io.h"
 #include "core/viz/video_writer.h"
 #include "solvers/train/joint_trainer.h"
@@ -72,15 +77,17 @@ DEFINE_string(preset, "quick",
               "fields, few iterations; paper: the paper's settings (10k "
               "static + 20k joint iterations, L = 15, full-size fields).");
 DEFINE_int32(static_iterations, -1, "Override the preset's Stage 1 "
-             "iterations (-1: preset).");
+             "iterations (>= 1; -1: preset).");
 DEFINE_int32(flow_iterations, -1, "Override the preset's V pretraining "
-             "iterations (-1: preset).");
+             "iterations (>= 0; -1: preset).");
 DEFINE_int32(joint_iterations, -1, "Override the preset's Stage 3 "
-             "iterations (-1: preset).");
-DEFINE_int32(cycle_length, 15, "Loop length L in frames.");
+             "iterations (>= 0; -1: preset).");
+DEFINE_int32(cycle_length, 15, "Loop length L in frames (at most the "
+             "number of frames).");
 DEFINE_double(image_scale, -1, "Override the preset's image scale (-1: "
               "preset; quick scales frames down to at most 320 px wide).");
-DEFINE_int32(animate_frames, -1, "Frames of each animation (-1: 4 L).");
+DEFINE_int32(animate_frames, -1, "Frames of each animation (>= 1; -1: "
+             "4 L).");
 DEFINE_double(dynamic_threshold, 0.2, "sigmoid(dynamic_logit) above which a "
               "Gaussian is water.");
 DEFINE_bool(white_background, false, "Train and render on white.");
@@ -188,8 +195,15 @@ double ImageScale(const fs::path& scene, const Preset& preset) {
              : 1.0;
 }
 
+// Training plots (es_plot) that go on the contact sheet, in this order.
+const char* const kSheetPlots[] = {"static_psnr.png", "joint_loss.png",
+                                   "joint_psnr.png"};
+// Height of a plot on the contact sheet: its text stays readable.
+constexpr int kSheetPlotHeight = 400;
+
 // Frames of the fixed-view animation over one loop and of the tracks video,
-// four per row, each labelled: what the run produced, at a glance.
+// four per row, each labelled, and below them the training plots: what the
+// run produced, at a glance. The frames are enlarged to the plots' width.
 void WriteContactSheet(const fs::path& out, int cycle_length) {
   std::vector<std::pair<cv::Mat, std::string>> tiles;
   const auto add = [&](const fs::path& dir, const std::string& label) {
@@ -204,11 +218,32 @@ void WriteContactSheet(const fs::path& out, int cycle_length) {
   };
   add(out / "animate_fixed" / "frames", "fixed view");
   add(out / "animate" / "tracks", "tracks");
-  if (tiles.empty()) return;
-  const cv::Size size = tiles[0].first.size();
+  std::vector<cv::Mat> plots;
+  int plots_width = 0;
+  for (const char* name : kSheetPlots) {
+    cv::Mat plot = cv::imread((out / "plots" / name).string(),
+                              cv::IMREAD_COLOR);
+    if (plot.empty()) continue;
+    cv::resize(plot, plot,
+               {plot.cols * kSheetPlotHeight / plot.rows, kSheetPlotHeight},
+               0, 0, cv::INTER_AREA);
+    plots_width += plot.cols;
+    plots.push_back(plot);
+  }
+  if (tiles.empty() && plots.empty()) return;
   const int columns = 4;
+  cv::Size size(0, 0);
+  if (!tiles.empty()) {
+    size = tiles[0].first.size();
+    const double grow =
+        std::max(1.0, static_cast<double>(plots_width) / (columns * size.width));
+    size = cv::Size(static_cast<int>(size.width * grow),
+                    static_cast<int>(size.height * grow));
+  }
   const int rows = (static_cast<int>(tiles.size()) + columns - 1) / columns;
-  cv::Mat sheet(rows * size.height, columns * size.width, CV_8UC3,
+  const int width = std::max(columns * size.width, plots_width);
+  const int plots_height = plots.empty() ? 0 : kSheetPlotHeight;
+  cv::Mat sheet(rows * size.height + plots_height, width, CV_8UC3,
                 cv::Scalar(40, 40, 40));
   for (size_t i = 0; i < tiles.size(); ++i) {
     cv::Mat tile = tiles[i].first;
@@ -217,17 +252,54 @@ void WriteContactSheet(const fs::path& out, int cycle_length) {
                          (i / columns) * size.height, size.width,
                          size.height);
     tile.copyTo(sheet(where));
-    const double font = std::max(0.3, size.width / 640.0);
-    cv::putText(sheet, tiles[i].second, where.tl() + cv::Point(4, 14),
+    const double font = std::max(0.4, size.width / 640.0);
+    cv::putText(sheet, tiles[i].second,
+                where.tl() + cv::Point(6, static_cast<int>(20 * font / 0.5)),
                 cv::FONT_HERSHEY_SIMPLEX, font, cv::Scalar(255, 255, 255), 1,
                 cv::LINE_AA);
   }
-  const std::string path = (out / "contact_sheet.png").string();
-  if (!cv::imwrite(path, sheet)) throw es::InputError(path + ": cannot write");
+  int x = 0;
+  for (const cv::Mat& plot : plots) {
+    plot.copyTo(sheet(cv::Rect(x, rows * size.height, plot.cols, plot.rows)));
+    x += plot.cols;
+  }
+  es::WriteImageAtomically((out / "contact_sheet.png").string(), sheet);
+}
+
+// Numbers the driver's stages "k/N" and says how long the run has taken,
+// so a person sees where a long run stands.
+class StageLog {
+ public:
+  explicit StageLog(int total)
+      : total_(total), start_(std::chrono::steady_clock::now()) {}
+
+  void Begin(const std::string& name) {
+    const double seconds = std::chrono::duration<double>(
+                               std::chrono::steady_clock::now() - start_)
+                               .count();
+    std::printf("\n[eulersplat] stage %d/%d: %s (%.0f s so far)\n", ++done_,
+                total_, name.c_str(), seconds);
+    std::fflush(stdout);
+  }
+
+ private:
+  int total_;
+  int done_ = 0;
+  std::chrono::steady_clock::time_point start_;
+};
+
+// Iterations between progress lines / held-out evaluations of a stage of
+// `iterations`: about 20 history rows and 5 evaluations per run.
+std::string LogEvery(int iterations) {
+  return std::to_string(std::clamp(iterations / 20, 1, 100));
+}
+std::string EvalEvery(int iterations) {
+  return std::to_string(std::max(1, iterations / 5));
 }
 
 // What every stage of one run shares.
 struct Pipeline {
+  StageLog* stages = nullptr;
   Preset preset;
   fs::path scene, out, static_folder;
   bool has_masks = false;
@@ -266,7 +338,9 @@ std::vector<std::string> StaticFlags(const Pipeline& run) {
        std::to_string(p.densify_from), "--densify_interval",
        std::to_string(p.densify_interval), "--dynamic_threshold",
        Number(FLAGS_dynamic_threshold), "--checkpoint_every",
-       std::to_string(CheckpointInterval(p.static_iterations))},
+       std::to_string(CheckpointInterval(p.static_iterations)), "--log_every",
+       LogEvery(p.static_iterations), "--eval_every",
+       EvalEvery(p.static_iterations)},
       true);
 }
 
@@ -291,6 +365,7 @@ void StaticStage(const Pipeline& run) {
 // V from optical flow. A failure is not fatal: Stage 3 then learns V from
 // scratch.
 void FlowStage(const Pipeline& run) {
+  run.stages->Begin("motion field from optical flow (es_flowinit)");
   if (AllExist({run.static_dir() / "motion_field.bin",
                 run.static_dir() / "flow_metrics.json"})) {
     Skip("flow init", run.static_dir());
@@ -304,7 +379,8 @@ void FlowStage(const Pipeline& run) {
        std::to_string(p.field_resolution), "--triplane_channels",
        std::to_string(p.motion_channels), "--mlp_width",
        std::to_string(p.motion_width), "--dynamic_threshold",
-       Number(FLAGS_dynamic_threshold)},
+       Number(FLAGS_dynamic_threshold), "--log_every",
+       LogEvery(p.flow_iterations)},
       false);
   if (RunStage("es_flowinit", args) != 0) {
     std::printf("[flow init] failed (see above): joint training learns V "
@@ -313,6 +389,7 @@ void FlowStage(const Pipeline& run) {
 }
 
 void JointStage(const Pipeline& run) {
+  run.stages->Begin("joint training of the loop (es_train)");
   if (AllExist({run.model_dir() / "loop.txt",
                 run.model_dir() / "metrics.json"})) {
     Skip("joint", run.model_dir());
@@ -331,7 +408,9 @@ void JointStage(const Pipeline& run) {
        std::to_string(p.field_resolution), "--residual_channels",
        std::to_string(p.residual_channels), "--residual_width",
        std::to_string(p.residual_width), "--checkpoint_interval",
-       std::to_string(CheckpointInterval(p.joint_iterations))},
+       std::to_string(CheckpointInterval(p.joint_iterations)),
+       "--log_interval", LogEvery(p.joint_iterations), "--eval_interval",
+       EvalEvery(p.joint_iterations)},
       true);
   if (!run.has_masks) args.insert(args.end(), {"--mask_weight", "0"});
   // Later flags win in gflags, so --train_flags can override the preset's.
@@ -355,6 +434,7 @@ void AnimateStage(const Pipeline& run) {
         Video{"animate_fixed", "xt_slice.png",
               {"--camera", "fixed", "--xt_slice", "auto"}}}) {
     const fs::path dir = run.out / v.name;
+    run.stages->Begin(v.name + " video (es_animate)");
     if (AllExist({dir / "animation.mp4", dir / v.last_output})) {
       Skip(v.name, dir);
       continue;
@@ -372,6 +452,7 @@ void AnimateStage(const Pipeline& run) {
 // frame 0 for other 3DGS tools. Not fatal: the page needs the npm packages
 // scripts/setup.sh installs.
 void ExportStage(const Pipeline& run) {
+  run.stages->Begin("web page and frame PLY (es_export)");
   const fs::path dir = run.out / "web", ply = run.out / "frame_0.ply";
   if (AllExist({dir / "view.json", ply})) {
     Skip("export", dir);
@@ -387,6 +468,7 @@ void ExportStage(const Pipeline& run) {
 }
 
 void EvalStage(const Pipeline& run) {
+  run.stages->Begin("evaluation (es_eval)");
   if (AllExist({run.eval_dir() / "eval.json"})) {
     Skip("eval", run.eval_dir());
     return;
@@ -395,6 +477,24 @@ void EvalStage(const Pipeline& run) {
              run.Args({"--model", run.model_dir().string(), "--out",
                        run.eval_dir().string()},
                       true));
+}
+
+// The training histories as PNGs in OUT/plots (es_plot), redrawn on every
+// run (cheap). A failure only costs the plots.
+void PlotStage(const Pipeline& run) {
+  run.stages->Begin("training plots (es_plot)");
+  const fs::path plots = run.out / "plots";
+  for (const auto& [history, prefix] :
+       {std::pair{run.static_dir() / "history.csv", "static_"},
+        std::pair{run.static_dir() / "flow_history.csv", "flow_"},
+        std::pair{run.model_dir() / "history.csv", "joint_"}}) {
+    if (!fs::exists(history)) continue;
+    if (RunStage("es_plot", {"--history", history.string(), "--out",
+                             plots.string(), "--prefix", prefix}) != 0) {
+      std::printf("[plots] es_plot failed on %s (see above)\n",
+                  history.string().c_str());
+    }
+  }
 }
 
 // Stops the run after Stage 1 (returning false) when nothing is water.
@@ -445,13 +545,28 @@ es::MaskProbe MakeMaskProbe(const Pipeline& run) {
   return probe;
 }
 
-int Main() {
+// -1 (the preset's value) or at least `min`.
+void RequirePresetOrAtLeast(const std::string& flag, int value, int min) {
+  if (value != -1) es::RequireAtLeast(flag, value, min);
+}
+
+void CheckFlags() {
   if (FLAGS_out.empty() || FLAGS_scene.empty() == FLAGS_video.empty()) {
     throw es::InputError("--out and one of --scene or --video are required");
   }
-  if (FLAGS_cycle_length < 1) {
-    throw es::InputError("--cycle_length must be >= 1");
+  es::RequireAtLeast("cycle_length", FLAGS_cycle_length, 1);
+  RequirePresetOrAtLeast("static_iterations", FLAGS_static_iterations, 1);
+  RequirePresetOrAtLeast("flow_iterations", FLAGS_flow_iterations, 0);
+  RequirePresetOrAtLeast("joint_iterations", FLAGS_joint_iterations, 0);
+  RequirePresetOrAtLeast("animate_frames", FLAGS_animate_frames, 1);
+  if (FLAGS_image_scale != -1) {
+    es::RequirePositive("image_scale", FLAGS_image_scale);
   }
+  es::RequireInOpenRange("dynamic_threshold", FLAGS_dynamic_threshold, 0, 1);
+}
+
+int Main() {
+  CheckFlags();
   Pipeline run;
   run.preset = MakePreset(FLAGS_preset);
   Preset& p = run.preset;
@@ -466,7 +581,7 @@ int Main() {
   run.static_folder =
       FLAGS_static_dir.empty() ? run.out / "static" : fs::path(FLAGS_static_dir);
   const auto start = std::chrono::steady_clock::now();
-  fs::create_directories(run.out);
+  es::PrepareOutputDirectory(FLAGS_out, "out");
   // One run per output folder; runs sharing a --static_dir take turns.
   const es::RunLock out_lock(run.out.string(),
                              es::RunLock::Mode::kFailIfHeld);
@@ -478,12 +593,23 @@ int Main() {
   const es::InputRequest request = MakeInputRequest();
   run.scene = es::PrepareFramesAndPoses(request, RunOrThrow);
   const double scale = ImageScale(run.scene, p);
+  const int num_frames = static_cast<int>(
+      es::ReadColmapModel((run.scene / "sparse" / "0").string())
+          .images.size());
+  // Checked here, not in Stage 3: a loop longer than the video would fail
+  // only after Stage 1 had trained.
+  es::RequireAtMost("cycle_length", FLAGS_cycle_length, num_frames,
+                    run.scene.string() + " has " +
+                        std::to_string(num_frames) + " frames");
   run.common = {"--scene", run.scene.string(), "--image_scale",
                 Number(scale)};
   if (FLAGS_white_background) run.background = {"--white_background"};
   const es::PreparedScene prepared =
       es::PrepareMasks(request, run.scene, MakeMaskProbe(run), RunOrThrow);
   run.has_masks = prepared.has_masks;
+  // static, flow, joint, export, eval, plots (+ two videos, contact sheet).
+  StageLog stages(prepared.static_only ? 1 : 6 + (FLAGS_animate ? 3 : 0));
+  run.stages = &stages;
   std::printf("\n[eulersplat] preset %s: %d static / %d flow / %d joint "
               "iterations, L = %d, image scale %.3g, masks %s\n",
               FLAGS_preset.c_str(), p.static_iterations, p.flow_iterations,
@@ -506,13 +632,19 @@ int Main() {
   if (FLAGS_animate) AnimateStage(run);
   ExportStage(run);
   EvalStage(run);
-  if (FLAGS_animate) WriteContactSheet(run.out, FLAGS_cycle_length);
+  PlotStage(run);
+  if (FLAGS_animate) {
+    stages.Begin("contact sheet");
+    WriteContactSheet(run.out, FLAGS_cycle_length);
+  }
 
   const double seconds = std::chrono::duration<double>(
                              std::chrono::steady_clock::now() - start)
                              .count();
-  std::printf("\n[eulersplat] done in %.0f s\n  metrics        %s\n",
-              seconds, (run.eval_dir() / "eval.json").c_str());
+  std::printf("\n[eulersplat] done in %.0f s\n  metrics        %s\n"
+              "  plots          %s\n",
+              seconds, (run.eval_dir() / "eval.json").c_str(),
+              (run.out / "plots").c_str());
   if (FLAGS_animate) {
     std::printf("  looping video  %s\n  fixed view     %s\n"
                 "  contact sheet  %s\n",
@@ -534,10 +666,15 @@ int Main() {
 int main(int argc, char** argv) {
   return es::RunApp(argc, argv,
                     "Runs every stage: video -> poses -> masks -> static -> "
-                    "flow init -> joint -> animate -> export -> eval.\n"
+                    "flow init -> joint -> animate -> export -> eval -> "
+                    "plots.\n"
                     "  eulersplat --video FILE --out DIR [--preset "
                     "quick|paper]\n"
                     "  eulersplat --scene DIR --out DIR [--preset "
-                    "quick|paper]",
+                    "quick|paper]\n"
+                    "Writes OUT/static, OUT/model, OUT/animate, "
+                    "OUT/animate_fixed, OUT/eval, OUT/plots and "
+                    "OUT/contact_sheet.png; a stage whose outputs exist is "
+                    "skipped.",
                     Main);
 }

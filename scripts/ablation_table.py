@@ -56,6 +56,9 @@ def cell(values, fmt):
 
 
 def main():
+    if len(sys.argv) > 1 and sys.argv[1] in ("-h", "--help"):
+        print(__doc__.strip())
+        return
     if len(sys.argv) < 3:
         sys.exit(__doc__)
     out = pathlib.Path(sys.argv[1])

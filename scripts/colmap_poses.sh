@@ -12,6 +12,10 @@
 # es_poses is, default build/bin), ES_POSE_FLAGS (more es_poses flags).
 set -euo pipefail
 
+if [[ "${1:-}" == -h || "${1:-}" == --help ]]; then
+  sed -n '2,12p' "$0"
+  exit 0
+fi
 if [[ $# -lt 1 || $# -gt 2 ]]; then
   echo "usage: $0 SCENE_DIR [OUT_DIR]" >&2
   exit 2

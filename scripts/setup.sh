@@ -2,11 +2,16 @@
 # Installs the Debian packages eulersplat needs (only those missing), then
 # configures and builds into build/. Idempotent: re-running only rebuilds.
 set -euo pipefail
+case "${1:-}" in
+  -h|--help) sed -n '2,3p' "$0"; echo "usage: scripts/setup.sh"; exit 0 ;;
+  "") ;;
+  *) echo "setup.sh: unknown argument '$1' (see --help)" >&2; exit 2 ;;
+esac
 cd "$(dirname "$0")/.."
 
 PACKAGES=(cmake g++ make pkg-config libceres-dev libeigen3-dev libopencv-dev
           libopencv-contrib-dev libgoogle-glog-dev libgflags-dev libgtest-dev
-          libbenchmark-dev colmap ffmpeg chromium)
+          libbenchmark-dev nlohmann-json3-dev colmap ffmpeg chromium)
 # node and npm run the web page's viewer install and the tests that drive a
 # browser or check our files with other splat tools; a node from elsewhere
 # (with its own npm) is used as it is.

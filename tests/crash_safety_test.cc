@@ -274,7 +274,7 @@ TEST_F(ProcessTest, DriverLocksItsOutputAndItsStageDiesWithIt) {
   const std::string out = Path("out");
   const std::vector<std::string> driver = {
       (kBin / "eulersplat").string(), "--scene", scene_, "--out", out,
-      "--static_iterations", "100000"};
+      "--static_iterations", "100000", "--cycle_length", "4"};
   {
     const RunLock held(out, RunLock::Mode::kFailIfHeld);
     Process second(driver);

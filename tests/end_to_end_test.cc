@@ -119,7 +119,7 @@ TEST(EndToEndTest, DriverRunsEveryStageAndResumes) {
     EXPECT_EQ(cv::norm(fa, fb, cv::NORM_INF), 0.0) << "frame " << k;
   }
   const cv::Mat slice =
-      cv::imread((out / "animate_fixed" / "xt_slice.png").string());
+      cv::imread((out / "animate_fixed" / "xt_slice_raw.png").string());
   EXPECT_EQ(slice.rows, 3 * kL);
   EXPECT_EQ(slice.cols, 64);
 
