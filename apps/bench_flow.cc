@@ -13,6 +13,7 @@
 #include <ceres/ceres.h>
 #include <opencv2/imgproc.hpp>
 
+#include "apps/common/benchmark_main.h"
 #include "core/flow/optical_flow.h"
 #include "costs/scene_flow_cost.h"
 #include "solvers/train/flow_pretrain.h"
@@ -196,9 +197,6 @@ void RegisterAll() {
 }  // namespace es
 
 int main(int argc, char** argv) {
-  benchmark::Initialize(&argc, argv);
   es::RegisterAll();
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
+  return es::RunBenchmarks(argc, argv);
 }

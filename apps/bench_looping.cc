@@ -12,6 +12,7 @@
 
 #include <benchmark/benchmark.h>
 
+#include "apps/common/benchmark_main.h"
 #include "core/fields/motion_field.h"
 #include "core/fields/residual_field.h"
 #include "core/loop/cycle_time.h"
@@ -186,4 +187,4 @@ BENCHMARK(BM_Alg1ForwardBackward)->Arg(50000)->Unit(benchmark::kMillisecond);
 }  // namespace
 }  // namespace es
 
-BENCHMARK_MAIN();
+int main(int argc, char** argv) { return es::RunBenchmarks(argc, argv); }

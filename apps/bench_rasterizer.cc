@@ -1,10 +1,12 @@
 // Google Benchmark of the splat rasterizer: forward and forward + backward on
-// random scenes, in float and double, on 1 and 2 threads.
+// random scenes, in float and double, on 1 and 2 threads, with the tile
+// kernels of each instruction set (float) or the CPU's best (double).
 //
 //   build/bin/bench_rasterizer --benchmark_counters_tabular=true
 //
-// Args: width, height, Gaussians, threads, use_double. Counters: visible
-// Gaussians and Gaussian-pixel pairs evaluated per second (pairs/s).
+// Args: width, height, Gaussians, threads, use_double, simd (0 auto, 1
+// SSE2, 2 AVX2, 3 AVX-512; levels the CPU lacks are skipped). Counters:
+// visible Gaussians and Gaussian-pixel pairs evaluated per second (pairs/s).
 
 #include <omp.h>
 
@@ -15,6 +17,7 @@
 #include <benchmark/benchmark.h>
 #include <Eigen/Geometry>
 
+#include "apps/common/benchmark_main.h"
 #include "core/model/camera.h"
 #include "core/model/gaussians.h"
 #include "core/render/rasterizer.h"
@@ -91,6 +94,11 @@ void Run(benchmark::State& state, bool backward) {
   omp_set_num_threads(state.range(3));
   RenderOptions options;
   options.use_double = state.range(4) != 0;
+  options.simd = static_cast<SimdLevel>(state.range(5));
+  if (!SimdLevelSupported(options.simd)) {
+    state.SkipWithError("the CPU lacks this instruction set");
+    return;
+  }
   const SplatView view = scene.View();
   const Grads grads(width * height);
   Rasterizer rasterizer;
@@ -118,12 +126,17 @@ void BM_Forward(benchmark::State& state) { Run(state, false); }
 void BM_ForwardBackward(benchmark::State& state) { Run(state, true); }
 
 void Sizes(benchmark::internal::Benchmark* b) {
-  b->ArgNames({"w", "h", "n", "threads", "double"});
+  b->ArgNames({"w", "h", "n", "threads", "double", "simd"});
+  const auto kSse2 = static_cast<int>(SimdLevel::kSse2);
+  const auto kAvx512 = static_cast<int>(SimdLevel::kAvx512);
   for (int use_double : {0, 1}) {
     for (int threads : {1, 2}) {
-      b->Args({320, 240, 10000, threads, use_double});
-      b->Args({320, 240, 100000, threads, use_double});
-      b->Args({1168, 880, 300000, threads, use_double});
+      for (int simd = use_double ? 0 : kSse2;
+           simd <= (use_double ? 0 : kAvx512); ++simd) {
+        b->Args({320, 240, 10000, threads, use_double, simd});
+        b->Args({320, 240, 100000, threads, use_double, simd});
+        b->Args({1168, 880, 300000, threads, use_double, simd});
+      }
     }
   }
   b->Unit(benchmark::kMillisecond)->UseRealTime()->MeasureProcessCPUTime();
@@ -135,4 +148,4 @@ BENCHMARK(BM_ForwardBackward)->Apply(Sizes);
 }  // namespace
 }  // namespace es
 
-BENCHMARK_MAIN();
+int main(int argc, char** argv) { return es::RunBenchmarks(argc, argv); }

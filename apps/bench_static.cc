@@ -15,12 +15,13 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "apps/common/app_main.h"
+#include "core/io/atomic_file.h"
+#include "core/io/csv_table.h"
 #include "core/io/input_error.h"
 #include "solvers/train/static_stage.h"
 
@@ -59,16 +60,17 @@ void PrintRow(const Row& r) {
 }
 
 void WriteCsv(const std::vector<Row>& rows, const std::string& path) {
-  std::ofstream out(path);
-  if (!out) throw InputError(path + ": cannot open for writing");
-  out << "iteration,train_seconds,iterations_per_second,gaussians,psnr,"
-         "psnr_water,psnr_static,ssim\n";
-  for (const Row& r : rows)
-    out << r.iteration << ',' << r.train_seconds << ','
-        << r.iterations_per_second << ',' << r.gaussians << ',' << r.test.psnr
-        << ',' << r.test.psnr_water << ',' << r.test.psnr_static << ','
-        << r.test.ssim << '\n';
-  if (!out) throw InputError(path + ": write failed");
+  CsvTable table;
+  table.columns = {"iteration",  "train_seconds", "iterations_per_second",
+                   "gaussians",  "psnr",          "psnr_water",
+                   "psnr_static", "ssim"};
+  for (const Row& r : rows) {
+    table.rows.push_back({static_cast<double>(r.iteration), r.train_seconds,
+                          r.iterations_per_second,
+                          static_cast<double>(r.gaussians), r.test.psnr,
+                          r.test.psnr_water, r.test.psnr_static, r.test.ssim});
+  }
+  WriteTextFileAtomically(path, CsvText(table));
 }
 
 int Run() {

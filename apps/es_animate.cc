@@ -10,8 +10,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <filesystem>
-#include <fstream>
 #include <optional>
 #include <string>
 #include <vector>
@@ -22,8 +20,10 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "apps/common/app_main.h"
-#include "core/io/atomic_file.h"
+#include "apps/common/flag_checks.h"
+#include "core/io/image_file.h"
 #include "core/io/input_error.h"
+#include "core/io/output_dir.h"
 #include "core/io/scene.h"
 #include "core/loop/loop_renderer.h"
 #include "core/model/loop_model.h"
@@ -31,12 +31,14 @@
 #include "core/viz/tracks.h"
 #include "core/viz/video_writer.h"
 #include "core/viz/xt_slice.h"
+#include "core/viz/xt_slice_figure.h"
 
 DEFINE_string(model, "", "Trained looping model directory (es_train --out).");
 DEFINE_string(scene, "", "Scene directory the model was trained on "
               "(its cameras and held-out split).");
 DEFINE_string(out, "", "Output directory: frames/, animation.mp4, and "
-              "tracks/ + tracks.mp4 or xt_slice.png when asked for.");
+              "tracks/ + tracks.mp4 or xt_slice.png + xt_slice_raw.png when "
+              "asked for.");
 DEFINE_int32(frames, 60, "Number of frames to render (any number: the "
              "animation loops with period L).");
 DEFINE_int32(start_frame, 0, "Animation frame of the first output frame.");
@@ -62,10 +64,12 @@ DEFINE_bool(tracks, false, "Also write tracks/ and tracks.mp4: the frames "
 DEFINE_int32(track_count, 300, "Water Gaussians whose tracks are drawn.");
 DEFINE_int32(track_length, 10, "Positions per track polyline.");
 DEFINE_uint64(track_seed, 1, "Seed of the tracked subset.");
-DEFINE_string(xt_slice, "", "With --camera fixed: write xt_slice.png, image "
-              "row ROW of every frame stacked over time. ROW is a number, "
-              "or auto: the row with the most water in the anchor frame's "
-              "mask (the middle row without masks). Empty: off.");
+DEFINE_string(xt_slice, "", "With --camera fixed: image row ROW of every "
+              "frame stacked over time, as xt_slice_raw.png (one pixel row "
+              "per frame) and xt_slice.png (enlarged, with axes, the sliced "
+              "row shown on the first frame and loop boundaries marked). "
+              "ROW is a number, or auto: the row through the most temporal "
+              "change, i.e. through moving water. Empty: off.");
 
 namespace {
 
@@ -105,24 +109,55 @@ int AnchorFrame(const es::Scene& scene) {
   return anchor;
 }
 
-// The image row of --xt_slice.
-int XtSliceRow(const es::Frame& anchor) {
-  if (FLAGS_xt_slice != "auto") {
-    try {
-      size_t used = 0;
-      const int row = std::stoi(FLAGS_xt_slice, &used);
-      if (used == FLAGS_xt_slice.size()) return row;
-    } catch (const std::exception&) {
-    }
-    throw es::InputError("--xt_slice: '" + FLAGS_xt_slice +
-                         "' is neither a row number nor auto");
+// The image row of --xt_slice ROW; -1 for auto (chosen after rendering).
+int XtSliceRow(int height) {
+  if (FLAGS_xt_slice == "auto") return -1;
+  int row = -1;
+  try {
+    size_t used = 0;
+    row = std::stoi(FLAGS_xt_slice, &used);
+    if (used != FLAGS_xt_slice.size()) row = -2;
+  } catch (const std::exception&) {
+    row = -2;
   }
-  if (anchor.mask.empty()) return anchor.camera.height / 2;
-  cv::Mat water;
-  cv::reduce(anchor.mask, water, 1, cv::REDUCE_SUM, CV_64F);
-  cv::Point best;
-  cv::minMaxLoc(water, nullptr, nullptr, nullptr, &best);
-  return best.y;
+  if (row == -2) {
+    throw es::InputError("--xt_slice=" + FLAGS_xt_slice +
+                         ": neither a row number nor auto");
+  }
+  if (row < 0 || row >= height) {
+    throw es::InputError("--xt_slice=" + FLAGS_xt_slice +
+                         ": the rendered frames have rows 0.." +
+                         std::to_string(height - 1));
+  }
+  return row;
+}
+
+// Writes xt_slice_raw.png and the labelled xt_slice.png (last: the driver
+// takes it as the sign that the animation is complete) from the frames
+// already written to frame_dir.
+void WriteXtSlice(const std::string& frame_dir, int frames, int row,
+                  bool automatic, int cycle_length) {
+  es::XtSlice slice(row);
+  cv::Mat first;
+  for (int k = 0; k < frames; ++k) {
+    const std::string path = frame_dir + "/" + es::AnimationFrameName(k);
+    const cv::Mat frame = cv::imread(path, cv::IMREAD_COLOR);
+    if (frame.empty()) throw es::InputError(path + ": cannot read back");
+    if (k == 0) first = frame;
+    slice.Add(frame);
+  }
+  const std::string raw = FLAGS_out + "/xt_slice_raw.png";
+  es::WriteImageAtomically(raw, slice.image());
+  const std::string title =
+      "x-t slice of row " + std::to_string(row) +
+      (automatic ? " (auto: the row of most temporal change)" : "") +
+      ", loop L = " + std::to_string(cycle_length);
+  const std::string path = FLAGS_out + "/xt_slice.png";
+  es::WriteImageAtomically(
+      path, es::XtSliceFigure(first, slice.image(), row, cycle_length, title));
+  std::printf("x-t slice of row %d%s -> %s (%s: %d x %d)\n", row,
+              automatic ? " (auto)" : "", path.c_str(), raw.c_str(),
+              slice.image().cols, slice.image().rows);
 }
 
 std::vector<es::Camera> CameraPath(const es::Scene& scene,
@@ -145,15 +180,17 @@ std::vector<es::Camera> CameraPath(const es::Scene& scene,
 }
 
 void CheckFlags(es::CameraMode mode) {
-  if (FLAGS_model.empty() || FLAGS_scene.empty() || FLAGS_out.empty()) {
-    throw es::InputError("--model, --scene and --out are required");
-  }
-  if (FLAGS_frames < 1) throw es::InputError("--frames must be >= 1");
-  if (FLAGS_start_frame < 0) throw es::InputError("--start_frame must be >= 0");
-  if (!(FLAGS_fps > 0)) throw es::InputError("--fps must be positive");
-  if (FLAGS_track_length < 2) {
-    throw es::InputError("--track_length must be >= 2");
-  }
+  es::RequireFlag("model", FLAGS_model);
+  es::RequireFlag("scene", FLAGS_scene);
+  es::RequireFlag("out", FLAGS_out);
+  es::RequireAtLeast("frames", FLAGS_frames, 1);
+  es::RequireAtLeast("start_frame", FLAGS_start_frame, 0);
+  es::RequireAtLeast("anchor_frame", FLAGS_anchor_frame, -1);
+  es::RequirePositive("fps", FLAGS_fps);
+  es::RequirePositive("image_scale", FLAGS_image_scale);
+  es::RequirePositive("orbit_degrees", FLAGS_orbit_degrees);
+  es::RequireAtLeast("track_count", FLAGS_track_count, 1);
+  es::RequireAtLeast("track_length", FLAGS_track_length, 2);
   if (!FLAGS_xt_slice.empty() && mode != es::CameraMode::kFixed) {
     throw es::InputError("--xt_slice needs --camera fixed (a moving camera "
                          "has no meaningful x-t slice)");
@@ -206,17 +243,16 @@ class TrackOverlay {
   std::vector<int> previous_cycle_;
 };
 
-void WriteXtSlice(const es::XtSlice& slice) {
-  const std::string path = FLAGS_out + "/xt_slice.png";
-  std::vector<uchar> png;
-  if (!cv::imencode(".png", slice.image(), png)) {
-    throw es::InputError(path + ": cannot encode the x-t slice");
-  }
-  es::WriteFileAtomically(path, [&png](std::ofstream& out) {
-    out.write(reinterpret_cast<const char*>(png.data()), png.size());
-  });
-  std::printf("x-t slice of row %d -> %s (%d x %d)\n", slice.row(),
-              path.c_str(), slice.image().cols, slice.image().rows);
+// One progress line (with ETA) about every 20th of the frames.
+void PrintProgress(int done, std::chrono::steady_clock::time_point start) {
+  const int every = std::max(1, FLAGS_frames / 20);
+  if (done % every != 0 && done != FLAGS_frames) return;
+  const double seconds = std::chrono::duration<double>(
+                             std::chrono::steady_clock::now() - start)
+                             .count();
+  std::printf("frame %d/%d  %.1f s  ETA %.0f s\n", done, FLAGS_frames,
+              seconds, seconds / done * (FLAGS_frames - done));
+  std::fflush(stdout);
 }
 
 int Run() {
@@ -230,20 +266,21 @@ int Run() {
   const es::LoopModel model = es::LoadLoopModel(FLAGS_model);
   const std::vector<es::Camera> cameras =
       CameraPath(scene, model, mode, FLAGS_frames);
+  const bool xt_auto = FLAGS_xt_slice == "auto";
+  const int xt_row =
+      FLAGS_xt_slice.empty() ? -1 : XtSliceRow(cameras.front().height);
 
-  std::filesystem::create_directories(FLAGS_out);
+  es::PrepareOutputDirectory(FLAGS_out, "out");
   es::VideoWriter video(FLAGS_out + "/frames", FLAGS_fps);
   std::optional<TrackOverlay> tracks;
   if (FLAGS_tracks) tracks.emplace(model);
-  std::optional<es::XtSlice> slice;
-  if (!FLAGS_xt_slice.empty()) {
-    slice.emplace(XtSliceRow(scene.frames[AnchorFrame(scene)]));
-  }
+  es::RowChange row_change;  // for --xt_slice auto
 
   es::LoopRenderer renderer(&model, options);
   const bool frozen = mode == es::CameraMode::kFixedTime;
   renderer.Start(frozen ? FLAGS_time : FLAGS_start_frame);
   double render_ms = 0;
+  const auto start_time = std::chrono::steady_clock::now();
   for (int k = 0; k < FLAGS_frames; ++k) {
     if (k > 0 && !frozen) renderer.Advance();
     const auto start = std::chrono::steady_clock::now();
@@ -253,8 +290,9 @@ int Run() {
                      .count();
     const cv::Mat bgr = es::RgbToBgr8(r.rgb.data(), r.width, r.height);
     video.Add(bgr);
-    if (slice) slice->Add(bgr);
+    if (xt_auto) row_change.Add(bgr);
     if (tracks) tracks->Add(renderer, cameras[k], bgr);
+    PrintProgress(k + 1, start_time);
   }
   const std::string encoder = video.Finish(FLAGS_out + "/animation.mp4");
   std::printf("%d frames (%s camera, period L = %d) -> %s/animation.mp4 "
@@ -262,7 +300,11 @@ int Run() {
               FLAGS_frames, FLAGS_camera.c_str(), model.cycle_length,
               FLAGS_out.c_str(), encoder.c_str(), render_ms / FLAGS_frames);
   if (tracks) tracks->Finish(model.num_dynamic());
-  if (slice) WriteXtSlice(*slice);
+  if (!FLAGS_xt_slice.empty()) {
+    WriteXtSlice(FLAGS_out + "/frames", FLAGS_frames,
+                 xt_auto ? row_change.BusiestRow() : xt_row, xt_auto,
+                 model.cycle_length);
+  }
   return 0;
 }
 

@@ -7,9 +7,11 @@
 #include <string>
 
 #include <gflags/gflags.h>
-#include <opencv2/imgcodecs.hpp>
+#include <opencv2/core.hpp>
 
 #include "apps/common/app_main.h"
+#include "apps/common/flag_checks.h"
+#include "core/io/image_file.h"
 #include "core/io/input_error.h"
 #include "core/viz/contact_sheet.h"
 
@@ -23,11 +25,11 @@ int main(int argc, char** argv) {
       "Tiles frames and their masks into one image.\n"
       "  es_contact_sheet --scene DIR --out sheet.png [--count 8]",
       [] {
-        if (FLAGS_scene.empty() || FLAGS_out.empty())
-          throw es::InputError("--scene and --out are required");
+        es::RequireFlag("scene", FLAGS_scene);
+        es::RequireFlag("out", FLAGS_out);
+        es::RequireAtLeast("count", FLAGS_count, 1);
         const cv::Mat sheet = es::MakeContactSheet(FLAGS_scene, FLAGS_count);
-        if (!cv::imwrite(FLAGS_out, sheet))
-          throw es::InputError(FLAGS_out + ": cannot write image");
+        es::WriteImageAtomically(FLAGS_out, sheet);
         std::printf("wrote %s (%dx%d)\n", FLAGS_out.c_str(), sheet.cols,
                     sheet.rows);
         return 0;

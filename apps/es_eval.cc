@@ -1,27 +1,30 @@
 // Measures a trained looping model: held-out PSNR / SSIM (full image and
 // water region), motion error against ground truth when the scene has it,
-// the loop-seam score of a fixed-view animation, and the per-frame cost of
-// playing it with Alg. 1 vs Alg. 2. Writes OUT/eval.json and prints a
-// table.
+// realism against the input video (core/metrics/realism.h: detail, motion
+// and distribution distance of the Alg. 2 loop seen by every input camera,
+// in the water, the static region and the whole frame), the loop-seam
+// score of a fixed-view animation, and the per-frame cost of playing it
+// with Alg. 1 vs Alg. 2. Writes OUT/eval.json and prints a table.
 //
 //   es_eval --model DIR --scene DIR --out DIR
 
-#include <cmath>
+#include <chrono>
 #include <cstdio>
-#include <filesystem>
-#include <fstream>
 #include <string>
 #include <vector>
 
 #include <gflags/gflags.h>
 
 #include "apps/common/app_main.h"
+#include "apps/common/flag_checks.h"
 #include "core/io/input_error.h"
+#include "core/io/json_file.h"
+#include "core/io/output_dir.h"
 #include "core/io/scene.h"
 #include "core/model/loop_model.h"
 #include "solvers/eval/loop_evaluation.h"
 #include "solvers/eval/motion_gt.h"
-#include "solvers/train/joint_trainer.h"
+#include "solvers/eval/realism_evaluation.h"
 
 DEFINE_string(model, "", "Trained looping model directory (es_train --out).");
 DEFINE_string(scene, "", "Scene directory the model was trained on.");
@@ -35,35 +38,207 @@ DEFINE_int32(seam_cycles, 3, "Loops of the fixed-view animation the "
 DEFINE_int32(anchor_frame, -1, "Frame whose camera the fixed view uses; "
              "-1: the first held-out frame.");
 DEFINE_int32(timing_frames, 0, "Frames timed for Alg. 1 vs Alg. 2; 0: 2 L.");
+DEFINE_int32(compare_frames, 4, "Frames of the realism video written to "
+             "OUT/compare/ (rendered left, input right) to look at; 0: "
+             "none.");
+DEFINE_int32(realism_patches, 4096, "Random patches per region for the "
+             "realism distribution distances (more: less sampling noise).");
 
 namespace {
 
-// JSON number; NaN and infinity, which JSON lacks, become null.
-std::string Number(double v) {
-  if (!std::isfinite(v)) return "null";
-  char text[32];
-  std::snprintf(text, sizeof(text), "%.6g", v);
-  return text;
-}
+// Everything es_eval measures.
+struct Evaluation {
+  int anchor_frame = 0;
+  es::LoopMetrics held_out;
+  bool has_motion_gt = false;
+  es::MotionGtMetrics motion;
+  es::RealismMetrics realism;
+  es::LoopSeamScore seam;
+  es::AnimationTiming timing;
+};
 
-// JSON string literal.
-std::string Quoted(const std::string& s) {
-  std::string out = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\') out += '\\';
-    out += c;
-  }
-  return out + "\"";
-}
-
-int Run() {
-  if (FLAGS_model.empty() || FLAGS_scene.empty() || FLAGS_out.empty()) {
-    throw es::InputError("--model, --scene and --out are required");
-  }
+void CheckFlags() {
+  es::RequireFlag("model", FLAGS_model);
+  es::RequireFlag("scene", FLAGS_scene);
+  es::RequireFlag("out", FLAGS_out);
+  es::RequirePositive("image_scale", FLAGS_image_scale);
+  es::RequireAtLeast("anchor_frame", FLAGS_anchor_frame, -1);
+  es::RequireAtLeast("timing_frames", FLAGS_timing_frames, 0);
   if (FLAGS_seam_cycles < 2) {
     throw es::InputError("--seam_cycles must be >= 2 (a boundary needs a "
                          "cycle on each side)");
   }
+  if (FLAGS_compare_frames < 0) {
+    throw es::InputError("--compare_frames must be >= 0");
+  }
+  if (FLAGS_realism_patches < 16) {
+    throw es::InputError("--realism_patches must be >= 16");
+  }
+}
+
+int AnchorFrame(const es::Scene& scene) {
+  const int anchor =
+      FLAGS_anchor_frame >= 0 ? FLAGS_anchor_frame : scene.test[0];
+  if (anchor >= static_cast<int>(scene.frames.size())) {
+    throw es::InputError("--anchor_frame " + std::to_string(anchor) +
+                         " is past the scene's last frame");
+  }
+  return anchor;
+}
+
+// Prints "[eval k/4] what" with the seconds since `start`: the steps differ
+// too much in cost for an ETA to mean anything.
+void Step(int k, const char* what,
+          std::chrono::steady_clock::time_point start) {
+  std::printf("[eval %d/4] %s (%.1f s so far)\n", k, what,
+              std::chrono::duration<double>(
+                  std::chrono::steady_clock::now() - start)
+                  .count());
+  std::fflush(stdout);
+}
+
+Evaluation Evaluate(const es::LoopModel& model, const es::Scene& scene,
+                    const es::RenderOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  Evaluation e;
+  e.anchor_frame = AnchorFrame(scene);
+  const es::Camera& anchor = scene.frames[e.anchor_frame].camera;
+  Step(1, "held-out frames and motion", start);
+  e.held_out = es::EvaluateLoopModel(model, scene.frames, scene.test,
+                                     options);
+  e.has_motion_gt = es::HasMotionGt(FLAGS_scene) && model.motion;
+  if (e.has_motion_gt) {
+    std::vector<Eigen::Vector3d> points;
+    for (int i : model.dynamic_index) {
+      points.emplace_back(&model.gaussians.means[3 * i]);
+    }
+    e.motion = es::EvaluateMotionGt(*model.motion, points,
+                                    es::LoadMotionGt(FLAGS_scene));
+  }
+  Step(2, ("realism over " + std::to_string(scene.frames.size()) +
+           " input frames").c_str(),
+       start);
+  es::RealismOptions realism;
+  realism.patch_samples = FLAGS_realism_patches;
+  const std::vector<cv::Mat> rendered =
+      es::RenderAtInputCameras(model, scene.frames, options);
+  e.realism = es::EvaluateRealism(rendered, scene.frames, realism);
+  if (FLAGS_compare_frames > 0) {
+    es::WriteComparisonFrames(rendered, scene.frames, FLAGS_compare_frames,
+                              FLAGS_out + "/compare");
+  }
+  Step(3, "loop seam", start);
+  e.seam = es::EvaluateLoopSeam(model, anchor, FLAGS_seam_cycles, options);
+  Step(4, "Alg. 1 vs Alg. 2 timing", start);
+  const int timing_frames =
+      FLAGS_timing_frames > 0 ? FLAGS_timing_frames : 2 * model.cycle_length;
+  e.timing = es::TimeAnimation(model, anchor, timing_frames, options);
+  return e;
+}
+
+nlohmann::ordered_json RealismJson(const es::RealismRegion& r) {
+  return {{"pixels", r.pixels},
+          {"detail_ratio", r.detail_ratio},
+          {"band_ratio", r.band_ratio},
+          {"motion_ratio", r.motion_ratio},
+          {"real_detail", r.real_detail},
+          {"real_motion", r.real_motion},
+          {"patches", r.patches},
+          {"distance_2d", r.distance_2d},
+          {"distance_3d", r.distance_3d}};
+}
+
+nlohmann::ordered_json EvalJson(const es::LoopModel& model,
+                                const Evaluation& e) {
+  nlohmann::ordered_json json = {
+      {"model", FLAGS_model},
+      {"scene", FLAGS_scene},
+      {"gaussians", model.gaussians.size()},
+      {"dynamic_gaussians", model.num_dynamic()},
+      {"cycle_length", model.cycle_length},
+      {"held_out",
+       {{"frames", e.held_out.frames},
+        {"psnr", e.held_out.psnr},
+        {"ssim", e.held_out.ssim},
+        {"psnr_water", e.held_out.psnr_water},
+        {"ssim_water", e.held_out.ssim_water}}},
+      {"motion_gt", nullptr},
+      {"realism",
+       {{"water", RealismJson(e.realism.water)},
+        {"static", RealismJson(e.realism.static_region)},
+        {"frame", RealismJson(e.realism.frame)}}},
+      {"loop_seam",
+       {{"anchor_frame", e.anchor_frame},
+        {"cycles", FLAGS_seam_cycles},
+        {"score", e.seam.score},
+        {"boundary_change", e.seam.boundary_change},
+        {"within_change", e.seam.within_change}}},
+      {"render_time_ms",
+       {{"frames", e.timing.frames},
+        {"alg1_advect", e.timing.alg1_advect_ms},
+        {"alg2_advect", e.timing.alg2_advect_ms},
+        {"render", e.timing.render_ms},
+        {"alg1_frame", e.timing.alg1_frame_ms()},
+        {"alg2_frame", e.timing.alg2_frame_ms()},
+        {"alg1_alg2_max_position_difference",
+         e.timing.max_position_difference}}}};
+  if (e.has_motion_gt) {
+    json["motion_gt"] = {{"points", e.motion.num_points},
+                         {"epe", e.motion.epe},
+                         {"mean_speed", e.motion.mean_speed},
+                         {"rel_epe", e.motion.rel_epe}};
+  }
+  return json;
+}
+
+void PrintRealism(const char* name, const es::RealismRegion& r) {
+  if (r.pixels == 0) {
+    std::printf("  %-21s n/a (no masks)\n", name);
+    return;
+  }
+  std::printf("  %-21s detail %.2f  motion %.2f  distance 2D %.4f  "
+              "3D %.4f\n",
+              name, r.detail_ratio, r.motion_ratio, r.distance_2d,
+              r.distance_3d);
+}
+
+void PrintSummary(const es::LoopModel& model, const es::Scene& scene,
+                  const Evaluation& e) {
+  std::printf("%s: %d Gaussians (%d dynamic), L = %d\n",
+              FLAGS_model.c_str(), model.gaussians.size(),
+              model.num_dynamic(), model.cycle_length);
+  std::printf("  held-out (%d frames)   PSNR %6.2f dB   SSIM %.4f\n",
+              e.held_out.frames, e.held_out.psnr, e.held_out.ssim);
+  std::printf("  water region          PSNR %6.2f dB   SSIM %.4f%s\n",
+              e.held_out.psnr_water, e.held_out.ssim_water,
+              scene.has_masks ? "" : "   (no masks)");
+  if (e.has_motion_gt) {
+    std::printf("  motion vs truth       EPE %.4g (%.1f%% of mean speed "
+                "%.4g) at %d points\n",
+                e.motion.epe, 100 * e.motion.rel_epe, e.motion.mean_speed,
+                e.motion.num_points);
+  } else {
+    std::printf("  motion vs truth       n/a (%s)\n",
+                model.motion ? "no gt/ in the scene" : "model has no V");
+  }
+  std::printf("  realism vs the input (ratios: 1 = like the input; "
+              "distance: 0 = same statistics)\n");
+  PrintRealism("  water", e.realism.water);
+  PrintRealism("  static (control)", e.realism.static_region);
+  PrintRealism("  whole frame", e.realism.frame);
+  std::printf("  loop seam             %.3f (boundary %.4g / within %.4g; "
+              "~1 = seamless)\n",
+              e.seam.score, e.seam.boundary_change, e.seam.within_change);
+  std::printf("  ms per frame          Alg. 1 %.2f  Alg. 2 %.2f  (advect "
+              "%.3f vs %.3f, render %.2f)\n",
+              e.timing.alg1_frame_ms(), e.timing.alg2_frame_ms(),
+              e.timing.alg1_advect_ms, e.timing.alg2_advect_ms,
+              e.timing.render_ms);
+}
+
+int Run() {
+  CheckFlags();
+  es::PrepareOutputDirectory(FLAGS_out, "out");
   es::RenderOptions options;
   if (FLAGS_white_background) options.background.setOnes();
   es::SceneOptions scene_options;
@@ -74,98 +249,10 @@ int Run() {
     throw es::InputError(FLAGS_scene + ": no held-out frames to evaluate "
                          "(see split.txt)");
   }
-  int anchor = FLAGS_anchor_frame >= 0 ? FLAGS_anchor_frame : scene.test[0];
-  if (anchor >= static_cast<int>(scene.frames.size())) {
-    throw es::InputError("--anchor_frame " + std::to_string(anchor) +
-                         " is past the scene's last frame");
-  }
-  const es::Camera& anchor_camera = scene.frames[anchor].camera;
-
-  const es::LoopMetrics held_out =
-      es::EvaluateLoopModel(model, scene.frames, scene.test, options);
-
-  bool has_motion_gt = es::HasMotionGt(FLAGS_scene) && model.motion;
-  es::MotionGtMetrics motion;
-  if (has_motion_gt) {
-    std::vector<Eigen::Vector3d> points;
-    for (int i : model.dynamic_index) {
-      points.emplace_back(&model.gaussians.means[3 * i]);
-    }
-    motion = es::EvaluateMotionGt(*model.motion, points,
-                                  es::LoadMotionGt(FLAGS_scene));
-  }
-
-  const es::LoopSeamScore seam = es::EvaluateLoopSeam(
-      model, anchor_camera, FLAGS_seam_cycles, options);
-  const int timing_frames =
-      FLAGS_timing_frames > 0 ? FLAGS_timing_frames : 2 * model.cycle_length;
-  const es::AnimationTiming timing =
-      es::TimeAnimation(model, anchor_camera, timing_frames, options);
-
-  std::filesystem::create_directories(FLAGS_out);
+  const Evaluation e = Evaluate(model, scene, options);
   const std::string path = FLAGS_out + "/eval.json";
-  std::ofstream json(path);
-  json << "{\n"
-       << "  \"model\": " << Quoted(FLAGS_model) << ",\n"
-       << "  \"scene\": " << Quoted(FLAGS_scene) << ",\n"
-       << "  \"gaussians\": " << model.gaussians.size() << ",\n"
-       << "  \"dynamic_gaussians\": " << model.num_dynamic() << ",\n"
-       << "  \"cycle_length\": " << model.cycle_length << ",\n"
-       << "  \"held_out\": {\"frames\": " << held_out.frames
-       << ", \"psnr\": " << Number(held_out.psnr)
-       << ", \"ssim\": " << Number(held_out.ssim)
-       << ", \"psnr_water\": " << Number(held_out.psnr_water)
-       << ", \"ssim_water\": " << Number(held_out.ssim_water) << "},\n"
-       << "  \"motion_gt\": ";
-  if (has_motion_gt) {
-    json << "{\"points\": " << motion.num_points
-         << ", \"epe\": " << Number(motion.epe)
-         << ", \"mean_speed\": " << Number(motion.mean_speed)
-         << ", \"rel_epe\": " << Number(motion.rel_epe) << "},\n";
-  } else {
-    json << "null,\n";
-  }
-  json << "  \"loop_seam\": {\"anchor_frame\": " << anchor
-       << ", \"cycles\": " << FLAGS_seam_cycles
-       << ", \"score\": " << Number(seam.score)
-       << ", \"boundary_change\": " << Number(seam.boundary_change)
-       << ", \"within_change\": " << Number(seam.within_change) << "},\n"
-       << "  \"render_time_ms\": {\"frames\": " << timing.frames
-       << ", \"alg1_advect\": " << Number(timing.alg1_advect_ms)
-       << ", \"alg2_advect\": " << Number(timing.alg2_advect_ms)
-       << ", \"render\": " << Number(timing.render_ms)
-       << ", \"alg1_frame\": " << Number(timing.alg1_frame_ms())
-       << ", \"alg2_frame\": " << Number(timing.alg2_frame_ms())
-       << ", \"alg1_alg2_max_position_difference\": "
-       << Number(timing.max_position_difference) << "}\n"
-       << "}\n";
-  json.close();
-  if (!json) throw es::InputError(path + ": cannot write");
-
-  std::printf("%s: %d Gaussians (%d dynamic), L = %d\n", FLAGS_model.c_str(),
-              model.gaussians.size(), model.num_dynamic(),
-              model.cycle_length);
-  std::printf("  held-out (%d frames)   PSNR %6.2f dB   SSIM %.4f\n",
-              held_out.frames, held_out.psnr, held_out.ssim);
-  std::printf("  water region          PSNR %6.2f dB   SSIM %.4f%s\n",
-              held_out.psnr_water, held_out.ssim_water,
-              scene.has_masks ? "" : "   (no masks)");
-  if (has_motion_gt) {
-    std::printf("  motion vs truth       EPE %.4g (%.1f%% of mean speed "
-                "%.4g) at %d points\n",
-                motion.epe, 100 * motion.rel_epe, motion.mean_speed,
-                motion.num_points);
-  } else {
-    std::printf("  motion vs truth       n/a (%s)\n",
-                model.motion ? "no gt/ in the scene" : "model has no V");
-  }
-  std::printf("  loop seam             %.3f (boundary %.4g / within %.4g; "
-              "~1 = seamless)\n",
-              seam.score, seam.boundary_change, seam.within_change);
-  std::printf("  ms per frame          Alg. 1 %.2f  Alg. 2 %.2f  (advect "
-              "%.3f vs %.3f, render %.2f)\n",
-              timing.alg1_frame_ms(), timing.alg2_frame_ms(),
-              timing.alg1_advect_ms, timing.alg2_advect_ms, timing.render_ms);
+  es::WriteJsonFile(path, EvalJson(model, e));
+  PrintSummary(model, scene, e);
   std::printf("wrote %s\n", path.c_str());
   return 0;
 }
@@ -175,6 +262,9 @@ int Run() {
 int main(int argc, char** argv) {
   return es::RunApp(argc, argv,
                     "Evaluates a trained looping model.\n"
-                    "  es_eval --model DIR --scene DIR --out DIR",
+                    "  es_eval --model DIR --scene DIR --out DIR\n"
+                    "Writes OUT/eval.json (held-out PSNR / SSIM, motion "
+                    "error vs ground truth, realism, loop seam, render "
+                    "times).",
                     Run);
 }

@@ -4,22 +4,26 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <filesystem>
 #include <random>
 #include <string>
+#include <vector>
 
 #include <gflags/gflags.h>
 
 #include "apps/common/app_main.h"
+#include "apps/common/flag_checks.h"
 #include "core/flow/flow_lifting.h"
-#include "core/io/atomic_file.h"
 #include "core/io/field_io.h"
 #include "core/io/input_error.h"
+#include "core/io/json_file.h"
+#include "core/io/output_dir.h"
 #include "core/io/ply_io.h"
 #include "core/io/scene.h"
 #include "core/model/dynamic_set.h"
+#include "core/profile/stage_profile.h"
 #include "solvers/eval/motion_gt.h"
 #include "solvers/train/flow_pretrain.h"
+#include "solvers/train/training_history.h"
 
 DEFINE_string(scene, "", "Scene directory (images/, sparse/0/, masks/).");
 DEFINE_string(static, "",
@@ -85,6 +89,10 @@ DEFINE_int32(lbfgs_max_samples, 200000,
              "LBFGS fits a random subset of at most this many samples.");
 DEFINE_int32(seed, 1, "Seed of the field's initialization and sampling.");
 DEFINE_int32(log_every, 100, "Print pretraining progress this often.");
+DEFINE_bool(profile, false,
+            "Print where the time goes, per stage (optical flow and "
+            "lifting, then per pretraining iteration: scene-flow loss, "
+            "fields forward / backward, Adam), after the pretraining.");
 
 namespace {
 
@@ -97,20 +105,26 @@ es::PlaneCombination ParseCombination(const std::string& name) {
 }
 
 void CheckFlags() {
-  if (FLAGS_scene.empty()) throw es::InputError("--scene is required");
-  if (FLAGS_stride < 1) throw es::InputError("--stride must be >= 1");
-  if (FLAGS_iterations < 0) throw es::InputError("--iterations must be >= 0");
-  if (FLAGS_batch_size < 1) throw es::InputError("--batch_size must be >= 1");
-  if (FLAGS_max_samples < 1) throw es::InputError("--max_samples must be >= 1");
-  if (FLAGS_triplane_res < 2 || FLAGS_triplane_channels < 1 ||
-      FLAGS_mlp_width < 1 || FLAGS_mlp_depth < 0) {
-    throw es::InputError(
-        "field shape: --triplane_res >= 2, --triplane_channels >= 1, "
-        "--mlp_width >= 1, --mlp_depth >= 0");
-  }
-  if (!(FLAGS_velocity_scale > 0)) {
-    throw es::InputError("--velocity_scale must be positive");
-  }
+  es::RequireFlag("scene", FLAGS_scene);
+  es::RequirePositive("image_scale", FLAGS_image_scale);
+  es::RequireAtLeast("stride", FLAGS_stride, 1);
+  es::RequireAtLeast("iterations", FLAGS_iterations, 0);
+  es::RequireAtLeast("batch_size", FLAGS_batch_size, 1);
+  es::RequireAtLeast("max_samples", FLAGS_max_samples, 1);
+  es::RequireAtLeast("lbfgs_max_samples", FLAGS_lbfgs_max_samples, 1);
+  es::RequireAtLeast("log_every", FLAGS_log_every, 0);
+  es::RequireAtLeast("triplane_res", FLAGS_triplane_res, 2);
+  es::RequireAtLeast("triplane_channels", FLAGS_triplane_channels, 1);
+  es::RequireAtLeast("mlp_width", FLAGS_mlp_width, 1);
+  es::RequireAtLeast("mlp_depth", FLAGS_mlp_depth, 0);
+  es::RequirePositive("velocity_scale", FLAGS_velocity_scale);
+  es::RequireInOpenRange("dynamic_threshold", FLAGS_dynamic_threshold, 0, 1);
+  es::RequireInRange("water_threshold", FLAGS_water_threshold, 0, 1);
+  es::RequireInRange("min_alpha", FLAGS_min_alpha, 0, 1);
+  es::RequireInRange("final_lr_factor", FLAGS_final_lr_factor, 0, 1);
+  es::RequirePositive("max_fb_px", FLAGS_max_fb_px);
+  es::RequirePositive("max_depth_jump", FLAGS_max_depth_jump);
+  es::RequireNonNegative("tv_weight", FLAGS_tv_weight);
 }
 
 // Keeps a random subset of at most `max` samples.
@@ -122,6 +136,10 @@ void Subsample(int max, uint32_t seed,
   samples->resize(max);
 }
 
+// Seconds left when `done` of `total` equal steps took `seconds`.
+double Eta(double seconds, int done, int total) {
+  return done > 0 ? seconds / done * (total - done) : 0;
+}
 
 es::SceneFlowOptions SceneFlowOptionsFromFlags() {
   es::SceneFlowOptions o;
@@ -134,15 +152,20 @@ es::SceneFlowOptions SceneFlowOptionsFromFlags() {
   o.lifting.water_threshold = FLAGS_water_threshold;
   o.min_alpha = FLAGS_min_alpha;
   o.use_test_frames = FLAGS_use_test_frames;
-  o.progress = [](int k, int n, const std::string& a, const std::string& b,
-                  long count) {
-    std::printf("flow %d/%d %s -> %s: %ld samples\n", k + 1, n, a.c_str(),
-                b.c_str(), count);
+  const auto start = std::chrono::steady_clock::now();
+  o.progress = [start](int k, int n, const std::string& a,
+                       const std::string& b, long count) {
+    const double seconds = std::chrono::duration<double>(
+                               std::chrono::steady_clock::now() - start)
+                               .count();
+    std::printf("flow %d/%d %s -> %s: %ld samples  ETA %.0f s\n", k + 1, n,
+                a.c_str(), b.c_str(), count, Eta(seconds, k + 1, n));
     std::fflush(stdout);
   };
   return o;
 }
 
+// Progress lines (and history rows) come from PretrainField.
 es::FlowPretrainOptions PretrainOptionsFromFlags() {
   es::FlowPretrainOptions o;
   o.solver = es::ParsePretrainSolver(FLAGS_solver);
@@ -155,11 +178,6 @@ es::FlowPretrainOptions PretrainOptionsFromFlags() {
   o.lbfgs_max_samples = FLAGS_lbfgs_max_samples;
   o.seed = FLAGS_seed;
   o.log_every = FLAGS_log_every;
-  o.progress = [](int it, double seconds, double rmse) {
-    std::printf("pretrain iteration %d  %.1f s  batch rmse %.3g\n", it,
-                seconds, rmse);
-    std::fflush(stdout);
-  };
   return o;
 }
 
@@ -179,8 +197,11 @@ es::MotionFieldOptions FieldOptionsFromFlags() {
 // --max_samples); throws InputError when none survives.
 es::SceneFlowResult LiftWaterFlow(const es::Scene& scene,
                                   const es::GaussianSet& model) {
-  es::SceneFlowResult lifted =
-      es::LiftSceneFlow(scene, model, SceneFlowOptionsFromFlags());
+  es::SceneFlowResult lifted;
+  {
+    es::ScopedStage timer(es::Stage::kOpticalFlow);
+    lifted = es::LiftSceneFlow(scene, model, SceneFlowOptionsFromFlags());
+  }
   const es::LiftingStats& s = lifted.stats;
   std::printf(
       "water pixels from %s; %ld candidates: %ld accepted, rejected %ld no "
@@ -199,6 +220,33 @@ es::SceneFlowResult LiftWaterFlow(const es::Scene& scene,
   return lifted;
 }
 
+// Fits V, spanning the dynamic Gaussians' box, to the lifted samples; one
+// progress line (with ETA) and one <out>/flow_history.csv row per log.
+es::FlowPretrainReport PretrainField(const es::SceneFlowResult& lifted,
+                                     const es::GaussianSet& model,
+                                     const std::vector<int>& dynamic,
+                                     es::TrainingHistory* history,
+                                     es::MotionField* field) {
+  Eigen::Vector3d lo, hi;
+  es::FieldBox(model, dynamic, &lo, &hi);
+  field->SetBox(lo, hi);
+  es::FlowPretrainOptions fit_options = PretrainOptionsFromFlags();
+  const int iterations = fit_options.iterations;
+  fit_options.progress = [history, iterations](int it, double seconds,
+                                               double rmse) {
+    std::printf("pretrain iteration %d/%d  %.1f s  batch rmse %.3g  ETA "
+                "%.0f s\n",
+                it, iterations, seconds, rmse, Eta(seconds, it, iterations));
+    std::fflush(stdout);
+    history->Add(it, seconds, {rmse});
+  };
+  const es::FlowPretrainReport fit =
+      es::PretrainMotionField(lifted.samples, fit_options, field);
+  std::printf("fit rmse %.4g (targets rms %.4g, start %.4g) in %.1f s\n",
+              fit.fit_rmse, fit.target_rms, fit.initial_rmse, fit.seconds);
+  return fit;
+}
+
 // flow_metrics.json: the fit, the lifting counts and timings, and the
 // ground-truth errors when the scene has gt/.
 void WriteFlowMetrics(const std::string& path, double seconds,
@@ -208,29 +256,30 @@ void WriteFlowMetrics(const std::string& path, double seconds,
                       const std::vector<int>& dynamic,
                       const es::MotionField& field) {
   const es::LiftingStats& s = lifted.stats;
-  char json[2048];
-  int len = std::snprintf(
-      json, sizeof(json),
-      "{\n  \"num_samples\": %d,\n  \"seconds\": %.3f,\n"
-      "  \"fit_rmse\": %.6g,\n  \"target_rms\": %.6g,\n"
-      "  \"initial_rmse\": %.6g,\n  \"flow\": \"%s\",\n"
-      "  \"second_end\": \"%s\",\n  \"tv_weight\": %.6g,\n"
-      "  \"solver\": \"%s\",\n  \"iterations\": %d,\n"
-      "  \"num_pairs\": %d,\n  \"num_dynamic\": %d,\n"
-      "  \"water_from_masks\": %s,\n  \"candidates\": %ld,\n"
-      "  \"rejected_no_depth\": %ld,\n  \"rejected_depth_edge\": %ld,\n"
-      "  \"rejected_outside\": %ld,\n  \"rejected_inconsistent\": %ld,\n"
-      "  \"rejected_not_water\": %ld,\n  \"render_seconds\": %.3f,\n"
-      "  \"flow_seconds\": %.3f,\n  \"lift_seconds\": %.3f,\n"
-      "  \"pretrain_seconds\": %.3f",
-      fit.num_samples, seconds, fit.fit_rmse, fit.target_rms,
-      fit.initial_rmse, FLAGS_flow.c_str(), FLAGS_second_end.c_str(),
-      FLAGS_tv_weight, FLAGS_solver.c_str(),
-      fit.iterations, lifted.num_pairs, static_cast<int>(dynamic.size()),
-      lifted.used_masks ? "true" : "false", s.candidates, s.no_depth,
-      s.depth_edge, s.outside, s.inconsistent, s.not_water,
-      lifted.render_seconds, lifted.flow_seconds, lifted.lift_seconds,
-      fit.seconds);
+  nlohmann::ordered_json json = {
+      {"num_samples", fit.num_samples},
+      {"seconds", seconds},
+      {"fit_rmse", fit.fit_rmse},
+      {"target_rms", fit.target_rms},
+      {"initial_rmse", fit.initial_rmse},
+      {"flow", FLAGS_flow},
+      {"second_end", FLAGS_second_end},
+      {"tv_weight", FLAGS_tv_weight},
+      {"solver", FLAGS_solver},
+      {"iterations", fit.iterations},
+      {"num_pairs", lifted.num_pairs},
+      {"num_dynamic", dynamic.size()},
+      {"water_from_masks", lifted.used_masks},
+      {"candidates", s.candidates},
+      {"rejected_no_depth", s.no_depth},
+      {"rejected_depth_edge", s.depth_edge},
+      {"rejected_outside", s.outside},
+      {"rejected_inconsistent", s.inconsistent},
+      {"rejected_not_water", s.not_water},
+      {"render_seconds", lifted.render_seconds},
+      {"flow_seconds", lifted.flow_seconds},
+      {"lift_seconds", lifted.lift_seconds},
+      {"pretrain_seconds", fit.seconds}};
   if (es::HasMotionGt(FLAGS_scene)) {
     std::vector<Eigen::Vector3d> points;
     for (int i : dynamic) {
@@ -245,14 +294,12 @@ void WriteFlowMetrics(const std::string& path, double seconds,
     std::printf("ground truth: epe %.4g (mean speed %.4g, relative %.3f); "
                 "lifted samples: relative %.3f\n",
                 gt.epe, gt.mean_speed, gt.rel_epe, lifted_gt.rel_epe);
-    len += std::snprintf(json + len, sizeof(json) - len,
-                         ",\n  \"epe_gt\": %.6g,\n  \"rel_epe_gt\": %.6g,\n"
-                         "  \"mean_speed_gt\": %.6g,\n"
-                         "  \"samples_rel_epe_gt\": %.6g",
-                         gt.epe, gt.rel_epe, gt.mean_speed, lifted_gt.rel_epe);
+    json["epe_gt"] = gt.epe;
+    json["rel_epe_gt"] = gt.rel_epe;
+    json["mean_speed_gt"] = gt.mean_speed;
+    json["samples_rel_epe_gt"] = lifted_gt.rel_epe;
   }
-  std::snprintf(json + len, sizeof(json) - len, "\n}\n");
-  es::WriteTextFileAtomically(path, json);
+  es::WriteJsonFile(path, json);
 }
 
 int Run() {
@@ -262,9 +309,9 @@ int Run() {
                                       ? FLAGS_scene + "/static.ply"
                                       : FLAGS_static;
   const std::string out_dir = FLAGS_out.empty() ? FLAGS_scene : FLAGS_out;
-  const es::FlowPretrainOptions fit_options = PretrainOptionsFromFlags();
   const es::MotionFieldOptions field_options = FieldOptionsFromFlags();
 
+  es::PrepareOutputDirectory(out_dir, FLAGS_out.empty() ? "scene" : "out");
   es::SceneOptions scene_options;
   scene_options.image_scale = FLAGS_image_scale;
   const es::Scene scene = es::LoadScene(FLAGS_scene, scene_options);
@@ -281,25 +328,27 @@ int Run() {
   std::printf("%d frames, %d of %d Gaussians dynamic\n",
               static_cast<int>(scene.frames.size()),
               static_cast<int>(dynamic.size()), model.size());
+  es::StageProfile::Get().Start(FLAGS_profile);
   const es::SceneFlowResult lifted = LiftWaterFlow(scene, model);
 
   es::MotionField field(field_options);
-  Eigen::Vector3d lo, hi;
-  es::FieldBox(model, dynamic, &lo, &hi);
-  field.SetBox(lo, hi);
+  es::TrainingHistory history(out_dir + "/flow_history.csv", {"rmse"});
   const es::FlowPretrainReport fit =
-      es::PretrainMotionField(lifted.samples, fit_options, &field);
-  std::printf("fit rmse %.4g (targets rms %.4g, start %.4g) in %.1f s\n",
-              fit.fit_rmse, fit.target_rms, fit.initial_rmse, fit.seconds);
+      PretrainField(lifted, model, dynamic, &history, &field);
+  es::StageProfile::Get().PrintAndStop(
+      "es_flowinit, " + std::to_string(FLAGS_iterations) +
+      " pretraining iterations of " + std::to_string(FLAGS_batch_size) +
+      " samples (optical flow + lifting: once, before them)");
 
-  std::filesystem::create_directories(out_dir);
   es::SaveMotionField(field, out_dir + "/motion_field.bin");
+  history.Write();
   const double seconds = std::chrono::duration<double>(
                              std::chrono::steady_clock::now() - start)
                              .count();
   WriteFlowMetrics(out_dir + "/flow_metrics.json", seconds, fit, lifted,
                    model, dynamic, field);
-  std::printf("wrote %s/motion_field.bin and flow_metrics.json (%.1f s)\n",
+  std::printf("wrote %s/motion_field.bin, flow_metrics.json and "
+              "flow_history.csv (%.1f s)\n",
               out_dir.c_str(), seconds);
   return 0;
 }
@@ -315,7 +364,8 @@ int main(int argc, char** argv) {
       "Lifts the flow between adjacent training frames to 3D with the static "
       "model's rendered depth, keeps water pixels (masks/, or the model's "
       "dynamic channel), pretrains V on them and writes <out>/"
-      "motion_field.bin (core/io/field_io.h) and <out>/flow_metrics.json "
+      "motion_field.bin (core/io/field_io.h), <out>/flow_history.csv "
+      "(pretraining rmse by iteration) and <out>/flow_metrics.json "
       "(num_samples, seconds, fit_rmse, ...; epe_gt and rel_epe_gt when the "
       "scene has gt/). Exits 1 and writes nothing when the model has no "
       "dynamic Gaussians or no sample survives.",

@@ -4,12 +4,14 @@
 //   es_static --scene DIR --out DIR [--iterations 10000] [--resume]
 //             [--image_scale 1] ...
 //
-// Writes DIR/static.ply (3DGS layout + dynamic_logit), DIR/metrics.json and
-// DIR/checkpoint.bin every --checkpoint_every iterations.
+// Writes DIR/static.ply (3DGS layout + dynamic_logit), DIR/metrics.json,
+// DIR/history.csv (es_plot draws it) and DIR/checkpoint.bin every
+// --checkpoint_every iterations.
 
 #include <gflags/gflags.h>
 
 #include "apps/common/app_main.h"
+#include "apps/common/flag_checks.h"
 #include "solvers/train/static_stage.h"
 
 DEFINE_string(scene, "", "Scene directory (images/, masks/, sparse/0/).");
@@ -19,7 +21,12 @@ DEFINE_bool(resume, false, "Continue from OUT/checkpoint.bin.");
 DEFINE_int32(checkpoint_every, 1000,
              "Write OUT/checkpoint.bin every this many iterations (0: "
              "never).");
-DEFINE_int32(log_every, 100, "Print progress every this many iterations.");
+DEFINE_int32(log_every, 100,
+             "Print progress and add a row to OUT/history.csv every this "
+             "many iterations (0: neither).");
+DEFINE_int32(eval_every, 1000,
+             "Measure held-out PSNR into OUT/history.csv every this many "
+             "iterations (and at the end; 0: only at the end).");
 DEFINE_double(image_scale, 1.0, "Resize frames (and intrinsics) by this.");
 DEFINE_uint64(seed, 0, "Seed for frame sampling and splitting.");
 DEFINE_int32(sh_degree, 3, "Maximum SH degree (0..3).");
@@ -57,13 +64,20 @@ DEFINE_double(percent_dense, 0.01,
 DEFINE_double(min_opacity, 0.005, "Prune Gaussians below this opacity.");
 DEFINE_int32(max_gaussians, 1000000, "Cap on the number of Gaussians.");
 DEFINE_bool(white_background, false, "Render on white instead of black.");
+DEFINE_bool(profile, false,
+            "Print where the training iterations' wall time goes, per stage "
+            "(projection, binning, tiles, losses, Adam, densification), "
+            "after the last iteration.");
 
 int main(int argc, char** argv) {
   return es::RunApp(
       argc, argv,
       "Stage 1: static reconstruction.\n"
-      "  es_static --scene DIR --out DIR [--iterations N] [--resume]",
+      "  es_static --scene DIR --out DIR [--iterations N] [--resume]\n"
+      "Writes OUT/static.ply, OUT/metrics.json, OUT/history.csv and "
+      "OUT/checkpoint.bin.",
       [] {
+        es::RequirePositive("image_scale", FLAGS_image_scale);
         es::StaticStageOptions o;
         o.scene_dir = FLAGS_scene;
         o.out_dir = FLAGS_out;
@@ -71,7 +85,9 @@ int main(int argc, char** argv) {
         o.resume = FLAGS_resume;
         o.checkpoint_every = FLAGS_checkpoint_every;
         o.log_every = FLAGS_log_every;
+        o.eval_every = FLAGS_eval_every;
         o.dynamic_threshold = FLAGS_dynamic_threshold;
+        o.profile = FLAGS_profile;
         es::StaticTrainerOptions& t = o.trainer;
         t.iterations = FLAGS_iterations;
         t.seed = FLAGS_seed;

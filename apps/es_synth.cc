@@ -2,8 +2,9 @@
 // exact COLMAP poses, a held-out split, the true velocity field on a grid
 // and per-frame depth. See docs/SYNTH.md.
 //
-//   es_synth --out DIR [--preset waterfall|stream|fountain] [--frames 120]
-//            [--width 320 --height 240] [--seed N] [--stochasticity S]
+//   es_synth --out DIR [--preset waterfall|stream|fountain|droplets]
+//            [--frames 120] [--width 320 --height 240] [--seed N]
+//            [--stochasticity S]
 
 #include <algorithm>
 #include <chrono>
@@ -13,12 +14,13 @@
 #include <gflags/gflags.h>
 
 #include "apps/common/app_main.h"
-#include "core/io/input_error.h"
+#include "apps/common/flag_checks.h"
 #include "synth/scene.h"
 #include "synth/writer.h"
 
 DEFINE_string(out, "", "Output scene directory (created).");
-DEFINE_string(preset, "waterfall", "Scene: waterfall, stream or fountain.");
+DEFINE_string(preset, "waterfall", "Scene: waterfall, stream, fountain or "
+              "droplets (a spray of small faint droplets).");
 DEFINE_int32(frames, 120, "Number of frames.");
 DEFINE_int32(width, 320, "Image width in pixels.");
 DEFINE_int32(height, 240, "Image height in pixels.");
@@ -39,11 +41,13 @@ int main(int argc, char** argv) {
   return es::RunApp(
       argc, argv,
       "Generates a synthetic water scene with ground truth.\n"
-      "  es_synth --out DIR [--preset waterfall|stream|fountain] "
+      "  es_synth --out DIR [--preset waterfall|stream|fountain|droplets] "
       "[--frames 120]\n"
       "           [--width 320 --height 240] [--seed N] [--stochasticity S]",
       [] {
-        if (FLAGS_out.empty()) throw es::InputError("--out is required");
+        es::RequireFlag("out", FLAGS_out);
+        // Stage 1 seeds its Gaussians from these points: none is useless.
+        es::RequireAtLeast("num_points", FLAGS_num_points, 1);
         es::SynthSettings s;
         s.preset = FLAGS_preset;
         s.frames = FLAGS_frames;

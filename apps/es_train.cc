@@ -2,26 +2,32 @@
 // the residual field D on a scene, from the static model (es_static) and
 // the pretrained V (es_flowinit).
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <gflags/gflags.h>
 
 #include "apps/common/app_main.h"
-#include "core/io/atomic_file.h"
+#include "apps/common/flag_checks.h"
 #include "core/io/field_io.h"
 #include "core/io/input_error.h"
+#include "core/io/json_file.h"
+#include "core/io/output_dir.h"
 #include "core/io/ply_io.h"
 #include "core/io/scene.h"
 #include "core/model/loop_model.h"
+#include "core/profile/stage_profile.h"
 #include "solvers/checkpoint/joint_checkpoint.h"
 #include "solvers/eval/loop_evaluation.h"
 #include "solvers/train/joint_trainer.h"
+#include "solvers/train/training_history.h"
+#include "solvers/train/water_particles.h"
 
 DEFINE_string(scene, "", "Scene directory (images/, masks/, sparse/0/).");
 DEFINE_string(init, "",
@@ -29,13 +35,23 @@ DEFINE_string(init, "",
               "motion_field.bin (es_flowinit).");
 DEFINE_string(out, "", "Output model directory (created).");
 DEFINE_int32(iterations, 20000, "Joint training iterations.");
-DEFINE_int32(cycle_length, 15, "Loop length L in frames.");
+DEFINE_bool(profile, false,
+            "Print where the training iterations' wall time goes, per stage "
+            "(projection, tiles, losses, Adam, fields, Euler chain, "
+            "composition), after the last iteration.");
+DEFINE_int32(cycle_length, 15,
+             "Loop length L in frames (at most the number of frames).");
 DEFINE_bool(resume, false,
             "Continue from <out>/joint_checkpoint.bin if it exists.");
 DEFINE_int32(checkpoint_interval, 1000,
              "Write <out>/joint_checkpoint.bin every this many iterations "
              "(0: never).");
-DEFINE_int32(log_interval, 100, "Print progress every this many iterations.");
+DEFINE_int32(log_interval, 100,
+             "Print progress and add a row to <out>/history.csv every this "
+             "many iterations (0: neither).");
+DEFINE_int32(eval_interval, 1000,
+             "Measure held-out PSNR into <out>/history.csv every this many "
+             "iterations (and at the end; 0: only at the end).");
 DEFINE_uint64(seed, 0, "Seed of frame sampling and loop start times.");
 DEFINE_double(image_scale, 1.0, "Resize frames (and intrinsics) by this.");
 DEFINE_bool(no_motion_field, false,
@@ -81,6 +97,18 @@ DEFINE_int32(residual_channels, 16, "D triplane channels.");
 DEFINE_int32(residual_width, 128, "D MLP width.");
 DEFINE_int32(residual_depth, 2, "D MLP hidden layers.");
 DEFINE_bool(white_background, false, "Render on white instead of black.");
+DEFINE_double(particle_pixels, 0,
+              "> 0: before training, split every water Gaussian larger "
+              "than this (std dev in pixels on screen) into particles of "
+              "this size drawn from its volume; 0: keep the static "
+              "model's water as it is.");
+DEFINE_int32(max_particle_children, 16,
+             "Most particles one water Gaussian is split into.");
+DEFINE_int32(max_particles, 20000,
+             "Most water Gaussians after the particle split.");
+DEFINE_double(max_dynamic_pixels, 0,
+              "> 0: keep water Gaussians at most this large on screen (std "
+              "dev in pixels) during training; 0: no limit.");
 
 namespace es {
 namespace {
@@ -92,17 +120,35 @@ void Require(bool ok, const std::string& message) {
 }
 
 JointTrainerOptions OptionsFromFlags() {
-  Require(FLAGS_iterations >= 0, "--iterations must be >= 0");
-  Require(FLAGS_cycle_length >= 1, "--cycle_length must be >= 1");
-  Require(FLAGS_refresh_interval >= 1, "--refresh_interval must be >= 1");
-  Require(FLAGS_checkpoint_interval >= 0,
-          "--checkpoint_interval must be >= 0");
-  Require(FLAGS_motion_resolution >= 2 && FLAGS_residual_resolution >= 2,
-          "triplane resolutions must be >= 2");
-  Require(FLAGS_motion_channels >= 1 && FLAGS_residual_channels >= 1 &&
-              FLAGS_motion_width >= 1 && FLAGS_residual_width >= 1 &&
-              FLAGS_motion_depth >= 0 && FLAGS_residual_depth >= 0,
-          "field channels and widths must be >= 1, depths >= 0");
+  RequireFlag("scene", FLAGS_scene);
+  RequireFlag("init", FLAGS_init);
+  RequireFlag("out", FLAGS_out);
+  RequireAtLeast("iterations", FLAGS_iterations, 0);
+  RequireAtLeast("cycle_length", FLAGS_cycle_length, 1);
+  RequireAtLeast("refresh_interval", FLAGS_refresh_interval, 1);
+  RequireAtLeast("checkpoint_interval", FLAGS_checkpoint_interval, 0);
+  RequireAtLeast("log_interval", FLAGS_log_interval, 0);
+  RequireAtLeast("eval_interval", FLAGS_eval_interval, 0);
+  RequirePositive("image_scale", FLAGS_image_scale);
+  RequireInOpenRange("dynamic_threshold", FLAGS_dynamic_threshold, 0, 1);
+  RequireInRange("ssim_weight", FLAGS_ssim_weight, 0, 1);
+  RequireNonNegative("mask_weight", FLAGS_mask_weight);
+  RequireNonNegative("residual_weight", FLAGS_residual_weight);
+  RequireInRange("field_lr_final_factor", FLAGS_field_lr_final_factor, 0, 1);
+  Require(FLAGS_lr_means_final <= FLAGS_lr_means,
+          "--lr_means_final must not exceed --lr_means");
+  RequireAtLeast("motion_resolution", FLAGS_motion_resolution, 2);
+  RequireAtLeast("residual_resolution", FLAGS_residual_resolution, 2);
+  RequireAtLeast("motion_channels", FLAGS_motion_channels, 1);
+  RequireAtLeast("residual_channels", FLAGS_residual_channels, 1);
+  RequireAtLeast("motion_width", FLAGS_motion_width, 1);
+  RequireAtLeast("residual_width", FLAGS_residual_width, 1);
+  RequireAtLeast("motion_depth", FLAGS_motion_depth, 0);
+  RequireAtLeast("residual_depth", FLAGS_residual_depth, 0);
+  RequireNonNegative("particle_pixels", FLAGS_particle_pixels);
+  RequireNonNegative("max_dynamic_pixels", FLAGS_max_dynamic_pixels);
+  RequireAtLeast("max_particle_children", FLAGS_max_particle_children, 1);
+  RequireAtLeast("max_particles", FLAGS_max_particles, 1);
   JointTrainerOptions o;
   o.iterations = FLAGS_iterations;
   o.seed = FLAGS_seed;
@@ -128,6 +174,7 @@ JointTrainerOptions OptionsFromFlags() {
   o.lr_residual_triplane = FLAGS_lr_residual_triplane;
   o.lr_residual_mlp = FLAGS_lr_residual_mlp;
   o.field_lr_final_factor = FLAGS_field_lr_final_factor;
+  o.max_dynamic_pixels = FLAGS_max_dynamic_pixels;
   o.motion.triplane.resolution = FLAGS_motion_resolution;
   o.motion.triplane.channels = FLAGS_motion_channels;
   o.motion.mlp_width = FLAGS_motion_width;
@@ -140,39 +187,24 @@ JointTrainerOptions OptionsFromFlags() {
   return o;
 }
 
-// JSON has no NaN: an undefined metric is null.
-std::string JsonNumber(double v) {
-  if (!std::isfinite(v)) return "null";
-  char buffer[32];
-  std::snprintf(buffer, sizeof(buffer), "%.6g", v);
-  return buffer;
-}
-
 void WriteMetrics(const std::string& path, const LoopMetrics& m,
                   double seconds, int64_t iterations, const LoopModel& model,
                   bool flow_init, double final_loss) {
-  WriteFileAtomically(path, [&](std::ofstream& out) {
-    out << "{\n"
-        << "  \"psnr_test\": " << JsonNumber(m.psnr) << ",\n"
-        << "  \"ssim_test\": " << JsonNumber(m.ssim) << ",\n"
-        << "  \"psnr_test_water\": " << JsonNumber(m.psnr_water) << ",\n"
-        << "  \"ssim_test_water\": " << JsonNumber(m.ssim_water) << ",\n"
-        << "  \"test_frames\": " << m.frames << ",\n"
-        << "  \"seconds\": " << JsonNumber(seconds) << ",\n"
-        << "  \"iterations\": " << iterations << ",\n"
-        << "  \"num_gaussians\": " << model.gaussians.size() << ",\n"
-        << "  \"num_dynamic\": " << model.num_dynamic() << ",\n"
-        << "  \"cycle_length\": " << model.cycle_length << ",\n"
-        << "  \"motion_field\": " << (model.motion ? "true" : "false")
-        << ",\n"
-        << "  \"flow_init\": " << (flow_init ? "true" : "false") << ",\n"
-        << "  \"residual_field\": " << (model.residual ? "true" : "false")
-        << ",\n"
-        << "  \"random_start\": " << (FLAGS_no_random_start ? "false" : "true")
-        << ",\n"
-        << "  \"final_loss\": " << JsonNumber(final_loss) << "\n"
-        << "}\n";
-  }, /*binary=*/false);
+  WriteJsonFile(path, {{"psnr_test", m.psnr},
+                       {"ssim_test", m.ssim},
+                       {"psnr_test_water", m.psnr_water},
+                       {"ssim_test_water", m.ssim_water},
+                       {"test_frames", m.frames},
+                       {"seconds", seconds},
+                       {"iterations", iterations},
+                       {"num_gaussians", model.gaussians.size()},
+                       {"num_dynamic", model.num_dynamic()},
+                       {"cycle_length", model.cycle_length},
+                       {"motion_field", model.motion.has_value()},
+                       {"flow_init", flow_init},
+                       {"residual_field", model.residual.has_value()},
+                       {"random_start", !FLAGS_no_random_start},
+                       {"final_loss", final_loss}});
 }
 
 // V pretrained by es_flowinit (<init>/motion_field.bin) when there is one
@@ -195,64 +227,183 @@ std::optional<MotionField> PretrainedMotion(const JointTrainerOptions& options,
   return LoadMotionField(path);
 }
 
-// Runs the trainer to options.iterations with progress lines and periodic
-// checkpoints; returns the mean loss of the last logged interval (NaN if
-// nothing was logged).
-double Train(const JointTrainerOptions& options,
-             const std::string& checkpoint_path, JointTrainer* trainer) {
+// Splits the static model's large water Gaussians into particles
+// (--particle_pixels > 0).
+void SplitWater(const JointTrainerOptions& options, const Scene& scene,
+                GaussianSet* gaussians) {
+  if (FLAGS_particle_pixels <= 0) return;
+  WaterParticleOptions particles;
+  particles.particle_pixels = FLAGS_particle_pixels;
+  particles.max_children = FLAGS_max_particle_children;
+  particles.max_particles = FLAGS_max_particles;
+  particles.dynamic_threshold = options.dynamic_threshold;
+  particles.seed = FLAGS_seed;
+  const ParticleSplitStats split = SplitWaterIntoParticles(
+      particles, scene.frames, scene.train, gaussians);
+  std::printf("water split into particles: %d blobs -> %d particles "
+              "(water Gaussians %d -> %d)\n",
+              split.blobs, split.particles, split.dynamic_before,
+              split.dynamic_after);
+}
+
+// The history.csv columns after the iteration and time.
+const std::vector<std::string> kHistoryColumns = {
+    "loss",      "photometric", "mask",      "residual",
+    "gaussians", "dynamic",     "psnr_test", "psnr_test_water"};
+
+// What Train leaves for the end of the run.
+struct TrainingOutcome {
+  double seconds = 0;       // this session's training time, evaluations not
+  double final_loss = NAN;  // mean loss of the last logged interval
+  // The last history row, still without the final metrics (empty when the
+  // run had nothing left to log).
+  std::vector<double> final_row;
+};
+
+// Runs the trainer to options.iterations with progress lines (ETA, held-out
+// PSNR every --eval_interval), history rows and periodic checkpoints.
+TrainingOutcome Train(const JointTrainerOptions& options, const Scene& scene,
+                      const std::string& checkpoint_path,
+                      double seconds_before, TrainingHistory* history,
+                      JointTrainer* trainer) {
   using Clock = std::chrono::steady_clock;
   const Clock::time_point start = Clock::now();
+  double eval_seconds = 0;  // kept out of the training clock
+  const auto training_seconds = [&] {
+    return std::chrono::duration<double>(Clock::now() - start).count() -
+           eval_seconds;
+  };
   const int64_t first = trainer->iteration();
-  double loss_sum = 0, final_loss = NAN;
-  int loss_count = 0;
+  int64_t last_row = first;
+  double sums[4] = {0, 0, 0, 0};  // loss, photometric, mask, residual
+  int64_t counted = 0;             // steps in the sums
+  TrainingOutcome outcome;
+  StageProfile::Get().Start(FLAGS_profile);
   while (trainer->iteration() < options.iterations) {
     const JointIterationStats s = trainer->Step();
-    loss_sum += s.loss;
-    ++loss_count;
+    if (!s.skipped) {  // a skipped step's loss is not finite
+      sums[0] += s.loss;
+      sums[1] += s.photometric;
+      sums[2] += s.mask;
+      sums[3] += s.residual;
+      ++counted;
+    }
     const int64_t it = trainer->iteration();
-    if (FLAGS_log_interval > 0 &&
-        (it % FLAGS_log_interval == 0 || it == options.iterations)) {
-      final_loss = loss_sum / loss_count;
-      const double elapsed =
-          std::chrono::duration<double>(Clock::now() - start).count();
+    const bool log =
+        FLAGS_log_interval > 0 &&
+        (it % FLAGS_log_interval == 0 || it == options.iterations);
+    const bool eval = FLAGS_eval_interval > 0 &&
+                      it % FLAGS_eval_interval == 0 &&
+                      it < options.iterations;  // the end is in Run
+    if (log || eval) {
+      const double window = counted > 0 ? counted : NAN;
+      outcome.final_loss = sums[0] / window;
+      const double elapsed = training_seconds();
+      LoopMetrics held_out;
+      if (eval) {
+        const Clock::time_point eval_start = Clock::now();
+        held_out = EvaluateLoopModel(trainer->model(), scene.frames,
+                                     scene.test, trainer->render_options());
+        eval_seconds +=
+            std::chrono::duration<double>(Clock::now() - eval_start).count();
+      }
+      const std::vector<double> row = {
+          sums[0] / window,
+          sums[1] / window,
+          sums[2] / window,
+          sums[3] / window,
+          static_cast<double>(trainer->model().gaussians.size()),
+          static_cast<double>(s.num_dynamic),
+          eval ? held_out.psnr : NAN,
+          eval ? held_out.psnr_water : NAN};
+      if (it < options.iterations) {
+        history->Add(it, seconds_before + elapsed, row);
+        history->Write();
+      } else {
+        outcome.final_row = row;  // completed with the final metrics
+      }
       const double rate = (it - first) / std::max(elapsed, 1e-9);
       std::printf(
           "iter %lld/%d  loss %.5f (photo %.5f mask %.5f res %.2e)  "
-          "dynamic %d  %.2f it/s  ETA %.0f s\n",
-          static_cast<long long>(it), options.iterations, final_loss,
-          s.photometric, s.mask, s.residual, s.num_dynamic, rate,
-          (options.iterations - it) / rate);
+          "dynamic %d  %.2f it/s  ETA %.0f s",
+          static_cast<long long>(it), options.iterations, outcome.final_loss,
+          sums[1] / window, sums[2] / window, sums[3] / window,
+          s.num_dynamic, rate, (options.iterations - it) / rate);
+      if (eval) std::printf("  held-out PSNR %.2f dB", held_out.psnr);
+      std::printf("\n");
       std::fflush(stdout);
-      loss_sum = 0;
-      loss_count = 0;
+      last_row = it;
+      for (double& v : sums) v = 0;
+      counted = 0;
     }
+    // Not right after a skipped (non-finite) step: keep the last good one.
     if (FLAGS_checkpoint_interval > 0 &&
-        it % FLAGS_checkpoint_interval == 0) {
+        it % FLAGS_checkpoint_interval == 0 && trainer->last_step_ok()) {
       WriteJointCheckpoint(trainer->Save(), checkpoint_path);
     }
   }
-  return final_loss;
+  outcome.seconds = training_seconds();
+  if (trainer->skipped_steps() > 0)
+    std::printf("%lld step(s) skipped for a non-finite loss or gradient\n",
+                static_cast<long long>(trainer->skipped_steps()));
+  StageProfile::Get().PrintAndStop(
+      "es_train, " + std::to_string(trainer->iteration() - first) +
+      " iterations, " + std::to_string(trainer->model().gaussians.size()) +
+      " Gaussians, " + std::to_string(trainer->model().num_dynamic()) +
+      " dynamic");
+  if (outcome.final_row.empty() && trainer->iteration() > last_row) {
+    const double window = counted > 0 ? counted : NAN;
+    outcome.final_row = {
+        sums[0] / window,
+        sums[1] / window,
+        sums[2] / window,
+        sums[3] / window,
+        static_cast<double>(trainer->model().gaussians.size()),
+        static_cast<double>(trainer->model().num_dynamic()),
+        NAN,
+        NAN};
+  }
+  return outcome;
+}
+
+// The last history row carries the final model's held-out metrics.
+void RecordFinalMetrics(const LoopMetrics& metrics, int64_t iteration,
+                        double seconds, std::vector<double> final_row,
+                        TrainingHistory* history) {
+  if (!final_row.empty()) {
+    final_row[6] = metrics.psnr;
+    final_row[7] = metrics.psnr_water;
+    history->Add(iteration, seconds, final_row);
+  } else {
+    history->SetFinalMetrics(iteration, seconds,
+                             {{"psnr_test", metrics.psnr},
+                              {"psnr_test_water", metrics.psnr_water}});
+  }
+  history->Write();
 }
 
 int Run() {
-  Require(!FLAGS_scene.empty(), "--scene is required");
-  Require(!FLAGS_init.empty(), "--init is required");
-  Require(!FLAGS_out.empty(), "--out is required");
   const JointTrainerOptions options = OptionsFromFlags();
+  PrepareOutputDirectory(FLAGS_out, "out");
   SceneOptions scene_options;
   scene_options.image_scale = FLAGS_image_scale;
   const Scene scene = LoadScene(FLAGS_scene, scene_options);
   Require(!scene.train.empty(), FLAGS_scene + ": no training frames");
+  // A loop longer than the video has frames no training image shows (and
+  // its cost grows with L).
+  RequireAtMost("cycle_length", FLAGS_cycle_length,
+                static_cast<int64_t>(scene.frames.size()),
+                FLAGS_scene + " has " + std::to_string(scene.frames.size()) +
+                    " frames");
   const std::string static_ply = (fs::path(FLAGS_init) / "static.ply").string();
   GaussianSet initial = ReadPly(static_ply);
+  Require(initial.size() > 0, static_ply + ": holds no Gaussians");
   std::printf("loaded %s: %d Gaussians, SH degree %d\n", static_ply.c_str(),
               initial.size(), initial.sh_degree);
   bool flow_init = false;
   std::optional<MotionField> motion = PretrainedMotion(options, &flow_init);
+  SplitWater(options, scene, &initial);
 
-  std::error_code error;
-  fs::create_directories(FLAGS_out, error);
-  Require(!error, FLAGS_out + ": cannot create directory");
   JointTrainer trainer(&scene.frames, scene.train, options,
                        std::move(initial), std::move(motion));
   std::printf("dynamic Gaussians: %d of %d; V %s, D %s; masks %s\n",
@@ -268,23 +419,29 @@ int Run() {
                 checkpoint_path.c_str(),
                 static_cast<long long>(trainer.iteration()));
   }
+  TrainingHistory history((fs::path(FLAGS_out) / "history.csv").string(),
+                          kHistoryColumns);
+  const double seconds_before = history.Resume(trainer.iteration());
+  const TrainingOutcome outcome = Train(options, scene, checkpoint_path,
+                                        seconds_before, &history, &trainer);
 
-  const auto start = std::chrono::steady_clock::now();
-  const double final_loss = Train(options, checkpoint_path, &trainer);
-  const double seconds = std::chrono::duration<double>(
-                             std::chrono::steady_clock::now() - start)
-                             .count();
-
-  SaveLoopModel(trainer.model(), FLAGS_out);
+  int pruned = 0;
+  const LoopModel model = trainer.FinalModel(&pruned);
+  std::printf("pruned %d invisible Gaussians (opacity < 1/255 in every "
+              "frame)\n", pruned);
+  SaveLoopModel(model, FLAGS_out);
   const LoopMetrics metrics = EvaluateLoopModel(
-      trainer.model(), scene.frames, scene.test, trainer.render_options());
+      model, scene.frames, scene.test, trainer.render_options());
   WriteMetrics((fs::path(FLAGS_out) / "metrics.json").string(), metrics,
-               seconds, trainer.iteration(), trainer.model(), flow_init,
-               final_loss);
+               outcome.seconds, trainer.iteration(), model, flow_init,
+               outcome.final_loss);
+  RecordFinalMetrics(metrics, trainer.iteration(),
+                     seconds_before + outcome.seconds, outcome.final_row,
+                     &history);
   std::printf("test PSNR %.3f SSIM %.4f (water PSNR %.3f SSIM %.4f) over %d "
               "frames; %.1f s\n",
               metrics.psnr, metrics.ssim, metrics.psnr_water,
-              metrics.ssim_water, metrics.frames, seconds);
+              metrics.ssim_water, metrics.frames, outcome.seconds);
   return 0;
 }
 
@@ -293,7 +450,11 @@ int Run() {
 
 int main(int argc, char** argv) {
   return es::RunApp(argc, argv,
-                    "es_train --scene DIR --init DIR --out DIR "
-                    "[--iterations N] [--cycle_length L] [--resume]",
+                    "Stage 3: joint training of the looping model.\n"
+                    "  es_train --scene DIR --init DIR --out DIR "
+                    "[--iterations N] [--cycle_length L] [--resume]\n"
+                    "Writes the model (loop.txt, canonical.ply, fields), "
+                    "<out>/metrics.json, <out>/history.csv and "
+                    "<out>/joint_checkpoint.bin.",
                     es::Run);
 }

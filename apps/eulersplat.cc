@@ -1,30 +1,37 @@
-// The all-in-one driver: from a scene directory to a looping 4D model, a
-// looping video, metrics and a contact sheet. Runs the stage binaries that
-// sit next to it (es_static, es_flowinit, es_train, es_animate, es_eval),
-// each a process of its own so every stage can also be run, resumed or
-// debugged alone with the very same flags the driver prints.
+// The all-in-one driver: from a video (or a scene directory) to a looping
+// 4D model, a looping video, metrics and a contact sheet. Runs the stage
+// binaries that sit next to it (es_poses, es_masks, es_static, es_flowinit,
+// es_train, es_animate, es_export, es_eval), each a process of its own so
+// every stage can also be run, resumed or debugged alone with the very
+// same flags the driver prints.
 //
+//   eulersplat --video FILE --out DIR [--preset quick|paper]
 //   eulersplat --scene DIR --out DIR [--preset quick|paper]
 //
+// OUT/scene/           the frames of --video, or a view of --scene that
+//                      adds what it lacks (poses, masks) without writing
+//                      into it (apps/common/scene_inputs.h)
+// OUT/masks_sheet.png  auto masks: the frames with their water, to check
 // OUT/static/          Stage 1 (static.ply) and Stage 2 (motion_field.bin);
 //                      --static_dir puts them elsewhere (shared ablations)
 // OUT/model/           Stage 3, the looping model (es_train)
 // OUT/animate/         looping video along the input trajectory, with tracks
 // OUT/animate_fixed/   fixed-view video and its x-t slice
+// OUT/web/             web page that plays the loop (es_export)
+// OUT/frame_0.ply      loop frame 0 as a standard 3DGS PLY
 // OUT/eval/eval.json   metrics (es_eval)
-// OUT/contact_sheet.png
+// OUT/plots/           training plots: loss by term, held-out PSNR vs wall
+//                      time, Gaussians (es_plot on each history.csv)
+// OUT/contact_sheet.png  frames of both videos and the main plots
 //
 // A stage whose outputs exist is skipped (delete its folder to redo it);
 // interrupted training resumes from its checkpoint.
-
-#include <spawn.h>
-#include <sys/wait.h>
-#include <unistd.h>  // environ
 
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -34,29 +41,53 @@
 #include <opencv2/imgproc.hpp>
 
 #include "apps/common/app_main.h"
+#include "apps/common/child_process.h"
+#include "apps/common/flag_checks.h"
+#include "apps/common/run_lock.h"
+#include "apps/common/scene_inputs.h"
 #include "core/io/colmap_io.h"
+#include "core/io/image_file.h"
 #include "core/io/input_error.h"
+#include "core/io/output_dir.h"
 #include "core/io/ply_io.h"
 #include "core/viz/video_writer.h"
 #include "solvers/train/joint_trainer.h"
 
 DEFINE_string(scene, "", "Scene directory: images/ (or a video), optional "
-              "masks/, sparse/0/ (made with COLMAP if missing).");
+              "masks/, sparse/0/ (made with COLMAP if missing). Never "
+              "written into: what it lacks is made in OUT/scene.");
+DEFINE_string(video, "", "A video file (mp4, mov, ...) instead of --scene: "
+              "frames are chosen (--fps, --max_frames, --max_width) and "
+              "written to OUT/scene, then poses and masks are made.");
+DEFINE_string(masks, "", "auto: find the water from the video (default "
+              "when the scene has no masks/); none: everything is static; "
+              "or a folder of masks named like the frames (white = water; "
+              "with --video, named by video frame: frame_000000.png, ...).");
+DEFINE_double(fps, 0, "--video: frames per second kept (0: the video's "
+              "own rate).");
+DEFINE_int32(max_frames, 150, "--video: at most this many frames, from "
+             "the start.");
+DEFINE_int32(max_width, 640, "--video: frames wider than this are scaled "
+             "down (0: never).");
+DEFINE_int32(mask_probe_iterations, -1, "Iterations of the static fit "
+             "auto masks are found with (-1: half the preset's Stage 1).");
 DEFINE_string(out, "", "Output directory (created).");
 DEFINE_string(preset, "quick",
               "quick: a few minutes on 2 cores, at most 320 px wide, small "
               "fields, few iterations; paper: the paper's settings (10k "
               "static + 20k joint iterations, L = 15, full-size fields).");
 DEFINE_int32(static_iterations, -1, "Override the preset's Stage 1 "
-             "iterations (-1: preset).");
+             "iterations (>= 1; -1: preset).");
 DEFINE_int32(flow_iterations, -1, "Override the preset's V pretraining "
-             "iterations (-1: preset).");
+             "iterations (>= 0; -1: preset).");
 DEFINE_int32(joint_iterations, -1, "Override the preset's Stage 3 "
-             "iterations (-1: preset).");
-DEFINE_int32(cycle_length, 15, "Loop length L in frames.");
+             "iterations (>= 0; -1: preset).");
+DEFINE_int32(cycle_length, 15, "Loop length L in frames (at most the "
+             "number of frames).");
 DEFINE_double(image_scale, -1, "Override the preset's image scale (-1: "
               "preset; quick scales frames down to at most 320 px wide).");
-DEFINE_int32(animate_frames, -1, "Frames of each animation (-1: 4 L).");
+DEFINE_int32(animate_frames, -1, "Frames of each animation (>= 1; -1: "
+             "4 L).");
 DEFINE_double(dynamic_threshold, 0.2, "sigmoid(dynamic_logit) above which a "
               "Gaussian is water.");
 DEFINE_bool(white_background, false, "Train and render on white.");
@@ -68,9 +99,9 @@ DEFINE_string(train_flags, "", "Extra flags for es_train, space-separated, "
               "(ablations).");
 DEFINE_bool(animate, true, "Render the looping videos and contact sheet "
             "(off: train and evaluate only).");
-DEFINE_string(colmap_script, "", "Pose script run when sparse/0 is missing "
-              "(default: scripts/colmap_poses.sh of the source tree this "
-              "binary was built in).");
+DEFINE_string(pose_script, "", "Run as `bash SCRIPT SCENE` instead of "
+              "es_poses (COLMAP) when the scene has no sparse/0; it must "
+              "write SCENE/sparse/0.");
 
 namespace {
 
@@ -110,7 +141,8 @@ std::string Join(const std::vector<std::string>& args) {
 }
 
 // Runs a stage binary from this binary's directory (no shell: arguments go
-// through untouched). Returns its exit status.
+// through untouched). Returns its exit status; the stage dies with the
+// driver.
 int RunStage(const std::string& binary, const std::vector<std::string>& args) {
   const std::string path = binary.find('/') == std::string::npos
                                ? (BinaryDir() / binary).string()
@@ -119,17 +151,7 @@ int RunStage(const std::string& binary, const std::vector<std::string>& args) {
   all.insert(all.end(), args.begin(), args.end());
   std::printf("\n$ %s\n", Join(all).c_str());
   std::fflush(stdout);
-  std::vector<char*> argv;
-  for (std::string& a : all) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  pid_t pid;
-  if (posix_spawn(&pid, path.c_str(), nullptr, nullptr, argv.data(),
-                  environ) != 0) {
-    throw es::InputError(path + ": cannot run (is the project built?)");
-  }
-  int status = 0;
-  waitpid(pid, &status, 0);
-  return WIFEXITED(status) ? WEXITSTATUS(status) : 128;
+  return es::RunChildProcess(path, args);
 }
 
 void RunOrThrow(const std::string& stage, const std::string& binary,
@@ -157,26 +179,6 @@ std::string Number(double v) {
   return text;
 }
 
-// Makes sparse/0 with COLMAP when the scene has frames but no poses.
-void EnsurePoses(const fs::path& scene) {
-  if (fs::exists(scene / "sparse" / "0")) return;
-  if (!fs::is_directory(scene / "images")) {
-    throw es::InputError(scene.string() + ": no images/ and no sparse/0");
-  }
-  fs::path script = FLAGS_colmap_script;
-  if (script.empty()) {
-    script = BinaryDir().parent_path().parent_path() / "scripts" /
-             "colmap_poses.sh";
-  }
-  if (!fs::exists(script)) {
-    throw es::InputError(script.string() + ": pose script not found; give "
-                         "--colmap_script or run COLMAP into sparse/0");
-  }
-  std::printf("[poses] %s has no sparse/0: recovering poses with COLMAP\n",
-              scene.string().c_str());
-  RunOrThrow("[poses]", "/bin/bash", {script.string(), scene.string()});
-}
-
 // The preset's image scale for this scene: quick keeps frames at most
 // max_width wide.
 double ImageScale(const fs::path& scene, const Preset& preset) {
@@ -193,8 +195,15 @@ double ImageScale(const fs::path& scene, const Preset& preset) {
              : 1.0;
 }
 
+// Training plots (es_plot) that go on the contact sheet, in this order.
+const char* const kSheetPlots[] = {"static_psnr.png", "joint_loss.png",
+                                   "joint_psnr.png"};
+// Height of a plot on the contact sheet: its text stays readable.
+constexpr int kSheetPlotHeight = 400;
+
 // Frames of the fixed-view animation over one loop and of the tracks video,
-// four per row, each labelled: what the run produced, at a glance.
+// four per row, each labelled, and below them the training plots: what the
+// run produced, at a glance. The frames are enlarged to the plots' width.
 void WriteContactSheet(const fs::path& out, int cycle_length) {
   std::vector<std::pair<cv::Mat, std::string>> tiles;
   const auto add = [&](const fs::path& dir, const std::string& label) {
@@ -209,11 +218,32 @@ void WriteContactSheet(const fs::path& out, int cycle_length) {
   };
   add(out / "animate_fixed" / "frames", "fixed view");
   add(out / "animate" / "tracks", "tracks");
-  if (tiles.empty()) return;
-  const cv::Size size = tiles[0].first.size();
+  std::vector<cv::Mat> plots;
+  int plots_width = 0;
+  for (const char* name : kSheetPlots) {
+    cv::Mat plot = cv::imread((out / "plots" / name).string(),
+                              cv::IMREAD_COLOR);
+    if (plot.empty()) continue;
+    cv::resize(plot, plot,
+               {plot.cols * kSheetPlotHeight / plot.rows, kSheetPlotHeight},
+               0, 0, cv::INTER_AREA);
+    plots_width += plot.cols;
+    plots.push_back(plot);
+  }
+  if (tiles.empty() && plots.empty()) return;
   const int columns = 4;
+  cv::Size size(0, 0);
+  if (!tiles.empty()) {
+    size = tiles[0].first.size();
+    const double grow =
+        std::max(1.0, static_cast<double>(plots_width) / (columns * size.width));
+    size = cv::Size(static_cast<int>(size.width * grow),
+                    static_cast<int>(size.height * grow));
+  }
   const int rows = (static_cast<int>(tiles.size()) + columns - 1) / columns;
-  cv::Mat sheet(rows * size.height, columns * size.width, CV_8UC3,
+  const int width = std::max(columns * size.width, plots_width);
+  const int plots_height = plots.empty() ? 0 : kSheetPlotHeight;
+  cv::Mat sheet(rows * size.height + plots_height, width, CV_8UC3,
                 cv::Scalar(40, 40, 40));
   for (size_t i = 0; i < tiles.size(); ++i) {
     cv::Mat tile = tiles[i].first;
@@ -222,17 +252,54 @@ void WriteContactSheet(const fs::path& out, int cycle_length) {
                          (i / columns) * size.height, size.width,
                          size.height);
     tile.copyTo(sheet(where));
-    const double font = std::max(0.3, size.width / 640.0);
-    cv::putText(sheet, tiles[i].second, where.tl() + cv::Point(4, 14),
+    const double font = std::max(0.4, size.width / 640.0);
+    cv::putText(sheet, tiles[i].second,
+                where.tl() + cv::Point(6, static_cast<int>(20 * font / 0.5)),
                 cv::FONT_HERSHEY_SIMPLEX, font, cv::Scalar(255, 255, 255), 1,
                 cv::LINE_AA);
   }
-  const std::string path = (out / "contact_sheet.png").string();
-  if (!cv::imwrite(path, sheet)) throw es::InputError(path + ": cannot write");
+  int x = 0;
+  for (const cv::Mat& plot : plots) {
+    plot.copyTo(sheet(cv::Rect(x, rows * size.height, plot.cols, plot.rows)));
+    x += plot.cols;
+  }
+  es::WriteImageAtomically((out / "contact_sheet.png").string(), sheet);
+}
+
+// Numbers the driver's stages "k/N" and says how long the run has taken,
+// so a person sees where a long run stands.
+class StageLog {
+ public:
+  explicit StageLog(int total)
+      : total_(total), start_(std::chrono::steady_clock::now()) {}
+
+  void Begin(const std::string& name) {
+    const double seconds = std::chrono::duration<double>(
+                               std::chrono::steady_clock::now() - start_)
+                               .count();
+    std::printf("\n[eulersplat] stage %d/%d: %s (%.0f s so far)\n", ++done_,
+                total_, name.c_str(), seconds);
+    std::fflush(stdout);
+  }
+
+ private:
+  int total_;
+  int done_ = 0;
+  std::chrono::steady_clock::time_point start_;
+};
+
+// Iterations between progress lines / held-out evaluations of a stage of
+// `iterations`: about 20 history rows and 5 evaluations per run.
+std::string LogEvery(int iterations) {
+  return std::to_string(std::clamp(iterations / 20, 1, 100));
+}
+std::string EvalEvery(int iterations) {
+  return std::to_string(std::max(1, iterations / 5));
 }
 
 // What every stage of one run shares.
 struct Pipeline {
+  StageLog* stages = nullptr;
   Preset preset;
   fs::path scene, out, static_folder;
   bool has_masks = false;
@@ -254,23 +321,39 @@ struct Pipeline {
   }
 };
 
+// Checkpoints at least six times per stage (at most every 1000
+// iterations), so a killed quick run loses a sixth of a stage, not all.
+int CheckpointInterval(int iterations) {
+  return std::clamp(iterations / 6, 1, 1000);
+}
+
+// Stage 1's flags but --out and --iterations (shared with the mask probe).
+std::vector<std::string> StaticFlags(const Pipeline& run) {
+  const Preset& p = run.preset;
+  const int sh_interval =
+      std::max(1, p.static_iterations / (p.sh_degree + 1));
+  return run.Args(
+      {"--sh_degree", std::to_string(p.sh_degree), "--sh_degree_interval",
+       std::to_string(sh_interval), "--densify_from",
+       std::to_string(p.densify_from), "--densify_interval",
+       std::to_string(p.densify_interval), "--dynamic_threshold",
+       Number(FLAGS_dynamic_threshold), "--checkpoint_every",
+       std::to_string(CheckpointInterval(p.static_iterations)), "--log_every",
+       LogEvery(p.static_iterations), "--eval_every",
+       EvalEvery(p.static_iterations)},
+      true);
+}
+
 void StaticStage(const Pipeline& run) {
   if (AllExist({run.static_ply(), run.static_dir() / "metrics.json"})) {
     Skip("static", run.static_dir());
     return;
   }
-  const Preset& p = run.preset;
-  const int sh_interval =
-      std::max(1, p.static_iterations / (p.sh_degree + 1));
-  std::vector<std::string> args = run.Args(
-      {"--out", run.static_dir().string(), "--iterations",
-       std::to_string(p.static_iterations), "--sh_degree",
-       std::to_string(p.sh_degree), "--sh_degree_interval",
-       std::to_string(sh_interval), "--densify_from",
-       std::to_string(p.densify_from), "--densify_interval",
-       std::to_string(p.densify_interval), "--dynamic_threshold",
-       Number(FLAGS_dynamic_threshold)},
-      true);
+  std::vector<std::string> args = {
+      "--out", run.static_dir().string(), "--iterations",
+      std::to_string(run.preset.static_iterations)};
+  const std::vector<std::string> flags = StaticFlags(run);
+  args.insert(args.end(), flags.begin(), flags.end());
   if (!run.has_masks) args.insert(args.end(), {"--mask_weight", "0"});
   // es_static resumes only from a checkpoint that exists.
   if (fs::exists(run.static_dir() / "checkpoint.bin")) {
@@ -282,6 +365,7 @@ void StaticStage(const Pipeline& run) {
 // V from optical flow. A failure is not fatal: Stage 3 then learns V from
 // scratch.
 void FlowStage(const Pipeline& run) {
+  run.stages->Begin("motion field from optical flow (es_flowinit)");
   if (AllExist({run.static_dir() / "motion_field.bin",
                 run.static_dir() / "flow_metrics.json"})) {
     Skip("flow init", run.static_dir());
@@ -295,7 +379,8 @@ void FlowStage(const Pipeline& run) {
        std::to_string(p.field_resolution), "--triplane_channels",
        std::to_string(p.motion_channels), "--mlp_width",
        std::to_string(p.motion_width), "--dynamic_threshold",
-       Number(FLAGS_dynamic_threshold)},
+       Number(FLAGS_dynamic_threshold), "--log_every",
+       LogEvery(p.flow_iterations)},
       false);
   if (RunStage("es_flowinit", args) != 0) {
     std::printf("[flow init] failed (see above): joint training learns V "
@@ -304,6 +389,7 @@ void FlowStage(const Pipeline& run) {
 }
 
 void JointStage(const Pipeline& run) {
+  run.stages->Begin("joint training of the loop (es_train)");
   if (AllExist({run.model_dir() / "loop.txt",
                 run.model_dir() / "metrics.json"})) {
     Skip("joint", run.model_dir());
@@ -321,7 +407,10 @@ void JointStage(const Pipeline& run) {
        std::to_string(p.motion_width), "--residual_resolution",
        std::to_string(p.field_resolution), "--residual_channels",
        std::to_string(p.residual_channels), "--residual_width",
-       std::to_string(p.residual_width)},
+       std::to_string(p.residual_width), "--checkpoint_interval",
+       std::to_string(CheckpointInterval(p.joint_iterations)),
+       "--log_interval", LogEvery(p.joint_iterations), "--eval_interval",
+       EvalEvery(p.joint_iterations)},
       true);
   if (!run.has_masks) args.insert(args.end(), {"--mask_weight", "0"});
   // Later flags win in gflags, so --train_flags can override the preset's.
@@ -345,6 +434,7 @@ void AnimateStage(const Pipeline& run) {
         Video{"animate_fixed", "xt_slice.png",
               {"--camera", "fixed", "--xt_slice", "auto"}}}) {
     const fs::path dir = run.out / v.name;
+    run.stages->Begin(v.name + " video (es_animate)");
     if (AllExist({dir / "animation.mp4", dir / v.last_output})) {
       Skip(v.name, dir);
       continue;
@@ -358,7 +448,27 @@ void AnimateStage(const Pipeline& run) {
   }
 }
 
+// A web page that plays the loop with orbit controls, and a PLY of loop
+// frame 0 for other 3DGS tools. Not fatal: the page needs the npm packages
+// scripts/setup.sh installs.
+void ExportStage(const Pipeline& run) {
+  run.stages->Begin("web page and frame PLY (es_export)");
+  const fs::path dir = run.out / "web", ply = run.out / "frame_0.ply";
+  if (AllExist({dir / "view.json", ply})) {
+    Skip("export", dir);
+    return;
+  }
+  if (RunStage("es_export",
+               run.Args({"--model", run.model_dir().string(), "--web",
+                         dir.string(), "--ply", ply.string()},
+                        true)) != 0) {
+    std::printf("[export] failed (its message is above); the other outputs "
+                "are complete\n");
+  }
+}
+
 void EvalStage(const Pipeline& run) {
+  run.stages->Begin("evaluation (es_eval)");
   if (AllExist({run.eval_dir() / "eval.json"})) {
     Skip("eval", run.eval_dir());
     return;
@@ -367,6 +477,24 @@ void EvalStage(const Pipeline& run) {
              run.Args({"--model", run.model_dir().string(), "--out",
                        run.eval_dir().string()},
                       true));
+}
+
+// The training histories as PNGs in OUT/plots (es_plot), redrawn on every
+// run (cheap). A failure only costs the plots.
+void PlotStage(const Pipeline& run) {
+  run.stages->Begin("training plots (es_plot)");
+  const fs::path plots = run.out / "plots";
+  for (const auto& [history, prefix] :
+       {std::pair{run.static_dir() / "history.csv", "static_"},
+        std::pair{run.static_dir() / "flow_history.csv", "flow_"},
+        std::pair{run.model_dir() / "history.csv", "joint_"}}) {
+    if (!fs::exists(history)) continue;
+    if (RunStage("es_plot", {"--history", history.string(), "--out",
+                             plots.string(), "--prefix", prefix}) != 0) {
+      std::printf("[plots] es_plot failed on %s (see above)\n",
+                  history.string().c_str());
+    }
+  }
 }
 
 // Stops the run after Stage 1 (returning false) when nothing is water.
@@ -394,13 +522,51 @@ bool HasDynamicGaussians(const Pipeline& run) {
   return false;
 }
 
+es::InputRequest MakeInputRequest() {
+  es::InputRequest r;
+  r.video = FLAGS_video;
+  r.scene = FLAGS_scene;
+  r.out = FLAGS_out;
+  r.masks = FLAGS_masks;
+  r.import.fps = FLAGS_fps;
+  r.import.max_frames = FLAGS_max_frames;
+  r.import.max_width = FLAGS_max_width;
+  r.pose_script = FLAGS_pose_script;
+  return r;
+}
+
+es::MaskProbe MakeMaskProbe(const Pipeline& run) {
+  es::MaskProbe probe;
+  probe.iterations = FLAGS_mask_probe_iterations >= 0
+                         ? FLAGS_mask_probe_iterations
+                         : std::max(1, run.preset.static_iterations / 2);
+  probe.static_flags = StaticFlags(run);
+  probe.mask_flags = run.Args({}, true);
+  return probe;
+}
+
+// -1 (the preset's value) or at least `min`.
+void RequirePresetOrAtLeast(const std::string& flag, int value, int min) {
+  if (value != -1) es::RequireAtLeast(flag, value, min);
+}
+
+void CheckFlags() {
+  if (FLAGS_out.empty() || FLAGS_scene.empty() == FLAGS_video.empty()) {
+    throw es::InputError("--out and one of --scene or --video are required");
+  }
+  es::RequireAtLeast("cycle_length", FLAGS_cycle_length, 1);
+  RequirePresetOrAtLeast("static_iterations", FLAGS_static_iterations, 1);
+  RequirePresetOrAtLeast("flow_iterations", FLAGS_flow_iterations, 0);
+  RequirePresetOrAtLeast("joint_iterations", FLAGS_joint_iterations, 0);
+  RequirePresetOrAtLeast("animate_frames", FLAGS_animate_frames, 1);
+  if (FLAGS_image_scale != -1) {
+    es::RequirePositive("image_scale", FLAGS_image_scale);
+  }
+  es::RequireInOpenRange("dynamic_threshold", FLAGS_dynamic_threshold, 0, 1);
+}
+
 int Main() {
-  if (FLAGS_scene.empty() || FLAGS_out.empty()) {
-    throw es::InputError("--scene and --out are required");
-  }
-  if (FLAGS_cycle_length < 1) {
-    throw es::InputError("--cycle_length must be >= 1");
-  }
+  CheckFlags();
   Pipeline run;
   run.preset = MakePreset(FLAGS_preset);
   Preset& p = run.preset;
@@ -411,46 +577,86 @@ int Main() {
   if (FLAGS_joint_iterations >= 0) {
     p.joint_iterations = FLAGS_joint_iterations;
   }
-  run.scene = FLAGS_scene;
   run.out = FLAGS_out;
   run.static_folder =
       FLAGS_static_dir.empty() ? run.out / "static" : fs::path(FLAGS_static_dir);
-  if (!fs::is_directory(run.scene)) {
-    throw es::InputError(FLAGS_scene + ": no such directory");
-  }
   const auto start = std::chrono::steady_clock::now();
-  fs::create_directories(run.out);
-  EnsurePoses(run.scene);
+  es::PrepareOutputDirectory(FLAGS_out, "out");
+  // One run per output folder; runs sharing a --static_dir take turns.
+  const es::RunLock out_lock(run.out.string(),
+                             es::RunLock::Mode::kFailIfHeld);
+  std::optional<es::RunLock> static_lock;
+  if (!FLAGS_static_dir.empty()) {
+    static_lock.emplace(run.static_folder.string(),
+                        es::RunLock::Mode::kWaitIfHeld);
+  }
+  const es::InputRequest request = MakeInputRequest();
+  run.scene = es::PrepareFramesAndPoses(request, RunOrThrow);
   const double scale = ImageScale(run.scene, p);
-  run.has_masks = fs::is_directory(run.scene / "masks");
+  const int num_frames = static_cast<int>(
+      es::ReadColmapModel((run.scene / "sparse" / "0").string())
+          .images.size());
+  // Checked here, not in Stage 3: a loop longer than the video would fail
+  // only after Stage 1 had trained.
+  es::RequireAtMost("cycle_length", FLAGS_cycle_length, num_frames,
+                    run.scene.string() + " has " +
+                        std::to_string(num_frames) + " frames");
   run.common = {"--scene", run.scene.string(), "--image_scale",
                 Number(scale)};
   if (FLAGS_white_background) run.background = {"--white_background"};
-  std::printf("[eulersplat] preset %s: %d static / %d flow / %d joint "
+  const es::PreparedScene prepared =
+      es::PrepareMasks(request, run.scene, MakeMaskProbe(run), RunOrThrow);
+  run.has_masks = prepared.has_masks;
+  // static, flow, joint, export, eval, plots (+ two videos, contact sheet).
+  StageLog stages(prepared.static_only ? 1 : 6 + (FLAGS_animate ? 3 : 0));
+  run.stages = &stages;
+  std::printf("\n[eulersplat] preset %s: %d static / %d flow / %d joint "
               "iterations, L = %d, image scale %.3g, masks %s\n",
               FLAGS_preset.c_str(), p.static_iterations, p.flow_iterations,
               p.joint_iterations, FLAGS_cycle_length, scale,
               run.has_masks ? "yes" : "no");
 
+  if (prepared.static_only) {
+    std::printf("[eulersplat] %s: training the static model only (no "
+                "motion field, loop or animation)\n",
+                prepared.why_static.c_str());
+    StaticStage(run);
+    std::printf("\n[eulersplat] done: static model %s\n",
+                run.static_ply().c_str());
+    return 0;
+  }
   StaticStage(run);
   if (!HasDynamicGaussians(run)) return 0;
   FlowStage(run);
   JointStage(run);
   if (FLAGS_animate) AnimateStage(run);
+  ExportStage(run);
   EvalStage(run);
-  if (FLAGS_animate) WriteContactSheet(run.out, FLAGS_cycle_length);
+  PlotStage(run);
+  if (FLAGS_animate) {
+    stages.Begin("contact sheet");
+    WriteContactSheet(run.out, FLAGS_cycle_length);
+  }
 
   const double seconds = std::chrono::duration<double>(
                              std::chrono::steady_clock::now() - start)
                              .count();
-  std::printf("\n[eulersplat] done in %.0f s\n  metrics        %s\n",
-              seconds, (run.eval_dir() / "eval.json").c_str());
+  std::printf("\n[eulersplat] done in %.0f s\n  metrics        %s\n"
+              "  plots          %s\n",
+              seconds, (run.eval_dir() / "eval.json").c_str(),
+              (run.out / "plots").c_str());
   if (FLAGS_animate) {
     std::printf("  looping video  %s\n  fixed view     %s\n"
                 "  contact sheet  %s\n",
                 (run.out / "animate" / "animation.mp4").c_str(),
                 (run.out / "animate_fixed" / "animation.mp4").c_str(),
                 (run.out / "contact_sheet.png").c_str());
+  }
+  if (fs::exists(run.out / "web" / "view.json")) {
+    std::printf("  web page       %s (python3 -m http.server --directory "
+                "%s, then open localhost:8000)\n",
+                (run.out / "web" / "index.html").c_str(),
+                (run.out / "web").c_str());
   }
   return 0;
 }
@@ -459,9 +665,16 @@ int Main() {
 
 int main(int argc, char** argv) {
   return es::RunApp(argc, argv,
-                    "Runs every stage: static -> flow init -> joint -> "
-                    "animate -> eval.\n"
+                    "Runs every stage: video -> poses -> masks -> static -> "
+                    "flow init -> joint -> animate -> export -> eval -> "
+                    "plots.\n"
+                    "  eulersplat --video FILE --out DIR [--preset "
+                    "quick|paper]\n"
                     "  eulersplat --scene DIR --out DIR [--preset "
-                    "quick|paper]",
+                    "quick|paper]\n"
+                    "Writes OUT/static, OUT/model, OUT/animate, "
+                    "OUT/animate_fixed, OUT/eval, OUT/plots and "
+                    "OUT/contact_sheet.png; a stage whose outputs exist is "
+                    "skipped.",
                     Main);
 }

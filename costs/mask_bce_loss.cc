@@ -2,24 +2,25 @@
 
 #include <glog/logging.h>
 
+#include <algorithm>
 #include <cmath>
+
+#include "core/profile/stage_profile.h"
 
 namespace es {
 
-double MaskBceLoss(const double* probability, const cv::Mat& mask, double scale,
-                   double* d_probability) {
-  CHECK_EQ(mask.channels(), 1);
-  cv::Mat m;
-  mask.convertTo(m, CV_64F);
-  const double* pm = m.ptr<double>();
-  const int n = m.rows * m.cols;
+namespace {
+
+template <typename T>
+double Bce(const double* probability, const T* target, int n, double scale,
+           double* d_probability) {
   const double inv_n = 1.0 / n;
   double sum = 0;
   for (int i = 0; i < n; ++i) {
     const double raw = probability[i];
     const double p = std::min(std::max(raw, kMaskProbabilityMargin),
                               1.0 - kMaskProbabilityMargin);
-    const double t = pm[i];
+    const double t = target[i];
     sum -= t * std::log(p) + (1 - t) * std::log(1 - p);
     if (d_probability) {
       d_probability[i] =
@@ -27,6 +28,23 @@ double MaskBceLoss(const double* probability, const cv::Mat& mask, double scale,
     }
   }
   return sum * inv_n;
+}
+
+}  // namespace
+
+double MaskBceLoss(const double* probability, const cv::Mat& mask, double scale,
+                   double* d_probability) {
+  ScopedStage timer(Stage::kLossBce);
+  CHECK_EQ(mask.channels(), 1);
+  const int n = mask.rows * mask.cols;
+  // Read in place (no per-call conversion) in the mask types frames hold.
+  if (mask.isContinuous() && mask.depth() == CV_32F)
+    return Bce(probability, mask.ptr<float>(), n, scale, d_probability);
+  if (mask.isContinuous() && mask.depth() == CV_64F)
+    return Bce(probability, mask.ptr<double>(), n, scale, d_probability);
+  cv::Mat m;
+  mask.convertTo(m, CV_64F);
+  return Bce(probability, m.ptr<double>(), n, scale, d_probability);
 }
 
 }  // namespace es

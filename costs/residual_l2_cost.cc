@@ -5,12 +5,14 @@
 #include <glog/logging.h>
 
 #include "core/loop/cycle_time.h"
+#include "core/profile/stage_profile.h"
 #include "costs/scalar_loss.h"
 
 namespace es {
 
 double ResidualL2Loss(const std::vector<double>& residuals, double scale,
                       double* d_residuals) {
+  ScopedStage timer(Stage::kLossResidual);
   if (residuals.empty()) return 0.0;
   const double inv = 1.0 / static_cast<double>(residuals.size());
   double sum = 0;

@@ -5,6 +5,8 @@
 
 #include <glog/logging.h>
 
+#include "core/profile/stage_profile.h"
+
 namespace es {
 
 void SceneFlowBatch::Assign(const std::vector<SceneFlowSample>& samples,
@@ -38,6 +40,7 @@ SceneFlowCost::SceneFlowCost(const MotionField* field,
 
 double SceneFlowCost::Loss(const FieldParams& params,
                            const FieldGradients& grads) const {
+  ScopedStage timer(Stage::kSceneFlow);
   const int n = batch_->size();
   if (n == 0) return 0.0;
   velocity_.resize(3 * n);

@@ -10,6 +10,14 @@ import pathlib
 import statistics
 import sys
 
+def realism(region, key):
+    """Getter of one realism figure (es_eval's "realism" block)."""
+    def get(m, e):
+        r = e.get("realism")
+        return r[region][key] if r else None
+    return get
+
+
 COLUMNS = [  # (header, getter over (metrics, eval), format)
     ("PSNR", lambda m, e: e["held_out"]["psnr"], "{:.2f}"),
     ("SSIM", lambda m, e: e["held_out"]["ssim"], "{:.3f}"),
@@ -18,6 +26,12 @@ COLUMNS = [  # (header, getter over (metrics, eval), format)
     ("motion rel. EPE",
      lambda m, e: e["motion_gt"]["rel_epe"] if e.get("motion_gt") else None,
      "{:.3f}"),
+    ("water detail", realism("water", "detail_ratio"), "{:.2f}"),
+    ("water motion", realism("water", "motion_ratio"), "{:.2f}"),
+    ("water dist. 2D", realism("water", "distance_2d"), "{:.4f}"),
+    ("water dist. 3D", realism("water", "distance_3d"), "{:.4f}"),
+    ("static detail", realism("static", "detail_ratio"), "{:.2f}"),
+    ("static motion", realism("static", "motion_ratio"), "{:.2f}"),
     ("loop seam", lambda m, e: e["loop_seam"]["score"], "{:.3f}"),
     ("train s", lambda m, e: m["seconds"], "{:.0f}"),
 ]
@@ -42,6 +56,9 @@ def cell(values, fmt):
 
 
 def main():
+    if len(sys.argv) > 1 and sys.argv[1] in ("-h", "--help"):
+        print(__doc__.strip())
+        return
     if len(sys.argv) < 3:
         sys.exit(__doc__)
     out = pathlib.Path(sys.argv[1])

@@ -6,7 +6,9 @@
 # OUT/ablations.json). Re-running skips finished variants.
 #
 #   scripts/ablations.sh [--scene DIR] [--out DIR] [--preset quick|paper]
-#                        [--seeds "0 1 2"] [-- extra eulersplat flags]
+#                        [--seeds "0 1 2"] [--variants "full static_only"]
+#                        [--train_flags "es_train flags for every variant"]
+#                        [-- extra eulersplat flags]
 #
 # Defaults: the README's default scene (out/default_scene, made by
 # scripts/run_default.sh), out/ablations, quick preset, seed 0. With several
@@ -19,14 +21,19 @@ scene=out/default_scene
 out=out/ablations
 preset=quick
 seeds=0
+variants="full static_only no_motion_field no_flow_init no_residual
+          no_random_start"
+train_flags=""
 while [[ $# -gt 0 ]]; do
   case "$1" in
     --scene) scene=$2; shift 2 ;;
     --out) out=$2; shift 2 ;;
     --preset) preset=$2; shift 2 ;;
     --seeds) seeds=$2; shift 2 ;;
+    --variants) variants=$2; shift 2 ;;
+    --train_flags) train_flags=$2; shift 2 ;;
     --) shift; break ;;
-    -h|--help) sed -n '2,14p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,16p' "$0"; exit 0 ;;
     *) echo "ablations.sh: unknown argument '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -40,11 +47,10 @@ if [[ ! -x build/bin/eulersplat ]]; then
   exit 1
 fi
 
-variants=(full static_only no_motion_field no_flow_init no_residual
-          no_random_start)
+read -r -a variants <<< "$(echo $variants)"
 for seed in $seeds; do
   for variant in "${variants[@]}"; do
-    flags="--seed $seed"
+    flags="--seed $seed $train_flags"
     [[ $variant != full ]] && flags="--$variant $flags"
     echo "[ablations] $variant, seed $seed"
     build/bin/eulersplat --scene "$scene" --out "$out/$variant/seed$seed" \

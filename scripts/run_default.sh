@@ -10,6 +10,11 @@
 # Environment: PRESET (default quick), SCENE and OUT to use other
 # directories.
 set -euo pipefail
+case "${1:-}" in
+  -h|--help) sed -n '2,11p' "$0"; exit 0 ;;
+  "") ;;
+  *) echo "run_default.sh: unknown argument '$1' (see --help)" >&2; exit 2 ;;
+esac
 cd "$(dirname "$0")/.."
 
 bash scripts/setup.sh

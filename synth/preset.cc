@@ -63,6 +63,28 @@ void ScatterRocks(int count, const Eigen::Vector2d& lo,
   }
 }
 
+// A cliff with a pool below, rocks on both sides and the camera facing it
+// (the waterfall and droplet presets).
+void CliffScenery(SynthRandom* r, SynthPreset* p) {
+  std::vector<SceneryPlane>& planes = p->scenery.planes;
+  // Cliff face, a higher wall behind its top, the valley floor. The camera
+  // stays below the top, so the ledge between the walls is never seen.
+  planes.push_back(Plane({-5, -0.2, -0.15}, {10, 0, 0}, {0, 3.2, 0}, 0.1,
+                         Cliff()));
+  planes.push_back(Plane({-7, 2.9, -2.65}, {14, 0, 0}, {0, 2.6, 0}, 0.1,
+                         Cliff()));
+  planes.push_back(Plane({-5, 0, -0.15}, {0, 0, 5.2}, {10, 0, 0}, 0.04,
+                         Ground()));
+  std::vector<SceneryRock>& rocks = p->scenery.rocks;
+  ScatterRocks(6, {-3.2, 0.0}, {-1.8, 3.0}, 0.25, 0.6, 0.0, r, &rocks);
+  ScatterRocks(6, {1.8, 0.0}, {3.2, 3.0}, 0.25, 0.6, 0.0, r, &rocks);
+  ScatterRocks(4, {-2.5, 3.0}, {2.5, 4.0}, 0.1, 0.25, 0.0, r, &rocks);
+
+  p->camera.start = {-1.0, 1.9, 5.8};
+  p->camera.end = {1.0, 2.2, 5.5};
+  p->camera.target = {0.0, 1.5, 0.8};
+}
+
 void Waterfall(SynthRandom* r, SynthPreset* p) {
   WaterfallFlow flow;
   flow.lip_y = 3.0;
@@ -88,23 +110,7 @@ void Waterfall(SynthRandom* r, SynthPreset* p) {
   p->look.deep_color = {0.22, 0.38, 0.46};
   p->warmup_frames = 130;
 
-  std::vector<SceneryPlane>& planes = p->scenery.planes;
-  // Cliff face, a higher wall behind its top, the valley floor. The camera
-  // stays below the top, so the ledge between the walls is never seen.
-  planes.push_back(Plane({-5, -0.2, -0.15}, {10, 0, 0}, {0, 3.2, 0}, 0.1,
-                         Cliff()));
-  planes.push_back(Plane({-7, 2.9, -2.65}, {14, 0, 0}, {0, 2.6, 0}, 0.1,
-                         Cliff()));
-  planes.push_back(Plane({-5, 0, -0.15}, {0, 0, 5.2}, {10, 0, 0}, 0.04,
-                         Ground()));
-  std::vector<SceneryRock>& rocks = p->scenery.rocks;
-  ScatterRocks(6, {-3.2, 0.0}, {-1.8, 3.0}, 0.25, 0.6, 0.0, r, &rocks);
-  ScatterRocks(6, {1.8, 0.0}, {3.2, 3.0}, 0.25, 0.6, 0.0, r, &rocks);
-  ScatterRocks(4, {-2.5, 3.0}, {2.5, 4.0}, 0.1, 0.25, 0.0, r, &rocks);
-
-  p->camera.start = {-1.0, 1.9, 5.8};
-  p->camera.end = {1.0, 2.2, 5.5};
-  p->camera.target = {0.0, 1.5, 0.8};
+  CliffScenery(r, p);
 }
 
 void Stream(SynthRandom* r, SynthPreset* p) {
@@ -200,10 +206,47 @@ void Fountain(SynthRandom* r, SynthPreset* p) {
   p->camera.target = {0.0, 0.9, 0.0};
 }
 
+// Spray: the waterfall's ledge throws a thin, wide curtain of small,
+// faint droplets that the turbulence tears apart (strong, short-lived
+// perturbations), so the water is high-frequency and semi-transparent
+// with the background showing through everywhere.
+void Droplets(SynthRandom* r, SynthPreset* p) {
+  WaterfallFlow flow;
+  flow.lip_y = 3.0;
+  flow.exit_speed = 0.035;
+  flow.initial_fall_speed = 0.02;
+  flow.fan_out = 0.015;
+  flow.blend_y = 0.35;
+  flow.blend_width = 0.12;
+  flow.pool.surface_y = 0.1;
+  flow.pool.relax = 0.25;
+  flow.pool.center = {0.0, 0.8};
+  flow.pool.spread_speed = 0.04;
+  flow.pool.radius = 1.0;
+  flow.pool.drift = {0.0, 0.0, 0.012};
+  p->flow = SynthFlow(flow);
+
+  p->water.num_particles = 16000;
+  p->water.min_lifetime = 50;
+  p->water.max_lifetime = 100;
+  p->water.turbulence = 0.4;
+  p->water.turbulence_frames = 2.0;
+  p->water.source = {Vector3d(-1.2, 2.96, 0.0), Vector3d(1.2, 3.06, 0.25)};
+  p->water.region = {Vector3d(-4, -0.3, -0.2), Vector3d(4, 3.3, 4.5)};
+  p->look.size = 0.014;
+  p->look.streak = 0.3;
+  p->look.min_opacity = 0.15;
+  p->look.max_opacity = 0.6;
+  p->look.foam_speed = 0.08;
+  p->look.deep_color = {0.30, 0.45, 0.55};
+  p->warmup_frames = 130;
+  CliffScenery(r, p);
+}
+
 }  // namespace
 
 std::vector<std::string> SynthPresetNames() {
-  return {"waterfall", "stream", "fountain"};
+  return {"waterfall", "stream", "fountain", "droplets"};
 }
 
 SynthPreset MakeSynthPreset(const std::string& name, double detail,
@@ -221,9 +264,11 @@ SynthPreset MakeSynthPreset(const std::string& name, double detail,
     Stream(&random, &p);
   } else if (name == "fountain") {
     Fountain(&random, &p);
+  } else if (name == "droplets") {
+    Droplets(&random, &p);
   } else {
     throw InputError("unknown preset '" + name +
-                     "' (expected waterfall, stream or fountain)");
+                     "' (expected waterfall, stream, fountain or droplets)");
   }
   // Fewer, larger Gaussians at low detail cover the same area.
   const double grow = 1.0 / std::sqrt(detail);

@@ -53,7 +53,7 @@ double JsonNumber(const std::string& json, const std::string& key) {
 TEST(EndToEndTest, DriverRunsEveryStageAndResumes) {
   for (const char* app : {"es_synth", "eulersplat", "es_static",
                           "es_flowinit", "es_train", "es_animate",
-                          "es_eval"}) {
+                          "es_export", "es_eval"}) {
     ASSERT_TRUE(fs::exists(kBin / app))
         << (kBin / app) << " missing: build all targets first";
   }
@@ -84,8 +84,17 @@ TEST(EndToEndTest, DriverRunsEveryStageAndResumes) {
         "model/canonical.ply", "animate/animation.mp4", "animate/tracks.mp4",
         "animate/frames/frame_000014.png", "animate_fixed/animation.mp4",
         "animate_fixed/xt_slice.png", "eval/eval.json",
-        "contact_sheet.png"}) {
+        "contact_sheet.png", "frame_0.ply"}) {
     EXPECT_TRUE(fs::exists(out / file)) << file << "\n" << log;
+  }
+  // The web page needs the npm packages scripts/setup.sh installs.
+  const bool have_viewer =
+      fs::exists(fs::path(ES_SOURCE_DIR) /
+                 "web/node_modules/@sparkjsdev/spark/dist/spark.module.js");
+  if (have_viewer) {
+    for (const char* file : {"web/index.html", "web/scene.esloop",
+                             "web/view.json", "web/lib/spark/spark.module.js"})
+      EXPECT_TRUE(fs::exists(out / file)) << file << "\n" << log;
   }
   EXPECT_FALSE(fs::exists(out / "animate/frames/frame_000015.png"));
 
@@ -110,7 +119,7 @@ TEST(EndToEndTest, DriverRunsEveryStageAndResumes) {
     EXPECT_EQ(cv::norm(fa, fb, cv::NORM_INF), 0.0) << "frame " << k;
   }
   const cv::Mat slice =
-      cv::imread((out / "animate_fixed" / "xt_slice.png").string());
+      cv::imread((out / "animate_fixed" / "xt_slice_raw.png").string());
   EXPECT_EQ(slice.rows, 3 * kL);
   EXPECT_EQ(slice.cols, 64);
 
@@ -121,6 +130,9 @@ TEST(EndToEndTest, DriverRunsEveryStageAndResumes) {
                             "[joint] skipped", "[animate] skipped",
                             "[animate_fixed] skipped", "[eval] skipped"}) {
     EXPECT_NE(log.find(stage), std::string::npos) << stage << "\n" << log;
+  }
+  if (have_viewer) {
+    EXPECT_NE(log.find("[export] skipped"), std::string::npos) << log;
   }
 }
 

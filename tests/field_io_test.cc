@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "core/io/input_error.h"
+#include "tests/memory_limit.h"
 #include "tests/temp_dir_test.h"
 
 namespace es {
@@ -153,6 +154,36 @@ TEST_F(FieldIoTest, WrongMagicAndWrongKindAreRejected) {
                    Path("d.bin"), "motion field");
   ExpectInputError([](const std::string& p) { LoadMotionField(p); },
                    Path("missing.bin"), "cannot open");
+}
+
+// D8 (fuzzer): a header announcing a 4096^2 x 1024 triplane (400 GB of
+// parameters; the count also overflowed an int) or a 4096-wide, 64-deep MLP
+// in a file of a few hundred bytes is rejected before the field allocates.
+TEST_F(FieldIoTest, HugeOptionsAreRejectedBeforeAllocating) {
+  SaveMotionField(SmallMotion(), Path("v.bin"));
+  SaveResidualField(SmallResidual(), Path("d.bin"));
+  const size_t motion_magic = 27, residual_magic = 29;
+  auto patch = [&](const char* from, const char* to, size_t offset,
+                   std::initializer_list<int32_t> values) {
+    fs::copy_file(Path(from), Path(to), fs::copy_options::overwrite_existing);
+    std::fstream f(Path(to), std::ios::binary | std::ios::in | std::ios::out);
+    f.seekp(offset);
+    for (int32_t v : values) f.write(reinterpret_cast<const char*>(&v), 4);
+  };
+  // Triplane resolution and channels follow the magic.
+  patch("v.bin", "huge_v.bin", motion_magic, {4096, 1024});
+  patch("d.bin", "huge_d.bin", residual_magic, {4096, 1024});
+  // Motion: triplane options (3 int32 + 1 double), then MLP width, depth.
+  patch("v.bin", "wide_v.bin", motion_magic + 20, {4096, 64});
+  for (const char* name : {"huge_v.bin", "wide_v.bin"}) {
+    const std::string path = Path(name);
+    EXPECT_TRUE(ThrowsInputErrorWithinMemory(
+        [&path] { LoadMotionField(path); }))
+        << name;
+  }
+  const std::string path = Path("huge_d.bin");
+  EXPECT_TRUE(
+      ThrowsInputErrorWithinMemory([&path] { LoadResidualField(path); }));
 }
 
 TEST_F(FieldIoTest, NonFiniteParametersAreRejected) {

@@ -7,6 +7,7 @@
 
 #include "core/io/input_error.h"
 #include "solvers/eval/motion_gt.h"
+#include "solvers/train/divergence_guard.h"
 
 namespace es {
 namespace {
@@ -38,6 +39,35 @@ MotionField SmallField(int resolution, int channels, int width) {
   MotionField field(o);
   field.SetBox(Eigen::Vector3d(-1, -1, -1), Eigen::Vector3d(1, 1, 1));
   return field;
+}
+
+// es_flowinit with absurd rates used to write a NaN field and
+// "fit_rmse": -nan and exit 0; every solver now throws instead.
+TEST(FlowPretrainTest, DivergenceThrowsInsteadOfReturningANanField) {
+  const std::vector<SceneFlowSample> samples = SamplesOf(300, 1);
+  for (PretrainSolver solver :
+       {PretrainSolver::kAdam, PretrainSolver::kLbfgs, PretrainSolver::kLm}) {
+    MotionField field = SmallField(4, 2, 4);
+    FlowPretrainOptions options;
+    options.solver = solver;
+    options.iterations = 20;
+    options.batch_size = 64;
+    options.lr_triplane = NAN;
+    options.lr_mlp = NAN;
+    std::vector<SceneFlowSample> bad = samples;
+    if (solver != PretrainSolver::kAdam) bad[0].v.x() = NAN;
+    EXPECT_THROW(PretrainMotionField(bad, options, &field), TrainingDiverged)
+        << PretrainSolverName(solver);
+  }
+  // Adam on samples with a NaN: every batch that draws it is skipped.
+  MotionField field = SmallField(4, 2, 4);
+  std::vector<SceneFlowSample> bad = samples;
+  for (SceneFlowSample& s : bad) s.v.x() = NAN;
+  FlowPretrainOptions options;
+  options.iterations = 50;
+  options.batch_size = 16;
+  options.max_nonfinite_steps = 5;
+  EXPECT_THROW(PretrainMotionField(bad, options, &field), TrainingDiverged);
 }
 
 TEST(FlowPretrainTest, AdamFitsASmoothFieldAndGeneralizes) {

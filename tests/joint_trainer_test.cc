@@ -13,6 +13,8 @@
 #include <opencv2/imgproc.hpp>
 
 #include "core/io/input_error.h"
+#include "core/loop/frame_composer.h"
+#include "core/loop/loop_renderer.h"
 #include "solvers/checkpoint/joint_checkpoint.h"
 #include "solvers/eval/loop_evaluation.h"
 
@@ -73,6 +75,7 @@ std::vector<Frame> TrueFrames() {
       for (int j = 0; j < 3; ++j)
         g.means[3 * n + j] += kVelocity[j] * (i % kCycle);
     frames[i].camera = TinyCamera(i);
+    frames[i].time_index = i;
     rasterizer.Forward(frames[i].camera, SplatView::Of(g), RenderOptions(),
                        &render);
     cv::Mat(kHeight, kWidth, CV_64FC3, render.rgb.data())
@@ -146,6 +149,22 @@ TEST(JointTrainerTest, LearnsALoopingTranslation) {
   mean_v /= kNumDynamic;
   EXPECT_LT((mean_v - kVelocity).norm(), 0.2 * kVelocity.norm())
       << mean_v.transpose();
+
+  // Frames COLMAP did not register leave gaps: a frame is still composed
+  // at its place in the video, not at its rank among the frames kept.
+  std::vector<Frame> registered = frames;
+  registered.erase(registered.begin() + 5);
+  registered.erase(registered.begin() + 2);  // times 0 1 3 4 6 7 ...
+  for (int time : {6, 7}) {
+    const int index = time - 2;
+    ASSERT_EQ(registered[index].time_index, time);
+    const LoopMetrics full = EvaluateLoopModel(m, frames, {time},
+                                               trainer.render_options());
+    const LoopMetrics gap = EvaluateLoopModel(m, registered, {index},
+                                              trainer.render_options());
+    EXPECT_EQ(gap.psnr, full.psnr) << "time " << time;
+    EXPECT_GT(full.psnr, 25) << "time " << time;
+  }
 }
 
 void ExpectSameModel(const LoopModel& a, const LoopModel& b) {
@@ -233,6 +252,89 @@ TEST(JointTrainerTest, AblationsTrainAndStayFinite) {
   }
 }
 
+// Every frame of a looping model composed at its own index (Alg. 1), and
+// the loop as the animation plays it (Alg. 2, p = 0), rendered at a camera.
+std::vector<std::vector<double>> RenderAllFrames(const LoopModel& model) {
+  std::vector<std::vector<double>> images;
+  Rasterizer rasterizer;
+  RenderResult render;
+  FrameComposer composer;
+  for (int i = 0; i < kFrames; ++i) {
+    rasterizer.Forward(TinyCamera(i),
+                       composer.Compose(LoopModelView::Of(model), i),
+                       RenderOptions(), &render);
+    images.push_back(render.rgb);
+  }
+  LoopRenderer player(&model, RenderOptions());
+  player.Start(0);
+  for (int i = 0; i < kCycle; ++i, player.Advance())
+    images.push_back(player.Render(TinyCamera(i)).rgb);
+  return images;
+}
+
+TEST(JointTrainerTest, FinalModelDropsOnlyWhatNoFrameShows) {
+  const std::vector<Frame> frames = TrueFrames();
+  GaussianSet canonical = TrueCanonical();
+  canonical.opacity_logits[1] = -8;  // static, invisible
+  canonical.opacity_logits[7] = -9;  // dynamic, invisible in every frame
+  canonical.opacity_logits[8] = -6;  // dynamic, visible where D lifts it
+  for (int variant = 0; variant < 2; ++variant) {
+    JointTrainerOptions options = TinyOptions();
+    options.use_residual = variant == 1;
+    JointTrainer trainer(&frames, kTrain, options, canonical, std::nullopt);
+    LoopModel model = trainer.model();
+    if (model.residual) {
+      // Large opacity offsets that change with the cycle index.
+      for (double& w : model.residual->mlp_params()) w *= 40;
+    }
+    LoopModel pruned = model;
+    const int removed = PruneInvisible(kFrames, &pruned);
+    if (variant == 0) {
+      EXPECT_EQ(removed, 3);
+      EXPECT_EQ(pruned.dynamic_index, (std::vector<int>{5, 6}));
+      int final_removed = -1;
+      EXPECT_EQ(trainer.FinalModel(&final_removed).gaussians.size(),
+                pruned.gaussians.size());
+      EXPECT_EQ(final_removed, 3);
+    } else {
+      // The static one goes; D lifts at least one dynamic one into view.
+      EXPECT_GE(removed, 1);
+      EXPECT_LT(removed, 3);
+    }
+    EXPECT_EQ(pruned.gaussians.size(), model.gaussians.size() - removed);
+    EXPECT_EQ(pruned.num_dynamic(), static_cast<int>(pruned.start_times.size()));
+    const auto before = RenderAllFrames(model), after = RenderAllFrames(pruned);
+    for (size_t f = 0; f < before.size(); ++f)
+      for (size_t p = 0; p < before[f].size(); ++p)
+        ASSERT_NEAR(before[f][p], after[f][p], 1e-6) << variant << " " << f;
+  }
+}
+
+// A frame with a NaN pixel: its steps are skipped and counted, the model
+// and fields stay finite; a NaN learning rate stops at the first update.
+TEST(JointTrainerTest, NonFiniteStepsAreSkippedAndDivergenceStops) {
+  std::vector<Frame> frames = TrueFrames();
+  frames[kTrain[4]].image.at<cv::Vec3f>(3, 3)[0] = NAN;
+  JointTrainerOptions options = TinyOptions();
+  JointTrainer trainer(&frames, kTrain, options, TrueCanonical(),
+                       std::nullopt);
+  int skipped = 0;
+  for (int i = 0; i < 18; ++i) skipped += trainer.Step().skipped;
+  EXPECT_EQ(skipped, 2);  // two epochs of nine frames
+  EXPECT_EQ(trainer.skipped_steps(), 2);
+  EXPECT_TRUE(AllFinite(trainer.model().gaussians));
+  const MotionField& v = *trainer.model().motion;
+  const ResidualField& d = *trainer.model().residual;
+  EXPECT_TRUE(AllFinite(v.params().triplane, v.triplane().num_params()));
+  EXPECT_TRUE(AllFinite(d.params().mlp, d.mlp().num_params()));
+
+  const std::vector<Frame> good = TrueFrames();
+  options.lr_motion_mlp = NAN;
+  JointTrainer diverging(&good, kTrain, options, TrueCanonical(),
+                         std::nullopt);
+  EXPECT_THROW(diverging.Step(), TrainingDiverged);
+}
+
 TEST(JointTrainerTest, MismatchedCheckpointIsAnInputError) {
   const std::vector<Frame> frames = TrueFrames();
   JointTrainerOptions options = TinyOptions();
@@ -241,6 +343,59 @@ TEST(JointTrainerTest, MismatchedCheckpointIsAnInputError) {
   JointTrainer no_residual(&frames, kTrain, options, TrueCanonical(),
                            std::nullopt);
   EXPECT_THROW(no_residual.Restore(full.Save(), "ckpt"), InputError);
+}
+
+TEST(JointTrainerTest, ResidualCycleNumbersCoverTheWholeVideo) {
+  // Frame i has cycle number p = floor((i - t0) / L) in [-1, (N-1) / L].
+  EXPECT_EQ(CyclesCovering(12, 4), 4);
+  EXPECT_EQ(CyclesCovering(1000, 15), 68);
+  for (int frames : {2, 15, 16, 99, 481}) {
+    const int m = CyclesCovering(frames, 15);
+    EXPECT_GT(m, (frames - 1) / 15) << frames;  // the largest p
+    EXPECT_GT(m, 1) << frames;                  // p = -1
+  }
+  const std::vector<Frame> frames = TrueFrames();
+  JointTrainer trainer(&frames, kTrain, TinyOptions(), TrueCanonical(),
+                       std::nullopt);
+  EXPECT_EQ(trainer.model().residual->options().max_cycles,
+            CyclesCovering(kFrames, kCycle));
+}
+
+TEST(JointTrainerTest, MaxDynamicPixelsKeepsWaterGaussiansSmall) {
+  const std::vector<Frame> frames = TrueFrames();
+  JointTrainerOptions options = TinyOptions();
+  options.max_dynamic_pixels = 0.5;  // the true ones are ~0.9 px
+  options.iterations = 10;
+  JointTrainer trainer(&frames, kTrain, options, TrueCanonical(),
+                       std::nullopt);
+  for (int i = 0; i < 10; ++i) trainer.Step();
+  const GaussianSet& g = trainer.model().gaussians;
+  for (int n : trainer.model().dynamic_index) {
+    // Distance ~2-2.3 from cameras with fx 30.
+    const double z = Eigen::Vector3d(&g.means[3 * n]).norm();
+    for (int a = 0; a < 3; ++a) {
+      EXPECT_LE(std::exp(g.log_scales[3 * n + a]), 0.5 * z / 30 * 1.05);
+    }
+  }
+  // Static Gaussians are not limited.
+  EXPECT_GT(std::exp(g.log_scales[0]), 0.1);
+}
+
+// An empty field box in a corrupt checkpoint used to reach
+// Triplane::SetBox's CHECK on resume; the reader rejects it.
+TEST(JointTrainerTest, CheckpointWithAnEmptyFieldBoxIsAnInputError) {
+  const std::vector<Frame> frames = TrueFrames();
+  JointTrainer trainer(&frames, kTrain, TinyOptions(), TrueCanonical(),
+                       std::nullopt);
+  const std::string path = ::testing::TempDir() + "/empty_box_" +
+                           std::to_string(::getpid()) + ".ckpt";
+  JointCheckpoint c = trainer.Save();
+  WriteJointCheckpoint(c, path);
+  EXPECT_NO_THROW(ReadJointCheckpoint(path));
+  c.field_boxes[3] = c.field_boxes[0];  // V's box: max x == min x
+  WriteJointCheckpoint(c, path);
+  EXPECT_THROW(ReadJointCheckpoint(path), InputError);
+  std::filesystem::remove(path);
 }
 
 }  // namespace

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include <glog/logging.h>
 #include <gtest/gtest.h>
 
 #include "core/io/input_error.h"
@@ -253,13 +254,49 @@ TEST_F(PlyIoTest, TruncatedFileNamesIt) {
 }
 
 TEST_F(PlyIoTest, NonFiniteValueNamesFile) {
-  for (float bad : {std::numeric_limits<float>::quiet_NaN(),
-                    std::numeric_limits<float>::infinity()}) {
+  const float kInf = std::numeric_limits<float>::infinity();
+  for (float bad : {std::numeric_limits<float>::quiet_NaN(), kInf}) {
     GaussianSet g = RandomGaussians(4, 0, 5);
-    g.opacity_logits[2] = bad;
+    g.means[7] = bad;
     WritePly(g, Path("nan.ply"));
     ExpectInputErrorNaming(Path("nan.ply"), "non-finite");
   }
+  GaussianSet g = RandomGaussians(4, 0, 5);
+  g.opacity_logits[2] = std::numeric_limits<float>::quiet_NaN();
+  WritePly(g, Path("nan_opacity.ply"));
+  ExpectInputErrorNaming(Path("nan_opacity.ply"), "non-finite");
+}
+
+// Collects the WARNING lines glog emits while it is alive.
+class WarningCollector : public google::LogSink {
+ public:
+  WarningCollector() { google::AddLogSink(this); }
+  ~WarningCollector() override { google::RemoveLogSink(this); }
+  void send(google::LogSeverity severity, const char*, const char*, int,
+            const struct ::tm*, const char* message, size_t size) override {
+    if (severity == google::GLOG_WARNING) lines.emplace_back(message, size);
+  }
+  std::vector<std::string> lines;
+};
+
+TEST_F(PlyIoTest, InfiniteOpacityIsClampedToRenderTheSame) {
+  const float kInf = std::numeric_limits<float>::infinity();
+  GaussianSet g = RandomGaussians(6, 1, 9);
+  g.opacity_logits = {1.5, kInf, -2.0, -kInf, 0.25, kInf};
+  WritePly(g, Path("inf.ply"));
+  WarningCollector warnings;
+  const GaussianSet read = ReadPly(Path("inf.ply"));
+  const double limit = std::log(9999.0);
+  EXPECT_EQ(read.opacity_logits,
+            std::vector<double>({1.5, limit, -2.0, -limit, 0.25, limit}));
+  EXPECT_EQ(read.means, g.means);
+  // Opacity 0.9999 saturates alpha as 1 does; 0.0001 is skipped as 0 is.
+  EXPECT_GT(Sigmoid(limit), 0.99);
+  EXPECT_LT(Sigmoid(-limit), 1.0 / 255);
+  ASSERT_EQ(warnings.lines.size(), 1u);
+  EXPECT_NE(warnings.lines[0].find(Path("inf.ply")), std::string::npos);
+  EXPECT_NE(warnings.lines[0].find(" 3 "), std::string::npos)
+      << warnings.lines[0];
 }
 
 TEST_F(PlyIoTest, BadHeaderNamesFile) {
@@ -272,6 +309,70 @@ TEST_F(PlyIoTest, BadHeaderNamesFile) {
   WriteText(Path("novertex.ply"),
             "ply\nformat ascii 1.0\nelement face 0\nend_header\n");
   ExpectInputErrorNaming(Path("novertex.ply"), "no vertex element");
+}
+
+// Fuzzer finding (D1): an element without properties announcing 9e18 rows
+// before the vertices occupies no bytes; the reader used to loop over every
+// empty row and never return.
+TEST_F(PlyIoTest, HugeElementWithoutPropertiesIsSkipped) {
+  StandardPly ply;
+  ply.num_vertices = 1;
+  ply.WriteAscii(Path("base.ply"));
+  std::string text = ReadText(Path("base.ply"));
+  text.insert(text.find("element vertex"),
+              "element junk 9000000000000000000\n");
+  WriteText(Path("junk.ply"), text);
+  EXPECT_EQ(ReadPly(Path("junk.ply")).size(), 1);
+
+  WriteText(Path("junk0.ply"),
+            "ply\nformat ascii 1.0\nelement junk 9000000000000000000\n"
+            "element vertex 0\nproperty float x\nproperty float y\n"
+            "property float z\nproperty float f_dc_0\nproperty float f_dc_1\n"
+            "property float f_dc_2\nproperty float opacity\n"
+            "property float scale_0\nproperty float scale_1\n"
+            "property float scale_2\nproperty float rot_0\n"
+            "property float rot_1\nproperty float rot_2\n"
+            "property float rot_3\nend_header\n");
+  EXPECT_EQ(ReadPly(Path("junk0.ply")).size(), 0);
+}
+
+// Fuzzer finding (D7): a list length stored as a float that is NaN, Inf,
+// negative, fractional or larger than the file was cast to an integer
+// (undefined behaviour, or a loop over 9e18 items); each is now a bad-file
+// error naming the file.
+TEST_F(PlyIoTest, BadFloatListLengthIsAnInputError) {
+  StandardPly ply;
+  ply.num_vertices = 1;
+  for (const char* length : {"nan", "inf", "-inf", "-1", "1.5", "1e300"}) {
+    ply.WriteAscii(Path("base.ply"));
+    std::string text = ReadText(Path("base.ply"));
+    text.insert(text.find("element vertex"),
+                "element f 1\nproperty list float int i\n");
+    text.insert(text.find("end_header\n") + 11, std::string(length) + " 7\n");
+    WriteText(Path("list.ply"), text);
+    ExpectInputErrorNaming(Path("list.ply"), length);
+  }
+  // Binary: a float32 NaN length.
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  std::string binary =
+      "ply\nformat binary_little_endian 1.0\nelement f 1\n"
+      "property list float int i\nend_header\n";
+  binary.append(reinterpret_cast<const char*>(&nan), sizeof(nan));
+  WriteText(Path("list_binary.ply"), binary);
+  ExpectInputErrorNaming(Path("list_binary.ply"), "binary NaN length");
+}
+
+// A list of a plausible length is still read and skipped.
+TEST_F(PlyIoTest, FloatListLengthThatIsWholeIsRead) {
+  StandardPly ply;
+  ply.num_vertices = 2;
+  ply.WriteAscii(Path("base.ply"));
+  std::string text = ReadText(Path("base.ply"));
+  text.insert(text.find("element vertex"),
+              "element f 2\nproperty list float int i\n");
+  text.insert(text.find("end_header\n") + 11, "2 7 8\n0\n");
+  WriteText(Path("list.ply"), text);
+  ply.ExpectMatches(ReadPly(Path("list.ply")));
 }
 
 }  // namespace

@@ -141,6 +141,21 @@ TEST_F(SceneTest, LoadsFramesInNameOrderWithTheirCameras) {
   EXPECT_NEAR(scene.point_colors[0].z(), 0.2, 1e-12);
 }
 
+TEST_F(SceneTest, UnregisteredFramesKeepTheirPlaceInTime) {
+  WriteScene(6);
+  model_.images.erase(ImageNamed(FrameName(1)).id);
+  model_.images.erase(ImageNamed(FrameName(4)).id);
+  SaveModel();
+  const Scene scene = LoadScene(dir_.string());
+  ASSERT_EQ(scene.frames.size(), 4u);
+  const int expected_times[] = {0, 2, 3, 5};
+  for (int k = 0; k < 4; ++k) {
+    EXPECT_EQ(scene.frames[k].camera.image_name,
+              FrameName(expected_times[k]));
+    EXPECT_EQ(scene.frames[k].time_index, expected_times[k]);
+  }
+}
+
 TEST_F(SceneTest, LoadsMasksAsWaterProbability) {
   WriteScene(3);
   const Scene scene = LoadScene(dir_.string());
@@ -204,6 +219,49 @@ TEST_F(SceneTest, UnsupportedCameraModelIsNamed) {
       2, "OPENCV_FISHEYE", kWidth, kHeight, {30, 30, 16, 12, 0.1, 0, 0, 0}};
   SaveModel();
   ExpectLoadError({"OPENCV_FISHEYE", "cameras.txt"});
+}
+
+// D6: a zero focal length used to fail a CHECK in the rasterizer (exit
+// 134) once training started; it is an input error naming cameras.txt.
+TEST_F(SceneTest, ZeroOrNonFiniteFocalLengthIsNamed) {
+  WriteScene(2);
+  model_.cameras[2] = {2, "PINHOLE", kWidth, kHeight, {0, 0, 16, 12}};
+  SaveModel();
+  ExpectLoadError({"cameras.txt", "camera 2", "focal length"});
+  model_.cameras[2] = {2, "SIMPLE_RADIAL", kWidth, kHeight, {-5, 16, 12, 0.1}};
+  SaveModel();
+  ExpectLoadError({"cameras.txt", "camera 2", "focal length"});
+}
+
+// D8: a one-line cameras.txt announcing a 50000 x 50000 distorted camera
+// made the loader allocate two 10 GB undistortion maps before it looked at
+// a frame; the frames' real size is now checked first.
+TEST_F(SceneTest, HugeDistortedCameraIsRejectedBeforeAllocating) {
+  WriteScene(2, /*masks=*/false);
+  model_.cameras[2] = {2, "SIMPLE_RADIAL", 50000, 50000, {30, 16, 12, 0.1}};
+  SaveModel();
+  ExpectLoadError({(dir_ / "images" / FrameName(0)).string(), "32x24",
+                   "50000x50000"});
+}
+
+TEST_F(SceneTest, UndecodableImageOrVideoIsNamed) {
+  WriteScene(2, /*masks=*/false);
+  std::ofstream((dir_ / "images" / FrameName(1)).string()) << "not a png";
+  ExpectLoadError({(dir_ / "images" / FrameName(1)).string(), "decode"});
+
+  // A video that is not one: every frame the model names is reported.
+  fs::remove_all(dir_ / "images");
+  fs::create_directories(dir_ / "images");
+  std::ofstream((dir_ / "images" / "clip.mp4").string()) << "garbage";
+  model_ = ColmapModel();
+  model_.cameras[1] = {1, "SIMPLE_PINHOLE", kWidth, kHeight, {30, 16, 12}};
+  ColmapImage im;
+  im.id = 1;
+  im.camera_id = 1;
+  im.name = "frame_000000.png";
+  model_.images[1] = im;
+  SaveModel();
+  ExpectLoadError({(dir_ / "images" / "clip.mp4").string()});
 }
 
 TEST_F(SceneTest, ImageScaleResizesFramesMasksAndIntrinsics) {
@@ -344,6 +402,7 @@ TEST_F(SceneTest, LoadsFramesFromAVideo) {
     EXPECT_NEAR(mean[0], (200 - 30 * f) / 255.0, 0.03) << "frame " << f;
     EXPECT_NEAR(mean[1], 100 / 255.0, 0.03) << "frame " << f;
     EXPECT_NEAR(mean[2], 40 * f / 255.0, 0.03) << "frame " << f;
+    EXPECT_EQ(frame.time_index, f);
   }
 
   ColmapImage extra;

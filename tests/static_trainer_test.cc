@@ -16,6 +16,7 @@
 #include "solvers/checkpoint/checkpoint.h"
 #include "solvers/eval/static_eval.h"
 #include "solvers/train/frame_sampler.h"
+#include "tests/memory_limit.h"
 
 namespace es {
 namespace {
@@ -208,6 +209,52 @@ TEST(StaticTrainerTest, ResetsOpacityOnlyInTheFirstHalfOfTheRun) {
   EXPECT_GT(MaxOpacity(trainer.gaussians()), 0.05);
 }
 
+// A frame that yields a NaN loss (here one NaN pixel) skips its steps, which
+// are counted; the other frames train on and the model stays finite.
+TEST(StaticTrainerTest, NonFiniteStepsAreSkippedAndCounted) {
+  SyntheticScene scene;
+  scene.frames[scene.train[2]].image.at<cv::Vec3f>(5, 7)[1] = NAN;
+  StaticTrainer trainer(&scene.frames, scene.train, FastOptions(40),
+                        InitGaussiansFromPoints(scene.points, scene.colors, 0));
+  int skipped = 0;
+  for (int i = 0; i < 40; ++i) skipped += trainer.Step().skipped;
+  // Eight training frames, shuffled per epoch: the bad one comes up once in
+  // each of the five epochs.
+  EXPECT_EQ(skipped, 5);
+  EXPECT_EQ(trainer.skipped_steps(), 5);
+  EXPECT_EQ(trainer.iteration(), 40);
+  EXPECT_TRUE(AllFinite(trainer.gaussians()));
+}
+
+// A state that only produces non-finite steps stops the run after
+// max_nonfinite_steps of them, and skipped steps never touch the model.
+TEST(StaticTrainerTest, TooManyNonFiniteStepsInARowStopTheRun) {
+  SyntheticScene scene;
+  for (int k : scene.train) scene.frames[k].image.at<cv::Vec3f>(0, 0)[2] = NAN;
+  const GaussianSet initial =
+      InitGaussiansFromPoints(scene.points, scene.colors, 0);
+  StaticTrainerOptions options = FastOptions(100);
+  options.max_nonfinite_steps = 4;
+  StaticTrainer trainer(&scene.frames, scene.train, options, initial);
+  for (int i = 0; i < 3; ++i) EXPECT_TRUE(trainer.Step().skipped);
+  EXPECT_FALSE(trainer.last_step_ok());
+  EXPECT_THROW(trainer.Step(), TrainingDiverged);
+  EXPECT_EQ(trainer.gaussians().means, initial.means);
+  EXPECT_EQ(trainer.gaussians().log_scales, initial.log_scales);
+  EXPECT_EQ(trainer.gaussians().sh, initial.sh);
+}
+
+// A learning rate that makes the parameters non-finite (D2: --lr_opacity
+// nan) stops at the first update instead of training on to write NaNs.
+TEST(StaticTrainerTest, NonFiniteParametersStopTheRunAtOnce) {
+  const SyntheticScene scene;
+  StaticTrainerOptions options = FastOptions(100);
+  options.splat_lr.opacity = NAN;
+  StaticTrainer trainer(&scene.frames, scene.train, options,
+                        InitGaussiansFromPoints(scene.points, scene.colors, 0));
+  EXPECT_THROW(trainer.Step(), TrainingDiverged);
+}
+
 TEST(CheckpointTest, BadFilesAreInputErrors) {
   const std::string path = std::string(ES_BINARY_DIR) + "/checkpoint_test.ckpt";
   EXPECT_THROW(ReadCheckpoint(path + ".missing"), InputError);
@@ -225,6 +272,44 @@ TEST(CheckpointTest, BadFilesAreInputErrors) {
       .write(bytes.data(), bytes.size() / 2);
   EXPECT_THROW(ReadCheckpoint(path), InputError);
   std::remove(path.c_str());
+}
+
+// D8 (fuzzer): a 28-byte file whose first array claims 2^37 values used to
+// allocate gigabytes before reporting "truncated"; lengths are now checked
+// against the bytes left.
+TEST(CheckpointTest, HugeArrayLengthIsRejectedBeforeAllocating) {
+  const std::string path =
+      std::string(ES_BINARY_DIR) + "/checkpoint_huge_test.ckpt";
+  {
+    std::ofstream out(path, std::ios::binary | std::ios::trunc);
+    out.write("ESCKPT01", 8);
+    const int64_t iteration = 1;
+    const int32_t sh_degree = 0;
+    const uint64_t length = uint64_t{1} << 37;
+    out.write(reinterpret_cast<const char*>(&iteration), 8);
+    out.write(reinterpret_cast<const char*>(&sh_degree), 4);
+    out.write(reinterpret_cast<const char*>(&length), 8);
+  }
+  EXPECT_TRUE(ThrowsInputErrorWithinMemory([&path] { ReadCheckpoint(path); }));
+  std::remove(path.c_str());
+}
+
+// A checkpoint of another scene (its frame order names frames this run does
+// not train on) or a corrupt RNG state is an input error, not a crash.
+TEST(CheckpointTest, SamplerStateOfAnotherRunIsAnInputError) {
+  FrameSampler sampler({0, 2, 4}, 1);
+  FrameSampler other({0, 2, 5}, 1);
+  other.Next();  // its state now holds an order over frames 0, 2, 5
+  EXPECT_THROW(sampler.Restore(other.state()), InputError);
+  FrameSampler::State bad_rng = sampler.state();
+  bad_rng.rng = "not a generator";
+  EXPECT_THROW(sampler.Restore(bad_rng), InputError);
+  FrameSampler::State bad_position = sampler.state();
+  bad_position.position = -1;
+  EXPECT_THROW(sampler.Restore(bad_position), InputError);
+  FrameSampler same({4, 0, 2}, 7);
+  same.Next();
+  sampler.Restore(same.state());  // the same frames in another order: fine
 }
 
 TEST(FrameSamplerTest, EpochsArePermutationsAndStateRoundTrips) {

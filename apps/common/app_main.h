@@ -7,6 +7,14 @@ namespace es {
 
 // Runs an app body: parses gflags (with `usage` as the help text), sets up
 // glog, and turns an InputError into a one-line message and exit code 1.
+//
+// Before the body runs:
+// - --help (and -h, --helpshort) prints `usage`, then the app's own flags
+//   with readable defaults, and exits 0; --helpfull adds glog's and
+//   gflags' flags. --version prints the version and git commit, exits 0.
+// - every floating-point flag the app defines must be finite, and every
+//   learning rate (a flag named lr_*) must also be >= 0; otherwise the app
+//   exits 1 naming the flag, before any work.
 int RunApp(int argc, char** argv, const char* usage,
            const std::function<int()>& body);
 

@@ -1,9 +1,8 @@
 #ifndef EULERSPLAT_APPS_COMMON_PARSE_COLOR_H_
 #define EULERSPLAT_APPS_COMMON_PARSE_COLOR_H_
 
-#include <string>
-
 #include <Eigen/Core>
+#include <string>
 
 namespace es {
 

@@ -2,6 +2,8 @@
 
 #include <glog/logging.h>
 
+#include "core/profile/stage_profile.h"
+
 namespace es {
 
 MotionField::MotionField(const MotionFieldOptions& options)
@@ -36,6 +38,7 @@ FieldParams MotionField::params() const {
 
 void MotionField::Evaluate(const FieldParams& p, int n, const double* x,
                            double* v, FieldWorkspace* ws) const {
+  ScopedStage timer(Stage::kFieldsForward);
   ws->batch = n;
   ws->x = x;
   ws->features.resize(n, triplane_.output_dim());
@@ -47,6 +50,7 @@ void MotionField::Evaluate(const FieldParams& p, int n, const double* x,
 void MotionField::Backward(const FieldParams& p, const double* d_v,
                            const FieldGradients& grads, double* d_x,
                            FieldWorkspace* ws) const {
+  ScopedStage timer(Stage::kFieldsBackward);
   const int n = ws->batch;
   CHECK(ws->x != nullptr) << "MotionField::Backward before Evaluate";
   ws->d_mlp_out = Eigen::Map<const RowMatrix>(d_v, n, 3) * output_scale();

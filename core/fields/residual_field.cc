@@ -3,6 +3,7 @@
 #include <glog/logging.h>
 
 #include "core/fields/positional_encoding.h"
+#include "core/profile/stage_profile.h"
 
 namespace es {
 
@@ -44,6 +45,7 @@ FieldParams ResidualField::params() const {
 void ResidualField::Evaluate(const FieldParams& params, int n, const double* x0,
                              const int* t, const int* p, double* out,
                              FieldWorkspace* ws) const {
+  ScopedStage timer(Stage::kFieldsForward);
   const int feature_dim = triplane_.output_dim();
   const int in_dim = mlp_.input_dim();
   ws->batch = n;
@@ -65,6 +67,7 @@ void ResidualField::Evaluate(const FieldParams& params, int n, const double* x0,
 void ResidualField::Backward(const FieldParams& params, const double* d_out,
                              const FieldGradients& grads, double* d_x0,
                              FieldWorkspace* ws) const {
+  ScopedStage timer(Stage::kFieldsBackward);
   const int n = ws->batch;
   CHECK(ws->x != nullptr) << "ResidualField::Backward before Evaluate";
   ws->d_mlp_out = Eigen::Map<const RowMatrix>(d_out, n, kResidualDim);

@@ -18,6 +18,21 @@ constexpr int kPlaneAxes[3][2] = {{0, 1}, {0, 2}, {1, 2}};
 // a loaded machine far more (threads wait on descheduled peers).
 constexpr int kMinParallelPoints = 4096;
 
+// Parameter gradients of one extra OpenMP thread in Backward, kept all zero
+// between calls (the reduction clears what it adds), with a flag per plane
+// row saying whether the thread wrote to it.
+struct PartialGradient {
+  std::vector<double> grad;
+  std::vector<char> touched_rows;
+};
+
+// Per calling thread, so Backward neither allocates nor clears a
+// triplane-sized buffer per call (it ran once per Euler step).
+std::vector<PartialGradient>& PartialGradients() {
+  thread_local std::vector<PartialGradient> pool;
+  return pool;
+}
+
 }  // namespace
 
 Triplane::Triplane(const TriplaneOptions& options) : options_(options) {
@@ -183,25 +198,53 @@ void Triplane::Backward(const double* params, int n, const double* x,
   // accumulates parameter gradients into its own dense buffer, and the
   // buffers are summed at the end.
   const int threads = n >= kMinParallelPoints ? omp_get_max_threads() : 1;
-  // Zeroed here, not by their threads: the team may get fewer threads.
-  std::vector<std::vector<double>> partial(
-      d_params != nullptr ? threads - 1 : 0,
-      std::vector<double>(num_params(), 0.0));
+  const int extra = d_params != nullptr ? threads - 1 : 0;
+  const int r = options_.resolution;
+  const int rows = 3 * r;  // (plane, row) blocks of r * channels params
+  const size_t row_size = static_cast<size_t>(r) * options_.channels;
+  // Sized here, not by their threads: the team may get fewer threads.
+  std::vector<PartialGradient>& partial = PartialGradients();
+  if (static_cast<int>(partial.size()) < extra) partial.resize(extra);
+  for (int t = 0; t < extra; ++t) {
+    PartialGradient& pg = partial[t];
+    if (pg.grad.size() < static_cast<size_t>(num_params()))
+      pg.grad.resize(num_params(), 0.0);
+    if (static_cast<int>(pg.touched_rows.size()) < rows)
+      pg.touched_rows.resize(rows, 0);
+  }
 #pragma omp parallel num_threads(threads)
   {
     const int id = omp_get_thread_num();
     std::vector<double> scratch(3 * options_.channels);
-    double* grad = d_params;
-    if (d_params != nullptr && id > 0) grad = partial[id - 1].data();
+    PartialGradient* mine =
+        d_params != nullptr && id > 0 ? &partial[id - 1] : nullptr;
+    double* grad = mine != nullptr ? mine->grad.data() : d_params;
 #pragma omp for schedule(static)
     for (int i = 0; i < n; ++i) {
       BackwardPoint(params, x + 3 * i, d_out + d * i, scratch.data(), grad,
                     d_x == nullptr ? nullptr : d_x + 3 * i);
+      if (mine == nullptr) continue;
+      for (int p = 0; p < 3; ++p) {
+        const int row = SampleAxis(x[3 * i + kPlaneAxes[p][1]],
+                                   kPlaneAxes[p][1]).i0;
+        mine->touched_rows[p * r + row] = 1;
+        mine->touched_rows[p * r + row + 1] = 1;
+      }
     }
-    if (!partial.empty()) {
+    if (extra > 0) {
 #pragma omp for schedule(static)
-      for (int j = 0; j < num_params(); ++j) {
-        for (const std::vector<double>& p : partial) d_params[j] += p[j];
+      for (int row = 0; row < rows; ++row) {
+        double* dst = d_params + row * row_size;
+        for (int t = 0; t < extra; ++t) {
+          PartialGradient& pg = partial[t];
+          if (!pg.touched_rows[row]) continue;
+          pg.touched_rows[row] = 0;
+          double* src = pg.grad.data() + row * row_size;
+          for (size_t j = 0; j < row_size; ++j) {
+            dst[j] += src[j];
+            src[j] = 0.0;
+          }
+        }
       }
     }
   }

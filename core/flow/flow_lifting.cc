@@ -111,6 +111,22 @@ void LiftingStats::Add(const LiftingStats& o) {
   accepted += o.accepted;
 }
 
+namespace {
+
+// Whether LiftFlow would look at any pixel of `water` (the first frame's):
+// one on its stride grid at or above the threshold. Pairs without one give
+// no samples, so their optical flow is not computed.
+bool HasWaterCandidate(const cv::Mat& water, const LiftingOptions& options) {
+  for (int y = 0; y < water.rows; y += options.stride) {
+    for (int x = 0; x < water.cols; x += options.stride) {
+      if (water.at<float>(y, x) >= options.water_threshold) return true;
+    }
+  }
+  return false;
+}
+
+}  // namespace
+
 void LiftFlow(const LiftingView& first, const LiftingView& second,
               const FlowPair& flow, const LiftingOptions& options,
               std::vector<SceneFlowSample>* samples, LiftingStats* stats) {
@@ -214,13 +230,17 @@ SceneFlowResult LiftSceneFlow(const Scene& scene, const GaussianSet& model,
   if (options.use_test_frames) {
     for (int i : scene.test) usable[i] = true;
   }
+  // Samples are motion per frame: a pair must be one video frame apart,
+  // not merely neighbours among the frames COLMAP registered.
   std::vector<int> pairs;  // first frame of each pair
   for (int i = 0; i + 1 < num_frames; ++i) {
-    if (usable[i] && usable[i + 1]) pairs.push_back(i);
+    if (usable[i] && usable[i + 1] &&
+        scene.frames[i + 1].time_index == scene.frames[i].time_index + 1)
+      pairs.push_back(i);
   }
   if (pairs.empty()) {
     throw InputError(scene.dir +
-                     ": no two adjacent frames are both training frames, so "
+                     ": no two consecutive video frames are both training frames, so "
                      "there is no optical flow to lift");
   }
   result.num_pairs = static_cast<int>(pairs.size());
@@ -264,6 +284,16 @@ SceneFlowResult LiftSceneFlow(const Scene& scene, const GaussianSet& model,
                                     : render_frame(i);
     const RenderedFrame second = render_frame(i + 1);
     previous = second;
+    if (first.water.type() == CV_32FC1 &&
+        !HasWaterCandidate(first.water, options.lifting)) {
+      ++result.num_dry_pairs;
+      if (options.progress) {
+        options.progress(static_cast<int>(k), result.num_pairs,
+                         scene.frames[i].camera.image_name,
+                         scene.frames[i + 1].camera.image_name, 0);
+      }
+      continue;
+    }
 
     auto start = Clock::now();
     const FlowPair pair =

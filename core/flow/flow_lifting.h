@@ -110,6 +110,7 @@ struct SceneFlowResult {
   std::vector<SceneFlowSample> samples;
   LiftingStats stats;
   int num_pairs = 0;       // adjacent (in time) frame pairs lifted
+  int num_dry_pairs = 0;   // of those, without water: flow not computed
   bool used_masks = false;
   double render_seconds = 0, flow_seconds = 0, lift_seconds = 0;
 };

@@ -1,5 +1,6 @@
 #include "core/io/field_io.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <fstream>
@@ -14,6 +15,7 @@ namespace {
 constexpr char kMotionMagic[] = "eulersplat motion field v1\n";
 constexpr char kResidualMagic[] = "eulersplat residual field v1\n";
 
+// Appends records to the stream WriteFileAtomically fills.
 class Writer {
  public:
   explicit Writer(std::ofstream* out) : out_(out) {}
@@ -33,8 +35,20 @@ class Writer {
 
 class Reader {
  public:
-  explicit Reader(const std::string& path) : path_(path), in_(path, std::ios::binary) {
+  explicit Reader(const std::string& path)
+      : path_(path), in_(path, std::ios::binary) {
     if (!in_) throw InputError(path_ + ": cannot open field file");
+    in_.seekg(0, std::ios::end);
+    size_ = in_.tellg();
+    in_.seekg(0);
+  }
+  // Rejects a parameter count the rest of the file cannot hold, before the
+  // field allocates it (a corrupt header must not allocate gigabytes).
+  void CheckFits(double num_doubles, const char* what) {
+    const double remaining = size_ - static_cast<double>(in_.tellg());
+    if (num_doubles * sizeof(double) > remaining)
+      throw InputError(path_ + ": truncated field file (" + what +
+                       " options imply more parameters than it holds)");
   }
   void Magic(const char* magic) {
     std::string line(std::char_traits<char>::length(magic), '\0');
@@ -75,6 +89,7 @@ class Reader {
  private:
   std::string path_;
   std::ifstream in_;
+  double size_ = 0;
 };
 
 void WriteTriplaneOptions(const TriplaneOptions& o, Writer* w) {
@@ -82,6 +97,10 @@ void WriteTriplaneOptions(const TriplaneOptions& o, Writer* w) {
   w->Int(o.channels);
   w->Int(static_cast<int32_t>(o.combination));
   w->Real(o.init_noise);
+}
+
+double TriplaneParams(const TriplaneOptions& o) {
+  return 3.0 * o.resolution * o.resolution * o.channels;
 }
 
 TriplaneOptions ReadTriplaneOptions(Reader* r) {
@@ -93,6 +112,7 @@ TriplaneOptions ReadTriplaneOptions(Reader* r) {
   if (o.resolution < 2 || o.resolution > 4096 || o.channels < 1 ||
       o.channels > 1024 || combination < 0 || combination > 2)
     throw InputError(r->path() + ": invalid triplane options");
+  r->CheckFits(TriplaneParams(o), "triplane");
   o.combination = static_cast<PlaneCombination>(combination);
   return o;
 }
@@ -128,10 +148,15 @@ Field ReadBoxAndParams(const Options& options, Reader* r) {
   return field;
 }
 
-void CheckMlpShape(int width, int depth, const Reader& r) {
+// The triplane's parameters still to come are read first: `triplane_params`.
+void CheckMlpShape(int width, int depth, double triplane_params, Reader* r) {
   if (width < 1 || width > 4096 || depth < 0 || depth > 64)
-    throw InputError(r.path() + ": invalid MLP shape");
+    throw InputError(r->path() + ": invalid MLP shape");
+  // Hidden layers alone hold width^2 weights each.
+  r->CheckFits(triplane_params + double(width) * width * std::max(depth - 1, 0),
+               "MLP");
 }
+
 
 }  // namespace
 
@@ -157,7 +182,7 @@ MotionField LoadMotionField(const std::string& path) {
   o.triplane = ReadTriplaneOptions(&r);
   o.mlp_width = r.Int();
   o.mlp_depth = r.Int();
-  CheckMlpShape(o.mlp_width, o.mlp_depth, r);
+  CheckMlpShape(o.mlp_width, o.mlp_depth, TriplaneParams(o.triplane), &r);
   o.velocity_scale = r.Real();
   o.last_layer_init_scale = r.Real();
   o.seed = static_cast<uint32_t>(r.Int());
@@ -197,7 +222,7 @@ ResidualField LoadResidualField(const std::string& path) {
     throw InputError(path + ": invalid residual field options");
   o.mlp_width = r.Int();
   o.mlp_depth = r.Int();
-  CheckMlpShape(o.mlp_width, o.mlp_depth, r);
+  CheckMlpShape(o.mlp_width, o.mlp_depth, TriplaneParams(o.triplane), &r);
   o.position_scale = r.Real();
   o.last_layer_init_scale = r.Real();
   o.seed = static_cast<uint32_t>(r.Int());

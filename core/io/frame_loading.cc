@@ -141,6 +141,38 @@ void ForEachFrameImage(
   }
 }
 
+std::vector<int> FrameTimeIndices(const std::string& images_dir,
+                                  const std::vector<std::string>& names) {
+  std::vector<int> times(names.size());
+  const fs::path video = FindVideo(images_dir);
+  if (!video.empty()) {
+    for (size_t i = 0; i < names.size(); ++i) {
+      int index = -1;
+      if (std::sscanf(names[i].c_str(), "frame_%d", &index) != 1 ||
+          index < 0 || names[i] != VideoFrameName(index))
+        throw InputError(video.string() + ": '" + names[i] +
+                         "' is not a frame name of a video (frames are "
+                         "named " + VideoFrameName(0) + ", ...)");
+      times[i] = index;
+    }
+    return times;
+  }
+  std::vector<std::string> all;
+  for (const fs::directory_entry& entry :
+       fs::recursive_directory_iterator(images_dir)) {
+    if (entry.is_regular_file() && IsImageFile(entry.path()))
+      all.push_back(fs::relative(entry.path(), images_dir).string());
+  }
+  std::sort(all.begin(), all.end());
+  for (size_t i = 0; i < names.size(); ++i) {
+    const auto it = std::lower_bound(all.begin(), all.end(), names[i]);
+    if (it == all.end() || *it != names[i])
+      throw InputError(images_dir + ": no image " + names[i]);
+    times[i] = static_cast<int>(it - all.begin());
+  }
+  return times;
+}
+
 std::vector<std::string> FindMaskFiles(const std::string& masks_dir,
                                        const std::vector<std::string>& names) {
   std::vector<std::string> files, missing;

@@ -23,6 +23,14 @@ void ForEachFrameImage(
     const std::string& images_dir, const std::vector<std::string>& names,
     const std::function<void(int, const cv::Mat&, const std::string&)>& visit);
 
+// The position in the video of each frame `names` (paths relative to
+// images_dir): the frame number for a video's frames (see VideoFrameName),
+// else the rank of the name among all image files of images_dir in name
+// order, so that frames missing from `names` still take up their place.
+// Throws InputError naming a name that is neither.
+std::vector<int> FrameTimeIndices(const std::string& images_dir,
+                                  const std::vector<std::string>& names);
+
 // The mask files of images `names` in masks_dir: for each a file of the same
 // name, else the same stem with .png. Throws InputError listing every image
 // that has neither.

@@ -1,5 +1,6 @@
 #include "core/io/pinhole_camera.h"
 
+#include <cmath>
 #include <vector>
 
 #include "core/io/input_error.h"
@@ -28,7 +29,8 @@ Camera PinholeCameraFromColmap(const ColmapCamera& camera,
                      "SIMPLE_PINHOLE (undistort the images first)");
   }
   if (camera.width <= 0 || camera.height <= 0 || !(c.fx > 0) ||
-      !(c.fy > 0)) {
+      !(c.fy > 0) || !std::isfinite(c.fx) || !std::isfinite(c.fy) ||
+      !std::isfinite(c.cx) || !std::isfinite(c.cy)) {
     throw InputError(source + ": camera " + std::to_string(camera.id) +
                      " has an invalid size or focal length");
   }

@@ -12,6 +12,8 @@
 #include <string>
 #include <vector>
 
+#include <glog/logging.h>
+
 #include "core/io/atomic_file.h"
 #include "core/io/input_error.h"
 
@@ -199,17 +201,37 @@ class RowReader {
     values->clear();
     for (const PlyProperty& p : element.properties) {
       if (p.is_list) {
-        const double count = Value(p.count_type, element, row);
-        if (count < 0) Fail(element, row, "negative list length");
-        for (int64_t i = 0; i < static_cast<int64_t>(count); ++i)
-          Value(p.type, element, row);
+        const int64_t count = ListLength(p, element, row);
+        for (int64_t i = 0; i < count; ++i) Value(p.type, element, row);
       } else {
         values->push_back(Value(p.type, element, row));
       }
     }
   }
 
+  // Skips every row of an element the reader does not use. An element
+  // without properties occupies no bytes, whatever count it announces.
+  void Skip(const PlyElement& element) {
+    if (element.properties.empty()) return;
+    std::vector<double> values;
+    for (int64_t row = 0; row < element.count; ++row)
+      Read(element, row, &values);
+  }
+
  private:
+  // A list's length is stored in any PLY type, float included: it must be a
+  // whole number, and each item takes at least a byte, so a length beyond
+  // the remaining bytes is a truncated file (checked before any cast).
+  int64_t ListLength(const PlyProperty& p, const PlyElement& element,
+                     int64_t row) {
+    const double count = Value(p.count_type, element, row);
+    if (!(count >= 0) || count != std::floor(count))
+      Fail(element, row, "bad list length");
+    if (count > static_cast<double>(data_.size() - pos_))
+      Fail(element, row, "truncated file");
+    return static_cast<int64_t>(count);
+  }
+
   double Value(PlyType type, const PlyElement& element, int64_t row) {
     if (binary_) {
       const size_t size = PlyTypeSize(type);
@@ -319,27 +341,35 @@ void CheckSizeFits(const std::string& path, const std::string& data,
                      " vertices)");
 }
 
-}  // namespace
-
-GaussianSet ReadPly(const std::string& path) {
-  const std::string data = ReadWholeFile(path);
-  const PlyHeader header = ParseHeader(path, data);
-
+// The vertex element (the last one of that name); the elements before it are
+// skipped, those after it are never read.
+int VertexElementIndex(const std::string& path, const PlyHeader& header) {
   int vertex_index = -1;
   for (size_t e = 0; e < header.elements.size(); ++e)
     if (header.elements[e].name == "vertex") vertex_index = e;
   if (vertex_index < 0) throw InputError(path + ": no 'vertex' element");
-  const PlyElement& vertex = header.elements[vertex_index];
+  return vertex_index;
+}
 
-  // Map the vertex's non-list properties to fields and check that every
-  // required one is present exactly once.
-  std::vector<Target> targets;
+// Where each non-list vertex property goes, and the SH degree its f_rest
+// count implies.
+struct VertexLayout {
+  std::vector<Target> targets;  // one per non-list property, in file order
+  int sh_degree = 0;
+};
+
+// Maps the vertex's non-list properties to fields and checks that every
+// required one is present exactly once and that the f_rest indices are
+// 0..n-1 for an n of some SH degree.
+VertexLayout MapVertexProperties(const std::string& path,
+                                 const PlyElement& vertex) {
+  VertexLayout layout;
   std::vector<int> seen_rest;
   int seen[8][4] = {};
   for (const PlyProperty& p : vertex.properties) {
     if (p.is_list) continue;
     const Target t = TargetOf(p.name);
-    targets.push_back(t);
+    layout.targets.push_back(t);
     if (t.field == Field::kShRest) {
       seen_rest.push_back(t.index);
     } else if (t.field != Field::kIgnored) {
@@ -368,10 +398,10 @@ GaussianSet ReadPly(const std::string& path) {
     }
   }
   const int num_rest = seen_rest.size();
-  int degree = -1;
+  layout.sh_degree = -1;
   for (int d = 0; d <= kMaxShDegree; ++d)
-    if (num_rest == 3 * (NumShCoeffs(d) - 1)) degree = d;
-  if (degree < 0)
+    if (num_rest == 3 * (NumShCoeffs(d) - 1)) layout.sh_degree = d;
+  if (layout.sh_degree < 0)
     throw InputError(path + ": " + std::to_string(num_rest) +
                      " f_rest properties; expected 0, 9, 24 or 45");
   std::vector<bool> rest_present(num_rest, false);
@@ -382,61 +412,100 @@ GaussianSet ReadPly(const std::string& path) {
                        std::to_string(num_rest) + " f_rest properties");
     rest_present[j] = true;
   }
+  return layout;
+}
+
+// Tools that store opacity in 8 bits write opacity 1 and 0 back as logits
+// +Inf and -Inf. The largest finite logit we keep, that of opacity 0.9999,
+// renders exactly as opacity 1 (alpha saturates at 0.99) and its negative
+// exactly as 0 (alpha below 1/255 is skipped), yet leaves a gradient if the
+// model is trained further.
+const double kOpacityLogitLimit = std::log(9999.0);
+
+// The one place a vertex value is accepted or rejected: the model never
+// holds a NaN or an infinity. Infinite opacity logits are clamped to
+// +/-kOpacityLogitLimit and counted in *clamped (for one warning).
+double AcceptedValue(const std::string& path, int64_t vertex, const Target& t,
+                     double v, int64_t* clamped) {
+  if (t.field == Field::kOpacity && std::isinf(v)) {
+    ++*clamped;
+    return v > 0 ? kOpacityLogitLimit : -kOpacityLogitLimit;
+  }
+  if (!std::isfinite(v))
+    throw InputError(path + ": vertex " + std::to_string(vertex) +
+                     " has a non-finite value");
+  return v;
+}
+
+// Stores value v of vertex n where target t says.
+void Store(const Target& t, int64_t n, double v, GaussianSet* g) {
+  const int k_count = g->sh_coeffs();
+  switch (t.field) {
+    case Field::kMean:
+      g->means[3 * n + t.index] = v;
+      break;
+    case Field::kShDc:
+      g->sh[(n * k_count) * 3 + t.index] = v;
+      break;
+    case Field::kShRest: {
+      // Channel-major: all R coefficients first, then G, then B.
+      const int c = t.index / (k_count - 1);
+      const int k = 1 + t.index % (k_count - 1);
+      g->sh[(n * k_count + k) * 3 + c] = v;
+      break;
+    }
+    case Field::kOpacity:
+      g->opacity_logits[n] = v;
+      break;
+    case Field::kScale:
+      g->log_scales[3 * n + t.index] = v;
+      break;
+    case Field::kRot:
+      g->quats[4 * n + t.index] = v;
+      break;
+    case Field::kDynamic:
+      g->dynamic_logits[n] = v;
+      break;
+    case Field::kIgnored:
+      break;
+  }
+}
+
+}  // namespace
+
+GaussianSet ReadPly(const std::string& path) {
+  const std::string data = ReadWholeFile(path);
+  const PlyHeader header = ParseHeader(path, data);
+  const int vertex_index = VertexElementIndex(path, header);
+  const PlyElement& vertex = header.elements[vertex_index];
+  const VertexLayout layout = MapVertexProperties(path, vertex);
   CheckSizeFits(path, data, header, vertex_index);
 
   GaussianSet g;
-  g.sh_degree = degree;
+  g.sh_degree = layout.sh_degree;
   g.Resize(static_cast<int>(vertex.count));
-  const int k_count = g.sh_coeffs();
   RowReader reader(path, data, header);
+  for (int e = 0; e < vertex_index; ++e) reader.Skip(header.elements[e]);
   std::vector<double> values;
-  for (int e = 0; e < vertex_index; ++e)
-    for (int64_t row = 0; row < header.elements[e].count; ++row)
-      reader.Read(header.elements[e], row, &values);
+  int64_t clamped = 0;
   for (int64_t n = 0; n < vertex.count; ++n) {
     reader.Read(vertex, n, &values);
-    for (size_t p = 0; p < targets.size(); ++p) {
-      const Target& t = targets[p];
+    for (size_t p = 0; p < layout.targets.size(); ++p) {
+      const Target& t = layout.targets[p];
       if (t.field == Field::kIgnored) continue;
-      const double v = values[p];
-      if (!std::isfinite(v))
-        throw InputError(path + ": vertex " + std::to_string(n) +
-                         " has a non-finite value");
-      switch (t.field) {
-        case Field::kMean:
-          g.means[3 * n + t.index] = v;
-          break;
-        case Field::kShDc:
-          g.sh[(n * k_count) * 3 + t.index] = v;
-          break;
-        case Field::kShRest: {
-          // Channel-major: all R coefficients first, then G, then B.
-          const int c = t.index / (k_count - 1);
-          const int k = 1 + t.index % (k_count - 1);
-          g.sh[(n * k_count + k) * 3 + c] = v;
-          break;
-        }
-        case Field::kOpacity:
-          g.opacity_logits[n] = v;
-          break;
-        case Field::kScale:
-          g.log_scales[3 * n + t.index] = v;
-          break;
-        case Field::kRot:
-          g.quats[4 * n + t.index] = v;
-          break;
-        case Field::kDynamic:
-          g.dynamic_logits[n] = v;
-          break;
-        case Field::kIgnored:
-          break;
-      }
+      Store(t, n, AcceptedValue(path, n, t, values[p], &clamped), &g);
     }
+  }
+  if (clamped > 0) {
+    LOG(WARNING) << path << ": " << clamped
+                 << " opacity logits are +/-Inf (opacity exactly 1 or 0, as "
+                    "8-bit formats write them back); clamped to +/-"
+                 << kOpacityLogitLimit;
   }
   return g;
 }
 
-void WritePly(const GaussianSet& gaussians, const std::string& path) {
+std::string EncodePly(const GaussianSet& gaussians) {
   gaussians.CheckConsistent();
   const int n = gaussians.size();
   const int k_count = gaussians.sh_coeffs();
@@ -476,11 +545,16 @@ void WritePly(const GaussianSet& gaussians, const std::string& path) {
     tail[8] = gaussians.dynamic_logits[i];
   }
 
-  const std::string h = header.str();
-  WriteFileAtomically(path, [&](std::ofstream& file) {
-    file.write(h.data(), h.size());
-    file.write(reinterpret_cast<const char*>(body.data()),
+  std::string bytes = header.str();
+  bytes.append(reinterpret_cast<const char*>(body.data()),
                body.size() * sizeof(float));
+  return bytes;
+}
+
+void WritePly(const GaussianSet& gaussians, const std::string& path) {
+  const std::string bytes = EncodePly(gaussians);
+  WriteFileAtomically(path, [&bytes](std::ofstream& file) {
+    file.write(bytes.data(), bytes.size());
   });
 }
 

@@ -16,6 +16,11 @@ struct Frame {
   Camera camera;
   cv::Mat image;  // CV_32FC3, RGB order, values in [0, 1]
   cv::Mat mask;   // CV_32FC1 in [0, 1] (1 = water); empty if the scene has none
+  // Position in the video (0 = its first frame). Frames COLMAP did not
+  // register are not loaded but keep their place, so this can skip numbers;
+  // the loop's cycle index and cycle number come from it, never from the
+  // frame's place in Scene::frames.
+  int time_index = 0;
 };
 
 struct SceneOptions {
@@ -26,7 +31,9 @@ struct SceneOptions {
 
 // A scene directory (see docs/DESIGN.md): images/ (or a video file in it),
 // masks/, sparse/0/, optional split.txt (format in core/io/split.h). Frames
-// are sorted by image name, which is their time order.
+// are sorted by image name, which is their time order; a frame's time_index
+// is its position among all frames of images/ (or its number in the video),
+// whether or not COLMAP registered the others.
 struct Scene {
   std::string dir;
   std::vector<Frame> frames;

@@ -1,5 +1,8 @@
 #include "core/io/undistort.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include <glog/logging.h>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
@@ -40,21 +43,38 @@ Undistorter::Undistorter(const ColmapCamera& camera,
   }
   pinhole_.width = camera.width;
   pinhole_.height = camera.height;
-  if (dist[0] == 0 && dist[1] == 0 && dist[2] == 0 && dist[3] == 0) return;
+  // The rasterizer divides by the focal length: a zero, negative or
+  // non-finite one is the file's fault, reported here rather than failing a
+  // CHECK mid-training.
+  if (!(pinhole_.fx > 0) || !(pinhole_.fy > 0) || !std::isfinite(pinhole_.fx) ||
+      !std::isfinite(pinhole_.fy) || !std::isfinite(pinhole_.cx) ||
+      !std::isfinite(pinhole_.cy) || camera.width <= 0 || camera.height <= 0)
+    throw InputError(source + ": camera " + std::to_string(camera.id) +
+                     " has an invalid size or focal length (fx " +
+                     std::to_string(pinhole_.fx) + ", fy " +
+                     std::to_string(pinhole_.fy) + ")");
+  std::copy(dist, dist + 4, dist_);
+}
 
-  // OpenCV puts pixel centers at integers, COLMAP at +0.5: shift the
-  // principal point so both describe the same rays.
-  const cv::Matx33d k(pinhole_.fx, 0, pinhole_.cx - 0.5, 0, pinhole_.fy,
-                      pinhole_.cy - 0.5, 0, 0, 1);
-  cv::initUndistortRectifyMap(k, cv::Mat(1, 4, CV_64F, dist), cv::Mat(), k,
-                              cv::Size(camera.width, camera.height), CV_32FC1,
-                              map_x_, map_y_);
+bool Undistorter::is_identity() const {
+  return dist_[0] == 0 && dist_[1] == 0 && dist_[2] == 0 && dist_[3] == 0;
 }
 
 cv::Mat Undistorter::Apply(const cv::Mat& image) const {
   if (is_identity()) return image;
   CHECK_EQ(image.cols, pinhole_.width);
   CHECK_EQ(image.rows, pinhole_.height);
+  if (map_x_.empty()) {
+    // Built on first use, after the caller has checked a real frame of this
+    // size: a corrupt camera size must not allocate maps for it first.
+    // OpenCV puts pixel centers at integers, COLMAP at +0.5: shift the
+    // principal point so both describe the same rays.
+    const cv::Matx33d k(pinhole_.fx, 0, pinhole_.cx - 0.5, 0, pinhole_.fy,
+                        pinhole_.cy - 0.5, 0, 0, 1);
+    cv::initUndistortRectifyMap(
+        k, cv::Mat(1, 4, CV_64F, const_cast<double*>(dist_)), cv::Mat(), k,
+        cv::Size(pinhole_.width, pinhole_.height), CV_32FC1, map_x_, map_y_);
+  }
   cv::Mat out;
   cv::remap(image, out, map_x_, map_y_, cv::INTER_LINEAR, cv::BORDER_REPLICATE);
   return out;

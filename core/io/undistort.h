@@ -17,20 +17,23 @@ namespace es {
 // border). Other models are rejected.
 class Undistorter {
  public:
-  // Throws InputError naming `source` (the model's file) and the model when
-  // the model is not supported.
+  // Throws InputError naming `source` (the model's file) and the camera when
+  // the model is not supported or its size or focal length is invalid.
   Undistorter(const ColmapCamera& camera, const std::string& source);
 
   // Width, height and intrinsics of the undistorted frames; pose unset.
   const Camera& pinhole() const { return pinhole_; }
   // True if frames need no resampling (pinhole model or zero distortion).
-  bool is_identity() const { return map_x_.empty(); }
-  // Resamples a frame (any channel count, same size as the camera).
+  bool is_identity() const;
+  // Resamples a frame (any channel count, same size as the camera). The
+  // first call builds the resampling maps (not thread-safe).
   cv::Mat Apply(const cv::Mat& image) const;
 
  private:
   Camera pinhole_;
-  cv::Mat map_x_, map_y_;  // source pixel (OpenCV coordinates) per output
+  double dist_[4] = {0, 0, 0, 0};  // OpenCV order: k1 k2 p1 p2
+  // Source pixel (OpenCV coordinates) per output, built on first use.
+  mutable cv::Mat map_x_, map_y_;
 };
 
 }  // namespace es

@@ -6,6 +6,8 @@
 
 #include <glog/logging.h>
 
+#include "core/profile/stage_profile.h"
+
 namespace es {
 namespace {
 
@@ -82,6 +84,7 @@ double EulerChain::max_step() const {
 
 void EulerChain::Forward(const FieldParams& params, int n, const double* x0,
                          const int* steps, double* x_out) {
+  ScopedStage timer(Stage::kEulerChain);
   n_ = n;
   stats_ = EulerStats();
   int max_steps = 0;
@@ -131,6 +134,7 @@ void EulerChain::Forward(const FieldParams& params, int n, const double* x0,
 
 void EulerChain::Backward(const FieldParams& params, const double* d_x_out,
                           const FieldGradients& grads, double* d_x0) {
+  ScopedStage timer(Stage::kEulerChain);
   gradient_.resize(3 * static_cast<size_t>(n_));
   for (int k = 0; k < n_; ++k) {
     std::copy(d_x_out + 3 * order_[k], d_x_out + 3 * order_[k] + 3,

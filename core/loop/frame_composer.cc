@@ -5,6 +5,7 @@
 #include <glog/logging.h>
 
 #include "core/loop/cycle_time.h"
+#include "core/profile/stage_profile.h"
 
 namespace es {
 namespace {
@@ -45,6 +46,7 @@ EulerChain* FrameComposer::ChainFor(const MotionField* field) {
 
 const SplatView& FrameComposer::Compose(const LoopModelView& model,
                                         int frame) {
+  ScopedStage timer(Stage::kComposition);
   const LoopStructure& s = model.structure;
   const int* dynamic = DynamicIndices(s);
   CHECK(s.start_times != nullptr);
@@ -82,6 +84,7 @@ const SplatView& FrameComposer::ComposeAdvected(const LoopModelView& model,
                                                 const double* positions,
                                                 const int* cycle_indices,
                                                 int cycle_number) {
+  ScopedStage timer(Stage::kComposition);
   const LoopStructure& s = model.structure;
   const int* dynamic = DynamicIndices(s);
   const int m = s.num_dynamic();
@@ -145,6 +148,7 @@ void FrameComposer::Backward(const LoopModelView& model,
                              const SplatGradients& grads,
                              const double* d_residuals,
                              const LoopModelGradients& out) {
+  ScopedStage timer(Stage::kComposition);
   const LoopStructure& s = model.structure;
   const int* dynamic = DynamicIndices(s);
   const SplatView& c = model.canonical;

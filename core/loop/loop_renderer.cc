@@ -65,11 +65,14 @@ EulerStats LoopRenderer::euler_stats() const {
   return animator_ ? animator_->stats() : EulerStats();
 }
 
+const SplatView& LoopRenderer::Compose() {
+  CHECK(started_) << "Start before Compose";
+  return composer_.ComposeAdvected(view_, positions().data(),
+                                   cycle_indices().data(), /*cycle_number=*/0);
+}
+
 const RenderResult& LoopRenderer::Render(const Camera& camera) {
-  CHECK(started_) << "Start before Render";
-  const SplatView& splats = composer_.ComposeAdvected(
-      view_, positions().data(), cycle_indices().data(), /*cycle_number=*/0);
-  rasterizer_.Forward(camera, splats, options_, &result_);
+  rasterizer_.Forward(camera, Compose(), options_, &result_);
   return result_;
 }
 

@@ -29,6 +29,9 @@ class LoopRenderer {
   void Advance();
   int frame() const { return frame_; }
 
+  // The splats of the current frame, every offset applied (what Render
+  // draws); valid until the next Compose or Render.
+  const SplatView& Compose();
   // Renders the current frame; the result stays valid until the next call.
   const RenderResult& Render(const Camera& camera);
 

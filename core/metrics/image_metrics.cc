@@ -9,15 +9,14 @@
 namespace es {
 namespace {
 
-// Zero-padded 'same' Gaussian filtering. The kernel is symmetric and the
-// padding is zero, so this filter is its own adjoint (used by the gradient).
-cv::Mat Blur(const cv::Mat& src) {
+// Zero-padded 'same' Gaussian filtering into dst (reusing its memory). The
+// kernel is symmetric and the padding is zero, so this filter is its own
+// adjoint (used by the gradient).
+void Blur(const cv::Mat& src, cv::Mat* dst) {
   static const cv::Mat kernel =
       cv::getGaussianKernel(kSsimWindow, kSsimSigma, CV_64F);
-  cv::Mat dst;
-  cv::sepFilter2D(src, dst, CV_64F, kernel, kernel, cv::Point(-1, -1), 0,
+  cv::sepFilter2D(src, *dst, CV_64F, kernel, kernel, cv::Point(-1, -1), 0,
                   cv::BORDER_CONSTANT);
-  return dst;
 }
 
 void CheckPair(const cv::Mat& x, const cv::Mat& y) {
@@ -27,44 +26,40 @@ void CheckPair(const cv::Mat& x, const cv::Mat& y) {
   CHECK(x.isContinuous() && y.isContinuous());
 }
 
-// Everything SSIM's value and gradient need, per pixel and channel.
-struct SsimTerms {
-  cv::Mat mu_x, mu_y, s_xx, s_yy, s_xy;
-};
-
-SsimTerms ComputeTerms(const cv::Mat& x, const cv::Mat& y) {
+// Fills ws->mu_x, mu_y, s_xx, s_yy, s_xy: everything SSIM's value and
+// gradient need, per pixel and channel.
+void ComputeTerms(const cv::Mat& x, const cv::Mat& y, SsimWorkspace* ws) {
   const size_t n = x.total() * x.channels();
-  cv::Mat xx(x.size(), x.type()), yy(x.size(), x.type()),
-      xy(x.size(), x.type());
+  ws->xx.create(x.size(), x.type());
+  ws->yy.create(x.size(), x.type());
+  ws->xy.create(x.size(), x.type());
   const double* px = x.ptr<double>();
   const double* py = y.ptr<double>();
-  double* pxx = xx.ptr<double>();
-  double* pyy = yy.ptr<double>();
-  double* pxy = xy.ptr<double>();
+  double* pxx = ws->xx.ptr<double>();
+  double* pyy = ws->yy.ptr<double>();
+  double* pxy = ws->xy.ptr<double>();
 #pragma omp parallel for schedule(static)
   for (size_t i = 0; i < n; ++i) {
     pxx[i] = px[i] * px[i];
     pyy[i] = py[i] * py[i];
     pxy[i] = px[i] * py[i];
   }
-  SsimTerms t;
-  t.mu_x = Blur(x);
-  t.mu_y = Blur(y);
-  t.s_xx = Blur(xx);
-  t.s_yy = Blur(yy);
-  t.s_xy = Blur(xy);
-  const double* mx = t.mu_x.ptr<double>();
-  const double* my = t.mu_y.ptr<double>();
-  double* sxx = t.s_xx.ptr<double>();
-  double* syy = t.s_yy.ptr<double>();
-  double* sxy = t.s_xy.ptr<double>();
+  Blur(x, &ws->mu_x);
+  Blur(y, &ws->mu_y);
+  Blur(ws->xx, &ws->s_xx);
+  Blur(ws->yy, &ws->s_yy);
+  Blur(ws->xy, &ws->s_xy);
+  const double* mx = ws->mu_x.ptr<double>();
+  const double* my = ws->mu_y.ptr<double>();
+  double* sxx = ws->s_xx.ptr<double>();
+  double* syy = ws->s_yy.ptr<double>();
+  double* sxy = ws->s_xy.ptr<double>();
 #pragma omp parallel for schedule(static)
   for (size_t i = 0; i < n; ++i) {
     sxx[i] -= mx[i] * mx[i];
     syy[i] -= my[i] * my[i];
     sxy[i] -= mx[i] * my[i];
   }
-  return t;
 }
 
 double MaskedMean(const cv::Mat& values, const cv::Mat& mask, bool invert) {
@@ -115,7 +110,9 @@ double L1Loss(const cv::Mat& x, const cv::Mat& y, cv::Mat* d_x) {
 
 cv::Mat SsimMap(const cv::Mat& x, const cv::Mat& y) {
   CheckPair(x, y);
-  const SsimTerms t = ComputeTerms(x, y);
+  SsimWorkspace ws;
+  ComputeTerms(x, y, &ws);
+  const SsimWorkspace& t = ws;
   cv::Mat map(x.size(), x.type());
   const size_t n = x.total() * x.channels();
   const double* mx = t.mu_x.ptr<double>();
@@ -133,8 +130,15 @@ cv::Mat SsimMap(const cv::Mat& x, const cv::Mat& y) {
 }
 
 double Ssim(const cv::Mat& x, const cv::Mat& y, cv::Mat* d_x) {
+  SsimWorkspace ws;
+  return Ssim(x, y, d_x, &ws);
+}
+
+double Ssim(const cv::Mat& x, const cv::Mat& y, cv::Mat* d_x,
+            SsimWorkspace* ws) {
   CheckPair(x, y);
-  const SsimTerms t = ComputeTerms(x, y);
+  ComputeTerms(x, y, ws);
+  const SsimWorkspace& t = *ws;
   const size_t n = x.total() * x.channels();
   const double* mx = t.mu_x.ptr<double>();
   const double* my = t.mu_y.ptr<double>();
@@ -143,15 +147,14 @@ double Ssim(const cv::Mat& x, const cv::Mat& y, cv::Mat* d_x) {
   const double* sxy = t.s_xy.ptr<double>();
   // d S / d (mu_x, E[x^2], E[xy]) per pixel, then pulled back through the
   // (self-adjoint) window: d/dx = G*a + 2 x G*b + y G*c.
-  cv::Mat a, b, c;
   double *pa = nullptr, *pb = nullptr, *pc = nullptr;
   if (d_x) {
-    a.create(x.size(), x.type());
-    b.create(x.size(), x.type());
-    c.create(x.size(), x.type());
-    pa = a.ptr<double>();
-    pb = b.ptr<double>();
-    pc = c.ptr<double>();
+    ws->a.create(x.size(), x.type());
+    ws->b.create(x.size(), x.type());
+    ws->c.create(x.size(), x.type());
+    pa = ws->a.ptr<double>();
+    pb = ws->b.ptr<double>();
+    pc = ws->c.ptr<double>();
   }
   const double inv_n = 1.0 / n;
   const bool want_grad = d_x != nullptr;
@@ -173,14 +176,17 @@ double Ssim(const cv::Mat& x, const cv::Mat& y, cv::Mat* d_x) {
     pc[i] = ds_dsxy * inv_n;
   }
   if (d_x) {
-    const cv::Mat ga = Blur(a), gb = Blur(b), gc = Blur(c);
+    // The blurs of a, b, c reuse the buffers of E[x^2], E[y^2], E[xy].
+    Blur(ws->a, &ws->xx);
+    Blur(ws->b, &ws->yy);
+    Blur(ws->c, &ws->xy);
     d_x->create(x.size(), x.type());
     double* pd = d_x->ptr<double>();
     const double* px = x.ptr<double>();
     const double* py = y.ptr<double>();
-    const double* qa = ga.ptr<double>();
-    const double* qb = gb.ptr<double>();
-    const double* qc = gc.ptr<double>();
+    const double* qa = ws->xx.ptr<double>();
+    const double* qb = ws->yy.ptr<double>();
+    const double* qc = ws->xy.ptr<double>();
 #pragma omp parallel for schedule(static)
     for (size_t i = 0; i < n; ++i)
       pd[i] = qa[i] + 2 * px[i] * qb[i] + py[i] * qc[i];

@@ -100,7 +100,8 @@ void SaveLoopModel(const LoopModel& model, const std::string& dir) {
   std::error_code error;
   fs::create_directories(dir, error);
   if (error) throw InputError(dir + ": cannot create directory");
-  WritePly(model.gaussians, Join(dir, kCanonicalFile));
+  const std::string ply = Join(dir, kCanonicalFile);
+  WritePly(model.gaussians, ply);  // atomic on its own
   WriteLoopFile(model, Join(dir, kLoopFile));
   // A field the model lacks must not be picked up from an earlier save.
   const std::string motion = Join(dir, kMotionFile);

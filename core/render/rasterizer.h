@@ -7,16 +7,10 @@
 
 #include "core/model/camera.h"
 #include "core/model/gaussians.h"
+#include "core/render/raster_constants.h"
+#include "core/render/tile_kernels.h"
 
 namespace es {
-
-// Conventions shared with the 3DGS / gsplat ecosystem (see docs/DESIGN.md).
-constexpr double kCovarianceDilation = 0.3;   // px^2 added to the 2D covariance
-constexpr double kNearPlane = 0.01;           // cull z <= this
-constexpr double kMaxAlpha = 0.99;            // keeps 1 - alpha invertible
-constexpr double kMinAlpha = 1.0 / 255.0;     // below one 8-bit level: skip
-constexpr double kMinTransmittance = 1e-4;    // stop before T falls below
-constexpr int kTileSize = 16;
 
 // Read-only views of the splat attributes to render (layouts as in
 // GaussianSet). `means` may point at advected positions rather than the
@@ -39,6 +33,8 @@ struct SplatView {
 struct RenderOptions {
   Eigen::Vector3d background = Eigen::Vector3d::Zero();
   bool use_double = false;  // compute the inner loops in double (for tests)
+  // Instruction set of the tile kernels (kAuto: the best the CPU has).
+  SimdLevel simd = SimdLevel::kAuto;
 };
 
 // Row-major images, H x W (x channels).

@@ -1,13 +1,19 @@
 #include "core/viz/render_png.h"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
+#include <filesystem>
+#include <string>
 #include <vector>
 
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include "core/io/atomic_file.h"
 #include "core/io/input_error.h"
 #include "core/render/render_maps.h"
 
@@ -15,14 +21,24 @@ namespace es {
 
 namespace {
 
+// Written beside `path` (same extension, so imwrite picks the same format)
+// and renamed over it: a crash never leaves a truncated image.
 void Write(const cv::Mat& image, const std::string& path) {
+  const std::string extension = std::filesystem::path(path).extension();
+  const std::string tmp =
+      path + ".tmp." + std::to_string(::getpid()) + extension;
   bool ok = false;
   try {
-    ok = cv::imwrite(path, image);
+    ok = cv::imwrite(tmp, image);
   } catch (const cv::Exception& e) {
+    std::remove(tmp.c_str());
     throw InputError(path + ": cannot write image: " + e.what());
   }
-  if (!ok) throw InputError(path + ": cannot write image");
+  if (!ok) {
+    std::remove(tmp.c_str());
+    throw InputError(path + ": cannot write image");
+  }
+  ReplaceFile(tmp, path);
 }
 
 }  // namespace

@@ -1,15 +1,19 @@
 #include "core/viz/video_writer.h"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <string>
 
 #include <glog/logging.h>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/videoio.hpp>
 
+#include "core/io/atomic_file.h"
 #include "core/io/input_error.h"
 
 namespace es {
@@ -111,12 +115,21 @@ void VideoWriter::Add(const cv::Mat& bgr) {
 
 std::string VideoWriter::Finish(const std::string& mp4_path) {
   if (frames_ == 0) throw InputError(mp4_path + ": no frames to encode");
-  if (FfmpegAvailable() && EncodeWithFfmpeg(frame_dir_, fps_, mp4_path)) {
+  // Encoded beside the target (the encoders pick the container from the
+  // extension) and renamed over it: a killed encoder never leaves a
+  // truncated video that a rerun would take as done.
+  const std::string tmp =
+      mp4_path + ".tmp." + std::to_string(::getpid()) + ".mp4";
+  if (FfmpegAvailable() && EncodeWithFfmpeg(frame_dir_, fps_, tmp)) {
+    ReplaceFile(tmp, mp4_path);
     return "ffmpeg";
   }
-  if (EncodeWithOpenCv(frame_dir_, frames_, fps_, size_, mp4_path)) {
+  if (EncodeWithOpenCv(frame_dir_, frames_, fps_, size_, tmp)) {
+    ReplaceFile(tmp, mp4_path);
     return "opencv-mp4v";
   }
+  std::error_code error;
+  fs::remove(tmp, error);
   throw InputError(mp4_path + ": cannot encode video (no ffmpeg, and "
                    "OpenCV's mp4v writer failed)");
 }

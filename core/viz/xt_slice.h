@@ -1,6 +1,8 @@
 #ifndef EULERSPLAT_CORE_VIZ_XT_SLICE_H_
 #define EULERSPLAT_CORE_VIZ_XT_SLICE_H_
 
+#include <vector>
+
 #include <opencv2/core.hpp>
 
 namespace es {
@@ -25,6 +27,25 @@ class XtSlice {
  private:
   int row_;
   cv::Mat slice_;
+};
+
+// Where a fixed-view video moves: per image row, the summed absolute change
+// between consecutive frames. Static scenery adds nothing, moving water a
+// lot, so the busiest row is the one an x-t slice should cut through.
+class RowChange {
+ public:
+  // Adds a frame (any type; every frame the same size and type).
+  void Add(const cv::Mat& frame);
+
+  // The row of most change, summed over a band of +-2 rows so one noisy
+  // row does not win over a band of water; the middle row before any
+  // change was seen.
+  int BusiestRow() const;
+  const std::vector<double>& per_row() const { return change_; }
+
+ private:
+  cv::Mat previous_;
+  std::vector<double> change_;
 };
 
 }  // namespace es

@@ -63,7 +63,11 @@ class CheckpointReader {
  public:
   CheckpointReader(std::ifstream* in, const std::string& path,
                    const std::string& kind)
-      : in_(in), path_(path), kind_(kind) {}
+      : in_(in), path_(path), kind_(kind) {
+    in_->seekg(0, std::ios::end);
+    size_ = in_->tellg();
+    in_->seekg(0);
+  }
   template <typename T>
   T Pod() {
     T v;
@@ -73,7 +77,9 @@ class CheckpointReader {
   template <typename T>
   std::vector<T> Vector() {
     const uint64_t n = Pod<uint64_t>();
-    if (n > (uint64_t{1} << 40) / sizeof(T)) Fail("implausible array size");
+    // Checked against the bytes left before allocating: a corrupt length
+    // must not allocate gigabytes.
+    if (n > RemainingBytes() / sizeof(T)) Fail("truncated");
     std::vector<T> v(n);
     Read(v.data(), n * sizeof(T));
     return v;
@@ -124,12 +130,17 @@ class CheckpointReader {
   }
 
  private:
+  uint64_t RemainingBytes() {
+    const std::streamoff at = in_->tellg();
+    return at < 0 || at > size_ ? 0 : static_cast<uint64_t>(size_ - at);
+  }
   void Read(void* dst, size_t bytes) {
     in_->read(static_cast<char*>(dst), bytes);
     if (!*in_) Fail("truncated");
   }
   std::ifstream* in_;
   std::string path_, kind_;
+  std::streamoff size_ = 0;
 };
 
 // Every checkpoint file starts with an 8-byte tag naming its kind and
@@ -138,7 +149,8 @@ using CheckpointMagic = char[8];
 
 // Writes PATH atomically (core/io/atomic_file.h): `write_records(
 // CheckpointWriter&)` fills a temporary file that then replaces PATH, so a
-// run killed mid-write keeps its previous checkpoint.
+// run killed mid-write keeps its previous checkpoint, and a failed write
+// (disk full) throws InputError and keeps it too.
 template <typename WriteRecords>
 void WriteCheckpointFile(const std::string& path, const CheckpointMagic& magic,
                          WriteRecords write_records) {

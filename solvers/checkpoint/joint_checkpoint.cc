@@ -1,5 +1,7 @@
 #include "solvers/checkpoint/joint_checkpoint.h"
 
+#include <cmath>
+
 #include "solvers/checkpoint/checkpoint_io.h"
 
 namespace es {
@@ -57,6 +59,15 @@ JointCheckpoint ReadJointCheckpoint(const std::string& path) {
             !SameShapes(c.field_params, c.field_v) ||
             c.field_boxes.size() != 3 * c.field_params.size())
           r.Fail("inconsistent sizes");
+        // Boxes go to Triplane::SetBox, which CHECKs they are not empty.
+        for (size_t f = 0; f + 6 <= c.field_boxes.size(); f += 6) {
+          for (int a = 0; a < 3; ++a) {
+            const double lo = c.field_boxes[f + a];
+            const double hi = c.field_boxes[f + 3 + a];
+            if (!std::isfinite(lo) || !std::isfinite(hi) || !(hi > lo))
+              r.Fail("empty or non-finite field box");
+          }
+        }
         for (size_t k = 0; k < c.dynamic_index.size(); ++k) {
           if (c.dynamic_index[k] < 0 || c.dynamic_index[k] >= n ||
               (k > 0 && c.dynamic_index[k] <= c.dynamic_index[k - 1]))

@@ -42,8 +42,8 @@ LoopMetrics EvaluateLoopModel(const LoopModel& model,
   FiniteMean psnr, ssim, psnr_water, ssim_water;
   for (int index : indices) {
     const Frame& f = frames[index];
-    rasterizer.Forward(f.camera, composer.Compose(view, index), options,
-                       &render);
+    rasterizer.Forward(f.camera, composer.Compose(view, f.time_index),
+                       options, &render);
     const cv::Mat x(render.height, render.width, CV_64FC3,
                     render.rgb.data());
     cv::Mat y;

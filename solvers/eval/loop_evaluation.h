@@ -11,10 +11,10 @@
 
 namespace es {
 
-// Held-out quality of a looping model: each frame i is composed at its own
-// index (Alg. 1, t and p from i) and rendered. Means over frames; the water
-// variants use the masks (> 0.5) and skip frames without water (NaN when
-// none has any).
+// Held-out quality of a looping model: each frame is composed at its time
+// index (Alg. 1, t and p from its place in the video) and rendered. Means
+// over frames; the water variants use the masks (> 0.5) and skip frames
+// without water (NaN when none has any).
 struct LoopMetrics {
   int frames = 0;
   double psnr = 0, ssim = 0;

@@ -5,10 +5,14 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/profile/stage_profile.h"
+
 namespace es {
 
 void AdamUpdate(const AdamOptions& o, int64_t t, double lr, int n,
                 const double* grad, double* m, double* v, double* x) {
+  // Per-Gaussian SH updates are timed by GaussianAdam::Step as a whole.
+  ScopedStage timer(Stage::kAdam, n >= 1024);
   CHECK_GE(t, 1);
   const double bc1 = 1.0 - std::pow(o.beta1, static_cast<double>(t));
   const double bc2 = 1.0 - std::pow(o.beta2, static_cast<double>(t));
@@ -39,6 +43,7 @@ void GaussianAdam::Reset(const GaussianSet& params) {
 
 void GaussianAdam::Step(const GaussianLearningRates& lr,
                         const GaussianSet& grad, GaussianSet* params) {
+  ScopedStage timer(Stage::kAdam);
   params->CheckConsistent();
   grad.CheckConsistent();
   CHECK_EQ(grad.size(), params->size());

@@ -7,6 +7,8 @@
 #include <cmath>
 #include <numeric>
 
+#include "core/profile/stage_profile.h"
+
 namespace es {
 namespace {
 
@@ -63,6 +65,7 @@ DensifyResult DensifyAndPrune(const DensifyOptions& options,
                               double scene_extent, bool prune_large,
                               std::mt19937_64* rng, GaussianSet* g,
                               GaussianAdam* adam, DensityStats* stats) {
+  ScopedStage timer(Stage::kDensify);
   const int n = g->size();
   CHECK_EQ(stats->size(), n);
   DensifyResult result;

@@ -11,9 +11,11 @@
 #include <glog/logging.h>
 
 #include "core/io/input_error.h"
+#include "core/profile/stage_profile.h"
 #include "costs/scene_flow_cost.h"
 #include "solvers/optim/adam.h"
 #include "solvers/optim/lr_schedule.h"
+#include "solvers/train/divergence_guard.h"
 
 namespace es {
 namespace {
@@ -65,7 +67,9 @@ int FitWithAdam(const std::vector<SceneFlowSample>& samples,
                                             samples.size()));
   AdamOptions adam;
   adam.eps = options.adam_eps;
+  DivergenceGuard guard("V pretraining", options.max_nonfinite_steps);
   for (int it = 1; it <= options.iterations; ++it) {
+    ScopedStage timer(Stage::kIteration);
     for (int& i : indices) i = pick(rng);
     batch.Assign(samples, indices);
     std::fill(g_tri.begin(), g_tri.end(), 0.0);
@@ -76,12 +80,17 @@ int FitWithAdam(const std::vector<SceneFlowSample>& samples,
       field->triplane().TotalVariation(field->triplane_params().data(),
                                        options.tv_weight, g_tri.data());
     }
+    if (!guard.Accept(it, std::isfinite(loss) && AllFinite(g_tri) &&
+                              AllFinite(g_mlp)))
+      continue;
     const double decay = LogLinearLr(1.0, options.final_lr_factor, it - 1,
                                      options.iterations - 1);
     AdamUpdate(adam, it, options.lr_triplane * decay, n_tri, g_tri.data(),
                m_tri.data(), v_tri.data(), field->triplane_params().data());
     AdamUpdate(adam, it, options.lr_mlp * decay, n_mlp, g_mlp.data(),
                m_mlp.data(), v_mlp.data(), field->mlp_params().data());
+    guard.CheckParameters(it, AllFinite(field->triplane_params()) &&
+                                  AllFinite(field->mlp_params()));
     ReportProgress(options, it, options.iterations, clock.seconds(), loss);
   }
   return options.iterations;
@@ -284,6 +293,13 @@ FlowPretrainReport PretrainMotionField(
   }
   report.seconds = clock.seconds();
   report.fit_rmse = FitRmse(*field, samples);
+  // Whatever the solver, a field that does not evaluate finitely is never
+  // handed on to be written.
+  if (!AllFinite(field->triplane_params()) || !AllFinite(field->mlp_params()) ||
+      !std::isfinite(report.fit_rmse))
+    throw TrainingDiverged(
+        "V pretraining diverged: the fitted motion field is not finite "
+        "(learning rates too high?); no field was written");
   return report;
 }
 

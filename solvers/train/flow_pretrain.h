@@ -45,6 +45,10 @@ struct FlowPretrainOptions {
   // LM refuses problems whose dense Jacobian exceeds this many values.
   int64_t lm_max_jacobian_values = 50000000;
   uint32_t seed = 0;
+  // Adam: this many non-finite steps in a row stop the fit
+  // (DivergenceGuard); every solver throws TrainingDiverged rather than
+  // return a non-finite field.
+  int max_nonfinite_steps = 10;
   // Called every log_every iterations (and at the end) with the iteration,
   // the seconds so far and the RMSE on the current batch / subset.
   int log_every = 100;

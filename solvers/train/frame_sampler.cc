@@ -4,6 +4,7 @@
 
 #include <algorithm>
 
+#include "core/io/input_error.h"
 #include "solvers/checkpoint/rng_state.h"
 
 namespace es {
@@ -36,8 +37,21 @@ FrameSampler::State FrameSampler::state() const {
 }
 
 void FrameSampler::Restore(const State& s) {
-  CHECK(RestoreRngState(s.rng, &rng_)) << "bad sampler RNG state";
-  CHECK_LE(s.position, static_cast<int>(s.order.size()));
+  // The state comes from a file: a checkpoint of another scene or a corrupt
+  // one is an input error, not a crash.
+  std::mt19937_64 rng;
+  if (!RestoreRngState(s.rng, &rng))
+    throw InputError("checkpoint: bad frame sampler RNG state");
+  if (s.position < 0 || s.position > static_cast<int>(s.order.size()))
+    throw InputError("checkpoint: frame sampler position out of range");
+  std::vector<int> sorted_order = s.order, sorted_frames = frames_;
+  std::sort(sorted_order.begin(), sorted_order.end());
+  std::sort(sorted_frames.begin(), sorted_frames.end());
+  if (!s.order.empty() && sorted_order != sorted_frames)
+    throw InputError(
+        "checkpoint: its frame order is not a permutation of this run's "
+        "training frames (another scene or split?)");
+  rng_ = rng;
   order_ = s.order;
   position_ = s.position;
 }

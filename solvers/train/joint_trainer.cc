@@ -9,10 +9,12 @@
 #include "core/io/input_error.h"
 #include "core/loop/cycle_time.h"
 #include "core/loop/frame_composer.h"
+#include "core/profile/stage_profile.h"
 #include "costs/scalar_loss.h"
 #include "costs/splat_render_cost.h"
 #include "solvers/checkpoint/rng_state.h"
 #include "solvers/optim/lr_schedule.h"
+#include "solvers/train/water_particles.h"
 
 namespace es {
 namespace {
@@ -39,6 +41,13 @@ void AppendBox(const Triplane& t, std::vector<double>* boxes) {
 
 }  // namespace
 
+int CyclesCovering(int frames, int cycle_length) {
+  CHECK_GT(cycle_length, 0);
+  // p = floor((i - t0) / L) for 0 <= i < frames and 0 <= t0 < L lies in
+  // [-1, (frames - 1) / L]; the encoding is unambiguous for |p| < max.
+  return std::max(1, frames - 1) / cycle_length + 2;
+}
+
 JointTrainer::JointTrainer(const std::vector<Frame>* frames,
                            std::vector<int> train,
                            const JointTrainerOptions& options,
@@ -50,7 +59,8 @@ JointTrainer::JointTrainer(const std::vector<Frame>* frames,
       use_masks_(options.mask_weight > 0 && AllHaveMasks(*frames, train_)),
       extent_(CameraExtent(*frames, train_)),
       sampler_(train_, options.seed),
-      rng_(options.seed + 1) {
+      rng_(options.seed + 1),
+      guard_("Stage 3 training", options.max_nonfinite_steps) {
   CHECK_GT(options_.cycle_length, 0);
   CHECK_GT(options_.refresh_interval, 0);
   initial.CheckConsistent();
@@ -72,6 +82,8 @@ JointTrainer::JointTrainer(const std::vector<Frame>* frames,
   if (options_.use_residual) {
     ResidualFieldOptions r = options_.residual;
     r.cycle_length = options_.cycle_length;
+    r.max_cycles = CyclesCovering(static_cast<int>(frames_->size()),
+                                  options_.cycle_length);
     model_.residual.emplace(r);
     model_.residual->SetBox(lo, hi);
   }
@@ -81,7 +93,8 @@ JointTrainer::JointTrainer(const std::vector<Frame>* frames,
     field_v_.emplace_back(block->size(), 0.0);
     field_grad_.emplace_back(block->size(), 0.0);
   }
-  cost_.emplace(&(*frames_)[train_.at(0)], train_.at(0),
+  cost_.emplace(&(*frames_)[train_.at(0)],
+                (*frames_)[train_.at(0)].time_index,
                 LoopStructure::Of(model_), Terms(options_, use_masks_),
                 render_options(), &rasterizer_);
 }
@@ -123,6 +136,19 @@ void JointTrainer::RefreshDynamicSet() {
   }
   model_.dynamic_index = next;
   model_.start_times = std::move(times);
+  UpdateScaleBounds();
+}
+
+void JointTrainer::UpdateScaleBounds() {
+  if (options_.max_dynamic_pixels <= 0) return;
+  dynamic_max_scale_ =
+      PixelSizeInWorld(model_.gaussians, model_.dynamic_index, *frames_,
+                       train_, options_.max_dynamic_pixels);
+}
+
+void JointTrainer::ClampDynamicScales() {
+  if (options_.max_dynamic_pixels <= 0) return;
+  ClampScales(model_.dynamic_index, dynamic_max_scale_, &model_.gaussians);
 }
 
 std::vector<double> JointTrainer::FieldLearningRates() const {
@@ -143,6 +169,7 @@ std::vector<double> JointTrainer::FieldLearningRates() const {
 }
 
 JointIterationStats JointTrainer::Step() {
+  ScopedStage timer(Stage::kIteration);
   if (iteration_ > 0 && iteration_ % options_.refresh_interval == 0)
     RefreshDynamicSet();
   JointIterationStats out;
@@ -151,7 +178,8 @@ JointIterationStats JointTrainer::Step() {
   const int n = model_.gaussians.size();
   if (grad_.size() != n || grad_.sh_degree != model_.gaussians.sh_degree)
     grad_ = ZeroGaussians(n, model_.gaussians.sh_degree);
-  cost_->Reset(&(*frames_)[out.frame], out.frame, LoopStructure::Of(model_));
+  const Frame& frame = (*frames_)[out.frame];
+  cost_->Reset(&frame, frame.time_index, LoopStructure::Of(model_));
   std::vector<double*> params = JointBlocks(&model_);
   std::vector<double*> gradients = SplatRenderCost::Blocks(&grad_);
   for (std::vector<double>& g : field_grad_) gradients.push_back(g.data());
@@ -161,10 +189,19 @@ JointIterationStats JointTrainer::Step() {
   out.mask = cost_->last_mask();
   out.residual = cost_->last_residual();
   out.euler = cost_->last_euler_stats();
+  bool finite = std::isfinite(out.loss) && AllFinite(grad_);
+  for (const std::vector<double>& g : field_grad_)
+    finite = finite && AllFinite(g);
+  if (!guard_.Accept(iteration_ + 1, finite)) {
+    out.skipped = true;
+    ++iteration_;
+    return out;
+  }
 
   adam_.Step(ScheduledSplatRates(options_.splat_lr, extent_, iteration_,
                                  options_.iterations, use_masks_),
              grad_, &model_.gaussians);
+  ClampDynamicScales();
   ++field_step_;
   const std::vector<double> lr = FieldLearningRates();
   std::vector<std::vector<double>*> blocks = FieldBlocks();
@@ -175,6 +212,10 @@ JointIterationStats JointTrainer::Step() {
                field_m_[b].data(), field_v_[b].data(), blocks[b]->data());
   }
   ++iteration_;
+  bool params_finite = AllFinite(model_.gaussians);
+  for (const std::vector<double>* block : blocks)
+    params_finite = params_finite && AllFinite(*block);
+  guard_.CheckParameters(iteration_, params_finite);
   return out;
 }
 
@@ -223,6 +264,7 @@ void JointTrainer::Restore(const JointCheckpoint& c,
   adam_.Restore(c.adam);
   model_.dynamic_index = c.dynamic_index;
   model_.start_times = c.start_times;
+  UpdateScaleBounds();
   for (size_t b = 0; b < blocks.size(); ++b) *blocks[b] = c.field_params[b];
   field_m_ = c.field_m;
   field_v_ = c.field_v;
@@ -241,10 +283,62 @@ void JointTrainer::Restore(const JointCheckpoint& c,
     model_.residual->SetBox(lo, hi);
   }
   field_step_ = c.field_step;
-  sampler_.Restore(c.sampler);
+  try {
+    sampler_.Restore(c.sampler);
+  } catch (const InputError& e) {
+    throw InputError(source + ": " + e.what());
+  }
   if (!RestoreRngState(c.rng, &rng_))
     throw InputError(source + ": bad RNG state in checkpoint");
   grad_ = GaussianSet();
+}
+
+LoopModel JointTrainer::FinalModel(int* pruned) const {
+  LoopModel model = model_;
+  // Every frame of the video, registered by COLMAP or not.
+  int video_frames = 0;
+  for (const Frame& f : *frames_)
+    video_frames = std::max(video_frames, f.time_index + 1);
+  const int removed = PruneInvisible(video_frames, &model);
+  if (pruned) *pruned = removed;
+  return model;
+}
+
+int PruneInvisible(int num_frames, LoopModel* model) {
+  GaussianSet& g = model->gaussians;
+  std::vector<double> peak(g.opacity_logits);  // largest logit shown
+  if (model->num_dynamic() > 0 && model->residual) {
+    const LoopModelView view = LoopModelView::Of(*model);
+    FrameComposer composer;
+    const int frames = std::max(num_frames, 2 * model->cycle_length);
+    for (int i = 0; i < frames; ++i) {
+      const SplatView& splats = composer.Compose(view, i);
+      for (int g_index : model->dynamic_index)
+        peak[g_index] =
+            std::max(peak[g_index], splats.opacity_logits[g_index]);
+    }
+  }
+  const double threshold = Logit(kInvisibleOpacity);
+  std::vector<bool> keep(g.size());
+  std::vector<int> new_index(g.size(), -1);
+  int kept = 0;
+  for (int i = 0; i < g.size(); ++i) {
+    keep[i] = peak[i] >= threshold;
+    if (keep[i]) new_index[i] = kept++;
+  }
+  const int removed = g.size() - kept;
+  if (removed == 0) return 0;
+  g.Filter(keep);
+  std::vector<int> dynamic_index, start_times;
+  for (int k = 0; k < model->num_dynamic(); ++k) {
+    const int i = model->dynamic_index[k];
+    if (!keep[i]) continue;
+    dynamic_index.push_back(new_index[i]);
+    start_times.push_back(model->start_times[k]);
+  }
+  model->dynamic_index = std::move(dynamic_index);
+  model->start_times = std::move(start_times);
+  return removed;
 }
 
 }  // namespace es

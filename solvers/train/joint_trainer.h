@@ -18,6 +18,7 @@
 #include "costs/joint_render_cost.h"
 #include "solvers/checkpoint/joint_checkpoint.h"
 #include "solvers/optim/adam.h"
+#include "solvers/train/divergence_guard.h"
 #include "solvers/train/frame_sampler.h"
 #include "solvers/train/splat_training.h"
 
@@ -46,12 +47,19 @@ struct JointTrainerOptions {
   double lr_residual_triplane = 5e-3;
   double lr_residual_mlp = 1e-3;
   double field_lr_final_factor = 0.1;
+  // > 0: water Gaussians are kept at most this large on screen (std dev in
+  // pixels at their distance from the training cameras), so they stay
+  // particles instead of growing back into smooth sheets.
+  double max_dynamic_pixels = 0;
   // Shapes of fields made from scratch (a given V keeps its own). D's
-  // cycle_length is set to cycle_length.
+  // cycle_length is set to cycle_length and its max_cycles to cover every
+  // frame of the video.
   MotionFieldOptions motion;
   ResidualFieldOptions residual;
   EulerOptions euler;
   Eigen::Vector3d background = Eigen::Vector3d::Zero();
+  // This many non-finite steps in a row stop the run (DivergenceGuard).
+  int max_nonfinite_steps = 10;
 };
 
 struct JointIterationStats {
@@ -62,7 +70,12 @@ struct JointIterationStats {
   double residual = 0;
   int num_dynamic = 0;
   EulerStats euler;
+  bool skipped = false;  // non-finite loss or gradient: no update
 };
+
+// D's max_cycles for a video of `frames` frames: every cycle number a
+// frame can have gets its own encoding.
+int CyclesCovering(int frames, int cycle_length);
 
 // Trains a looping model (Stage 3): one sampled training frame per
 // iteration, composed at its frame index (Alg. 1 + D), rendered and scored
@@ -78,10 +91,19 @@ class JointTrainer {
                const JointTrainerOptions& options, GaussianSet initial,
                std::optional<MotionField> motion);
 
+  // One iteration. A non-finite loss or gradient skips the update (counted
+  // in skipped_steps()); throws TrainingDiverged after too many in a row or
+  // if the parameters become non-finite.
   JointIterationStats Step();
 
   int64_t iteration() const { return iteration_; }
   const LoopModel& model() const { return model_; }
+  // The model to keep when training ends: model() without the Gaussians
+  // that no frame shows (PruneInvisible over the video's frames).
+  LoopModel FinalModel(int* pruned = nullptr) const;
+  int64_t skipped_steps() const { return guard_.skipped(); }
+  // False right after a skipped step: the state is not one to checkpoint.
+  bool last_step_ok() const { return guard_.in_a_row() == 0; }
   bool uses_masks() const { return use_masks_; }
   RenderOptions render_options() const;
 
@@ -92,6 +114,9 @@ class JointTrainer {
 
  private:
   void RefreshDynamicSet();
+  // The per-Gaussian bounds of max_dynamic_pixels, for the current set.
+  void UpdateScaleBounds();
+  void ClampDynamicScales();
   std::vector<double> FieldLearningRates() const;
   std::vector<std::vector<double>*> FieldBlocks();
 
@@ -101,6 +126,7 @@ class JointTrainer {
   bool use_masks_ = false;
   double extent_ = 1;
   LoopModel model_;
+  std::vector<double> dynamic_max_scale_;  // per dynamic Gaussian
   GaussianSet grad_;
   GaussianAdam adam_;
   std::vector<std::vector<double>> field_grad_, field_m_, field_v_;
@@ -110,7 +136,21 @@ class JointTrainer {
   Rasterizer rasterizer_;
   std::optional<JointRenderCost> cost_;
   int64_t iteration_ = 0;
+  DivergenceGuard guard_;
 };
+
+// Below one 8-bit level of opacity a splat cannot change a pixel (the
+// rasterizer skips alpha < 1/255).
+constexpr double kInvisibleOpacity = 1.0 / 255.0;
+
+// Removes the Gaussians whose opacity is below kInvisibleOpacity in every
+// frame: static ones by their opacity, dynamic ones by their opacity with
+// D's offset at each frame i in [0, max(num_frames, 2 L)) (every training
+// frame, and every cycle index at cycle number 0, as the animation plays
+// it). Dynamic indices are remapped, start times kept. Returns the count
+// removed.
+int PruneInvisible(int num_frames, LoopModel* model);
+
 }  // namespace es
 
 #endif  // EULERSPLAT_SOLVERS_TRAIN_JOINT_TRAINER_H_

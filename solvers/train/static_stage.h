@@ -18,7 +18,11 @@ struct StaticStageOptions {
   bool resume = false;             // continue from out_dir/checkpoint.bin
   int checkpoint_every = 1000;     // iterations; 0: never
   int log_every = 100;             // iterations; 0: silent
+  // Held-out PSNR into out_dir/history.csv every this many iterations (and
+  // always at the end); 0: only at the end.
+  int eval_every = 1000;
   double dynamic_threshold = 0.2;  // sigmoid(dynamic_logit) above: water
+  bool profile = false;  // print the per-stage time of the iterations
 };
 
 struct StaticStageResult {
@@ -50,7 +54,9 @@ StaticMetrics EvaluateHeldOut(const StaticTrainer& trainer, const Scene& scene);
 
 // Stage 1: loads the scene, seeds Gaussians from its points (3-NN scales),
 // trains on the training split (resuming if asked), evaluates on the
-// held-out frames and writes out_dir/static.ply and out_dir/metrics.json.
+// held-out frames and writes out_dir/static.ply, out_dir/metrics.json and
+// out_dir/history.csv (a row every log_every iterations: losses, Gaussians,
+// held-out PSNR at eval steps). out_dir is checked for writing first.
 // Without masks there is no mask term and no Gaussian is marked dynamic:
 // every dynamic logit is written well below the threshold. Throws
 // InputError for bad options or inputs.

@@ -3,7 +3,10 @@
 #include <glog/logging.h>
 
 #include <algorithm>
+#include <cmath>
 
+#include "core/io/input_error.h"
+#include "core/profile/stage_profile.h"
 #include "costs/scalar_loss.h"
 #include "solvers/checkpoint/rng_state.h"
 
@@ -42,7 +45,8 @@ StaticTrainer::StaticTrainer(const std::vector<Frame>* frames,
       sampler_(train_, options.seed),
       rng_(options.seed + 1),
       cost_(&(*frames)[train_.at(0)], 0, 0, Terms(options, use_masks_),
-            MakeRenderOptions(options), &rasterizer_) {
+            MakeRenderOptions(options), &rasterizer_),
+      guard_("Stage 1 training", options.max_nonfinite_steps) {
   g_.CheckConsistent();
   CHECK_LE(g_.sh_degree, options_.max_sh_degree);
   adam_.Reset(g_);
@@ -54,6 +58,7 @@ RenderOptions StaticTrainer::render_options() const {
 }
 
 IterationStats StaticTrainer::Step() {
+  ScopedStage timer(Stage::kIteration);
   if (iteration_ > 0 && options_.sh_degree_interval > 0 &&
       iteration_ % options_.sh_degree_interval == 0 &&
       g_.sh_degree < options_.max_sh_degree) {
@@ -72,6 +77,12 @@ IterationStats StaticTrainer::Step() {
   out.loss = EvaluateScalarLossGradient(cost_, params.data(), gradients.data());
   out.photometric = cost_.last_photometric();
   out.mask = cost_.last_mask();
+  const bool finite = std::isfinite(out.loss) && AllFinite(grad_);
+  if (!guard_.Accept(iteration_ + 1, finite)) {
+    out.skipped = true;
+    ++iteration_;
+    return out;
+  }
 
   const DensifyOptions& d = options_.densify_options;
   // As 3DGS (15k of 30k), the second half of a run only refines: a model
@@ -80,6 +91,7 @@ IterationStats StaticTrainer::Step() {
       options_.densify &&
       iteration_ < std::min<int64_t>(d.until_iteration, options_.iterations / 2);
   if (densifying) {
+    ScopedStage stats_timer(Stage::kDensifyStats);
     // The cost's Backward ran on rasterizer_ with d loss / d image, so these
     // are this view's exact screen-space statistics.
     rasterizer_.Radii(&radii_);
@@ -91,6 +103,7 @@ IterationStats StaticTrainer::Step() {
                                  options_.iterations, use_masks_),
              grad_, &g_);
   ++iteration_;
+  guard_.CheckParameters(iteration_, AllFinite(g_));
 
   if (densifying && iteration_ > d.from_iteration &&
       iteration_ % d.interval == 0) {
@@ -123,7 +136,8 @@ void StaticTrainer::Restore(const Checkpoint& c) {
   g_ = c.gaussians;
   adam_.Restore(c.adam);
   sampler_.Restore(c.sampler);
-  CHECK(RestoreRngState(c.rng, &rng_)) << "bad RNG state in checkpoint";
+  if (!RestoreRngState(c.rng, &rng_))
+    throw InputError("checkpoint: bad densification RNG state");
   stats_.grad_sum = c.grad_sum;
   stats_.count = c.grad_count;
   stats_.max_radius = c.max_radius;

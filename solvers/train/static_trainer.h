@@ -13,6 +13,7 @@
 #include "solvers/checkpoint/checkpoint.h"
 #include "solvers/optim/adam.h"
 #include "solvers/train/densify.h"
+#include "solvers/train/divergence_guard.h"
 #include "solvers/train/frame_sampler.h"
 #include "solvers/train/splat_training.h"
 
@@ -30,6 +31,8 @@ struct StaticTrainerOptions {
   bool densify = true;
   DensifyOptions densify_options;
   Eigen::Vector3d background = Eigen::Vector3d::Zero();
+  // This many non-finite steps in a row stop the run (DivergenceGuard).
+  int max_nonfinite_steps = 10;
 };
 
 struct IterationStats {
@@ -37,6 +40,7 @@ struct IterationStats {
   double loss = 0;  // weighted total
   double photometric = 0;
   double mask = 0;
+  bool skipped = false;  // non-finite loss or gradient: no update
 };
 
 // Trains a static Gaussian model on the training frames: one sampled frame
@@ -50,10 +54,16 @@ class StaticTrainer {
   StaticTrainer(const std::vector<Frame>* frames, std::vector<int> train,
                 const StaticTrainerOptions& options, GaussianSet initial);
 
+  // One iteration. A non-finite loss or gradient skips the update (counted
+  // in skipped_steps()); throws TrainingDiverged after too many in a row or
+  // if the parameters become non-finite.
   IterationStats Step();
 
   int64_t iteration() const { return iteration_; }
   const GaussianSet& gaussians() const { return g_; }
+  int64_t skipped_steps() const { return guard_.skipped(); }
+  // False right after a skipped step: the state is not one to checkpoint.
+  bool last_step_ok() const { return guard_.in_a_row() == 0; }
   bool uses_masks() const { return use_masks_; }
   double scene_extent() const { return extent_; }
   RenderOptions render_options() const;
@@ -79,6 +89,7 @@ class StaticTrainer {
   std::vector<int> radii_;            // of the last view, reused
   std::vector<double> mean2d_grads_;  // of the last view, reused
   int64_t iteration_ = 0;
+  DivergenceGuard guard_;
 };
 
 }  // namespace es

@@ -1,0 +1,32 @@
+#ifndef EULERSPLAT_APPS_COMMON_BENCHMARK_MAIN_H_
+#define EULERSPLAT_APPS_COMMON_BENCHMARK_MAIN_H_
+
+#include <cstdio>
+#include <cstring>
+
+#include <benchmark/benchmark.h>
+
+#include "apps/common/version.h"
+
+namespace es {
+
+// main() of a Google Benchmark binary: BENCHMARK_MAIN plus --version (the
+// version and git commit, as every other binary). --help is the benchmark
+// library's own. Header-only: only the bench_* binaries link the library.
+inline int RunBenchmarks(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--version") == 0) {
+      std::printf("%s\n", VersionString().c_str());
+      return 0;
+    }
+  }
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
+
+}  // namespace es
+
+#endif  // EULERSPLAT_APPS_COMMON_BENCHMARK_MAIN_H_

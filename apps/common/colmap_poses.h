@@ -1,0 +1,60 @@
+#ifndef EULERSPLAT_APPS_COMMON_COLMAP_POSES_H_
+#define EULERSPLAT_APPS_COMMON_COLMAP_POSES_H_
+
+#include <functional>
+#include <string>
+
+#include "core/io/colmap_io.h"
+
+namespace es {
+
+// COLMAP settings for the frames of one video: one shared camera, a cap on
+// SIFT features, sequential matching, and structure from motion on frames
+// scaled down to sfm_width (the model is scaled back to the frames' size).
+struct PoseOptions {
+  std::string colmap = "colmap";  // binary
+  std::string camera_model = "PINHOLE";  // or SIMPLE_RADIAL
+  int sfm_width = 320;     // frames wider than this are matched at this width
+  int max_features = 1024;  // SIFT features kept per frame
+  int overlap = 10;         // each frame is matched with this many successors
+  int threads = -1;         // -1: all cores
+};
+
+struct PoseReport {
+  int frames = 0;       // frames in images/
+  int registered = 0;   // frames the kept model has poses for
+  int models = 0;       // models the mapper made (the largest is kept)
+  int points = 0;
+  double mean_reprojection_error_px = 0;  // at the frames' full size
+  double scale = 1;     // SfM frame size / frame size
+  double extract_seconds = 0, match_seconds = 0, map_seconds = 0;
+  double total_seconds = 0;
+};
+
+// Recovers the poses of the frames in scene_dir/images (image files, one
+// size) with COLMAP and writes the largest model as text into out_dir,
+// which must not exist yet. Calls progress(line) at each step. Throws
+// InputError naming the step and quoting COLMAP's log when a step fails or
+// nothing is registered.
+PoseReport RecoverPoses(const std::string& scene_dir,
+                        const std::string& out_dir,
+                        const PoseOptions& options,
+                        const std::function<void(const std::string&)>&
+                            progress = nullptr);
+
+// A model found on frames scaled by (sx, sy) expressed at the frames' full
+// size: intrinsics, image size, 2D points and reprojection errors scaled by
+// 1 / s. Supports PINHOLE, SIMPLE_PINHOLE, SIMPLE_RADIAL and RADIAL.
+void RescaleColmapModel(double sx, double sy, int width, int height,
+                        ColmapModel* model);
+
+// Mean reprojection error over all observations (each point's error
+// weighted by its track length), in pixels; 0 for an empty model.
+double MeanReprojectionError(const ColmapModel& model);
+
+// The report as a JSON object (pose_report.json).
+std::string PoseReportJson(const PoseReport& report);
+
+}  // namespace es
+
+#endif  // EULERSPLAT_APPS_COMMON_COLMAP_POSES_H_

@@ -1,0 +1,62 @@
+#ifndef EULERSPLAT_APPS_COMMON_SCENE_INPUTS_H_
+#define EULERSPLAT_APPS_COMMON_SCENE_INPUTS_H_
+
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "core/io/video_import.h"
+
+namespace es {
+
+// Runs a stage binary (as the driver does) and throws when it fails.
+using StageRunner =
+    std::function<void(const std::string& stage, const std::string& binary,
+                       const std::vector<std::string>& args)>;
+
+// What the driver starts from: a video, or a scene directory that may lack
+// poses and masks.
+struct InputRequest {
+  std::string video;  // --video (or empty)
+  std::string scene;  // --scene (or empty)
+  std::filesystem::path out;
+  // "auto" (find them; the default when a scene has no masks/), "none"
+  // (everything static) or a folder of masks named like the frames.
+  std::string masks;
+  VideoImportOptions import;
+  std::string pose_script;  // empty: es_poses
+};
+
+// Settings of the first static fit the auto masks are found with.
+struct MaskProbe {
+  int iterations = 300;
+  std::vector<std::string> static_flags;  // e.g. --image_scale, --sh_degree
+  std::vector<std::string> mask_flags;    // extra es_masks flags
+};
+
+struct PreparedScene {
+  std::filesystem::path scene;  // what every stage reads
+  bool has_masks = false;
+  bool static_only = false;     // nothing moves (or --masks none)
+  std::string why_static;       // the message to print when static_only
+};
+
+// Makes a scene every stage can read: a video is decoded into OUT/scene;
+// a scene that lacks what the run needs (poses, masks) is viewed through
+// OUT/scene (links to its images/, sparse/, split.txt, gt/, never written
+// into); then poses with COLMAP when sparse/0 is missing. Each step is
+// skipped when its outputs exist. Throws InputError on bad input.
+std::filesystem::path PrepareFramesAndPoses(const InputRequest& request,
+                                            const StageRunner& run);
+
+// Masks for `scene` as request.masks says; "auto" runs the probe (a static
+// fit without masks into OUT/mask_probe, then es_masks writing
+// scene/masks, OUT/masks_sheet.png and OUT/masks_report.json).
+PreparedScene PrepareMasks(const InputRequest& request,
+                           const std::filesystem::path& scene,
+                           const MaskProbe& probe, const StageRunner& run);
+
+}  // namespace es
+
+#endif  // EULERSPLAT_APPS_COMMON_SCENE_INPUTS_H_

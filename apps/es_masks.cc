@@ -1,0 +1,166 @@
+// Water masks from the video itself (no segmentation network): where a
+// static model fitted without masks cannot explain the frames, by non-rigid
+// optical flow and misfit over time (core/masks/water_masks.h). Writes one
+// PNG per registered frame (same names as the images, .png; white = water)
+// that a person can inspect and edit, a sheet to check them with, and a
+// report; with --truth also the IoU against true masks.
+//
+//   es_masks --scene DIR --static static.ply --out MASKS_DIR
+//            [--sheet FILE] [--report FILE] [--truth TRUE_MASKS_DIR]
+
+#include <cstdio>
+#include <filesystem>
+#include <string>
+
+#include <gflags/gflags.h>
+#include <opencv2/imgproc.hpp>
+
+#include "apps/common/app_main.h"
+#include "core/io/atomic_file.h"
+#include "core/io/frame_loading.h"
+#include "core/io/image_write.h"
+#include "core/io/input_error.h"
+#include "core/io/ply_io.h"
+#include "core/io/scene.h"
+#include "core/masks/water_masks.h"
+
+DEFINE_string(scene, "", "Scene directory (images/, sparse/0/).");
+DEFINE_string(static, "", "Static model fitted without masks (PLY).");
+DEFINE_string(out, "", "Mask folder to write (must not exist; written "
+              "complete or not at all). Nothing is written when no water "
+              "is found.");
+DEFINE_string(sheet, "", "Check sheet PNG (default: OUT_sheet.png).");
+DEFINE_string(report, "", "Report JSON (default: OUT_report.json).");
+DEFINE_string(truth, "", "Optional true masks (same names): adds the mean "
+              "per-frame IoU to the report.");
+DEFINE_double(image_scale, 1.0, "Work at this fraction of the frames' size "
+              "(masks are written at full size).");
+DEFINE_int32(window, 2, "Frames on each side for temporal averaging and "
+             "voting.");
+DEFINE_double(min_score, 2.0, "Evidence (in units of the static region's "
+              "level) below which nothing is water.");
+DEFINE_double(min_water_fraction, 0.02, "Mean water fraction below which "
+              "the scene is called static (no masks written).");
+DEFINE_bool(white_background, false, "The static model was trained on "
+            "white.");
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// The size of the scene's frames as stored (masks must match it).
+cv::Size StoredSize(const es::Scene& scene) {
+  cv::Size size;
+  es::ForEachFrameImage(
+      (fs::path(scene.dir) / "images").string(),
+      {scene.frames[0].camera.image_name},
+      [&size](int, const cv::Mat& image, const std::string&) {
+        size = image.size();
+      });
+  return size;
+}
+
+std::string MaskName(const std::string& image_name) {
+  return fs::path(image_name).replace_extension(".png").string();
+}
+
+void WriteMasks(const es::Scene& scene, const es::WaterMaskResult& result,
+                const fs::path& out) {
+  const cv::Size size = StoredSize(scene);
+  const fs::path staging = out.string() + ".partial";
+  fs::remove_all(staging);
+  for (size_t i = 0; i < scene.frames.size(); ++i) {
+    const fs::path path =
+        staging / MaskName(scene.frames[i].camera.image_name);
+    fs::create_directories(path.parent_path());
+    cv::Mat mask;
+    cv::resize(result.masks[i], mask, size, 0, 0, cv::INTER_LINEAR);
+    cv::threshold(mask, mask, 127, 255, cv::THRESH_BINARY);
+    es::WriteImageAtomically(path.string(), mask);
+  }
+  fs::rename(staging, out);
+}
+
+// Mean per-frame IoU against the masks in truth_dir (at the working size).
+double MeanIou(const es::Scene& scene, const es::WaterMaskResult& result,
+               const std::string& truth_dir) {
+  std::vector<std::string> names;
+  for (const es::Frame& f : scene.frames) names.push_back(f.camera.image_name);
+  const std::vector<std::string> files = es::FindMaskFiles(truth_dir, names);
+  double sum = 0;
+  for (size_t i = 0; i < files.size(); ++i) {
+    cv::Mat truth;
+    cv::resize(es::ReadMask(files[i]), truth, result.masks[i].size(), 0, 0,
+               cv::INTER_AREA);
+    sum += es::MaskIou(result.masks[i], truth);
+  }
+  return sum / files.size();
+}
+
+int Main() {
+  if (FLAGS_scene.empty() || FLAGS_static.empty() || FLAGS_out.empty())
+    throw es::InputError("--scene, --static and --out are required");
+  if (fs::exists(FLAGS_out))
+    throw es::InputError(FLAGS_out + ": exists; masks are only written to a "
+                         "new folder (delete it to redo)");
+  if (FLAGS_window < 0) throw es::InputError("--window must be >= 0");
+  const std::string sheet =
+      FLAGS_sheet.empty() ? FLAGS_out + "_sheet.png" : FLAGS_sheet;
+  const std::string report =
+      FLAGS_report.empty() ? FLAGS_out + "_report.json" : FLAGS_report;
+  es::SceneOptions scene_options;
+  scene_options.image_scale = FLAGS_image_scale;
+  const es::Scene scene = es::LoadScene(FLAGS_scene, scene_options);
+  const es::GaussianSet model = es::ReadPly(FLAGS_static);
+
+  es::WaterMaskOptions options;
+  options.window = FLAGS_window;
+  options.min_score = FLAGS_min_score;
+  options.min_water_fraction = FLAGS_min_water_fraction;
+  if (FLAGS_white_background) options.render.background.setOnes();
+  std::printf("[masks] %zu frames at %dx%d: static fit vs frames, optical "
+              "flow vs camera motion\n",
+              scene.frames.size(), scene.frames[0].image.cols,
+              scene.frames[0].image.rows);
+  const es::WaterMaskResult result = es::EstimateWaterMasks(
+      scene, model, options, [](int done, int total) {
+        if (done % 10 == 0 || done == total) {
+          std::printf("[masks] frame %d / %d\n", done, total);
+          std::fflush(stdout);
+        }
+      });
+  es::WriteImageAtomically(sheet, es::WaterMaskSheet(scene, result, 8));
+  const double iou =
+      FLAGS_truth.empty() ? -1 : MeanIou(scene, result, FLAGS_truth);
+  char json[512];
+  std::snprintf(json, sizeof(json),
+                "{\n  \"frames\": %zu,\n  \"has_water\": %s,\n"
+                "  \"water_fraction\": %.5f,\n  \"threshold\": %.3f,\n"
+                "  \"mean_iou\": %s\n}\n",
+                scene.frames.size(), result.has_water ? "true" : "false",
+                result.water_fraction, result.threshold,
+                iou < 0 ? "null" : std::to_string(iou).c_str());
+  // The report last: its presence means the masks are complete.
+  if (result.has_water) WriteMasks(scene, result, FLAGS_out);
+  es::WriteTextFileAtomically(report, json);
+
+  std::printf("[masks] water covers %.1f%% of the frames (threshold %.2f x "
+              "the static level)%s\n",
+              100 * result.water_fraction, result.threshold,
+              result.has_water ? "" : ": nothing moves, no masks written");
+  if (iou >= 0) std::printf("[masks] mean IoU vs %s: %.3f\n",
+                            FLAGS_truth.c_str(), iou);
+  std::printf("[masks] check sheet %s%s%s\n", sheet.c_str(),
+              result.has_water ? ", masks " : "",
+              result.has_water ? FLAGS_out.c_str() : "");
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return es::RunApp(argc, argv,
+                    "Finds water masks from the video (no network).\n"
+                    "  es_masks --scene DIR --static static.ply --out DIR",
+                    Main);
+}

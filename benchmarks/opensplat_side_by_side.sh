@@ -1,0 +1,131 @@
+#!/usr/bin/env bash
+# es_static vs OpenSplat (CPU build against Debian's libtorch) on the same
+# synthetic scene: same iterations, SH degree and schedule, no
+# densification, the same thread count, one held-out frame, both timed by
+# /usr/bin/time -v, runs interleaved (es, OpenSplat, es, ...) so a busy
+# machine loads both alike. Not part of the tests; nothing is downloaded.
+#
+#   benchmarks/opensplat_side_by_side.sh [options]
+#     --opensplat_src DIR  build OpenSplat from this source checkout (a
+#                          clone of github.com/WebODM/OpenSplat) into
+#                          WORK/opensplat-build first (needs libtorch-dev)
+#     --opensplat BIN      an OpenSplat binary already built (default:
+#                          WORK/opensplat-build/opensplat if present)
+#     --work DIR           scratch folder (default /tmp/es_vs_opensplat)
+#     --iterations N       training iterations of both (default 300)
+#     --threads N          OMP / torch threads of both (default 2)
+#     --runs N             interleaved runs of each (default 3)
+#     --points N           seed points of the scene (default 7600)
+#     --sh_degree N        maximum SH degree of both (default 3)
+#     --es_static BIN      default: build/bin/es_static
+#
+# Prints one line per run (wall s, ms/iteration, peak RSS MB, held-out
+# PSNR, load average) and the medians.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+usage() { sed -n '2,22p' "$0" | sed 's/^# \{0,1\}//'; }
+work=/tmp/es_vs_opensplat
+src="" ; opensplat="" ; iterations=300 ; threads=2 ; runs=3 ; points=7600
+sh_degree=3 ; es_static=build/bin/es_static
+while (($#)); do
+  case "$1" in
+    --opensplat_src) src="$2"; shift 2 ;;
+    --opensplat) opensplat="$2"; shift 2 ;;
+    --work) work="$2"; shift 2 ;;
+    --iterations) iterations="$2"; shift 2 ;;
+    --threads) threads="$2"; shift 2 ;;
+    --runs) runs="$2"; shift 2 ;;
+    --points) points="$2"; shift 2 ;;
+    --sh_degree) sh_degree="$2"; shift 2 ;;
+    --es_static) es_static="$2"; shift 2 ;;
+    -h|--help) usage; exit 0 ;;
+    *) echo "unknown option '$1' (see --help)" >&2; exit 2 ;;
+  esac
+done
+for n in "$iterations" "$threads" "$runs" "$points" "$sh_degree"; do
+  [[ "$n" =~ ^[0-9]+$ ]] || { echo "not a number: '$n'" >&2; exit 2; }
+done
+[[ -x "$es_static" && -x build/bin/es_synth ]] || {
+  echo "$es_static or build/bin/es_synth missing: run scripts/setup.sh" >&2
+  exit 1; }
+[[ -x /usr/bin/time ]] || { echo "/usr/bin/time missing (apt-get install time)" >&2; exit 1; }
+command -v colmap > /dev/null || {
+  echo "colmap missing (OpenSplat reads binary COLMAP models)" >&2; exit 1; }
+mkdir -p "$work"
+
+# The scene: 320x240 waterfall, 120 frames; frame 60 held out by both.
+scene="$work/scene"
+if [[ ! -f "$scene/sparse/0/images.txt" ]]; then
+  echo "[bench] es_synth -> $scene"
+  build/bin/es_synth --out "$scene" --preset waterfall --frames 120 \
+      --width 320 --height 240 --num_points "$points" > "$work/synth.log"
+fi
+held_out=$(ls "$scene/images" | sort | sed -n 61p)
+echo "$held_out" > "$scene/split.txt"
+# OpenSplat's copy: binary model, same images, no masks (neither run uses
+# a mask term: es_static runs with --mask_weight 0).
+os_scene="$work/scene_opensplat"
+if [[ ! -f "$os_scene/sparse/0/images.bin" ]]; then
+  mkdir -p "$os_scene/sparse/0"
+  ln -sfn "$(realpath "$scene/images")" "$os_scene/images"
+  colmap model_converter --input_path "$scene/sparse/0" \
+      --output_path "$os_scene/sparse/0" --output_type BIN > /dev/null
+fi
+
+if [[ -n "$src" ]]; then
+  [[ -f "$src/opensplat.cpp" ]] || { echo "$src: not an OpenSplat checkout" >&2; exit 1; }
+  echo "[bench] building OpenSplat (CPU) in $work/opensplat-build"
+  cmake -S "$src" -B "$work/opensplat-build" -DCMAKE_BUILD_TYPE=Release \
+      -DGPU_RUNTIME=CPU > "$work/opensplat-cmake.log" 2>&1 \
+      || { tail -20 "$work/opensplat-cmake.log"; exit 1; }
+  cmake --build "$work/opensplat-build" -j"$threads" --target opensplat \
+      > "$work/opensplat-build.log" 2>&1 \
+      || { tail -30 "$work/opensplat-build.log"; exit 1; }
+fi
+[[ -z "$opensplat" && -x "$work/opensplat-build/opensplat" ]] &&
+  opensplat="$work/opensplat-build/opensplat"
+
+# Peak RSS (MB) and wall seconds from a /usr/bin/time -v log.
+peak_mb() { awk -F': ' '/Maximum resident set size/ {printf "%.0f", $2/1024}' "$1"; }
+wall_s() {
+  awk -F': ' '/Elapsed \(wall clock\)/ {n = split($2, t, ":"); s = 0;
+    for (i = 1; i <= n; ++i) s = s * 60 + t[i]; printf "%.1f", s}' "$1"; }
+load() { cut -d' ' -f1 /proc/loadavg; }
+
+export OMP_NUM_THREADS="$threads"
+results="$work/results.tsv"
+printf "tool\trun\twall_s\tms_per_it\tpeak_mb\tpsnr\tload\n" > "$results"
+for ((r = 1; r <= runs; ++r)); do
+  out="$work/es_static_$r"; log="$work/es_static_$r.time"; l=$(load)
+  /usr/bin/time -v -o "$log" "$es_static" --scene "$scene" --out "$out" \
+      --iterations "$iterations" --sh_degree "$sh_degree" \
+      --sh_degree_interval 1000 --densify=false --mask_weight 0 \
+      --checkpoint_every 0 --log_every 0 > "$out.log" 2>&1 \
+      || { tail -5 "$out.log"; exit 1; }
+  # es_static's own time excludes loading; /usr/bin/time's includes it.
+  psnr=$(sed -n 's/.*"psnr_test": *\([-0-9.naif]*\).*/\1/p' "$out/metrics.json" | head -1)
+  w=$(wall_s "$log")
+  printf "es_static\t%d\t%s\t%.1f\t%s\t%s\t%s\n" "$r" "$w" \
+      "$(echo "$w * 1000 / $iterations" | bc -l)" "$(peak_mb "$log")" \
+      "$psnr" "$l" | tee -a "$results"
+  [[ -n "$opensplat" ]] || continue
+  out="$work/opensplat_$r"; log="$out.time"; l=$(load); mkdir -p "$out"
+  /usr/bin/time -v -o "$log" "$opensplat" "$os_scene" --cpu \
+      -n "$iterations" --sh-degree "$sh_degree" --sh-degree-interval 1000 \
+      --densify-from $((iterations + 1)) --refine-every $((iterations + 1)) \
+      --val --val-image "$held_out" -o "$out/splat.ply" > "$out.log" 2>&1 \
+      || { tail -5 "$out.log"; exit 1; }
+  psnr=$(sed -n 's/.*validation PSNR: *\([-0-9.naif]*\).*/\1/p' "$out.log" | tail -1)
+  w=$(wall_s "$log")
+  printf "opensplat\t%d\t%s\t%.1f\t%s\t%s\t%s\n" "$r" "$w" \
+      "$(echo "$w * 1000 / $iterations" | bc -l)" "$(peak_mb "$log")" \
+      "$psnr" "$l" | tee -a "$results"
+done
+[[ -n "$opensplat" ]] || echo "[bench] no OpenSplat binary: es_static only (pass --opensplat_src DIR to build one)"
+echo "medians (wall s, ms/iteration, peak MB, PSNR):"
+for tool in es_static opensplat; do
+  awk -F'\t' -v t="$tool" '$1 == t' "$results" | sort -t$'\t' -k3,3n |
+    awk -F'\t' '{a[NR] = $0} END {if (NR) {split(a[int((NR + 1) / 2)], f, "\t");
+      printf "  %-10s %s s  %s ms  %s MB  %s dB (%d runs)\n", f[1], f[3], f[4], f[5], f[6], NR}}'
+done

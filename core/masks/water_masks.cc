@@ -1,0 +1,293 @@
+#include "core/masks/water_masks.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include <glog/logging.h>
+#include <opencv2/imgproc.hpp>
+
+#include "core/flow/flow_lifting.h"
+#include "core/flow/optical_flow.h"
+#include "core/render/render_maps.h"
+
+namespace es {
+namespace {
+
+// |frame - static render|, mean over channels, and the rendered depth.
+struct StaticFit {
+  cv::Mat misfit;  // CV_32FC1
+  cv::Mat depth;   // CV_32FC1, 0 = no surface
+};
+
+StaticFit FitFrame(const Frame& frame, const SplatView& splats,
+                   const RenderOptions& options, Rasterizer* rasterizer) {
+  RenderResult render;
+  rasterizer->Forward(frame.camera, splats, options, &render);
+  cv::Mat rgb;
+  cv::Mat(render.height, render.width, CV_64FC3, render.rgb.data())
+      .convertTo(rgb, CV_32FC3);
+  cv::Mat diff;
+  cv::absdiff(rgb, frame.image, diff);
+  StaticFit fit;
+  cv::transform(diff, fit.misfit, cv::Matx13f(1 / 3.f, 1 / 3.f, 1 / 3.f));
+  fit.depth = FloatImage(render, ExpectedDepth(render, 0.5));
+  // At occluding edges the depth is a blend and the camera's flow there is
+  // wrong: no depth, no flow cue.
+  cv::Mat lo, hi;
+  cv::erode(fit.depth, lo, cv::Mat());
+  cv::dilate(fit.depth, hi, cv::Mat());
+  fit.depth.setTo(0, hi - lo > 0.05 * lo);
+  return fit;
+}
+
+// |flow - the flow camera motion induces over `depth`|, per pixel, from
+// frame a to frame b; 0 where there is no depth.
+cv::Mat NonRigidFlow(const cv::Mat& flow, const cv::Mat& depth,
+                     const Camera& a, const Camera& b) {
+  cv::Mat out(flow.size(), CV_32FC1, cv::Scalar(0.f));
+  const Eigen::Matrix3d r_a = a.R(), r_b = b.R();
+#pragma omp parallel for schedule(static)
+  for (int y = 0; y < flow.rows; ++y) {
+    for (int x = 0; x < flow.cols; ++x) {
+      const float z = depth.at<float>(y, x);
+      if (z <= 0) continue;
+      const Eigen::Vector3d world =
+          r_a.transpose() * (a.Unproject(x + 0.5, y + 0.5, z) - a.t_cw);
+      const Eigen::Vector3d in_b = r_b * world + b.t_cw;
+      if (in_b.z() <= 1e-6) continue;
+      const Eigen::Vector2d uv = b.Project(in_b);
+      const cv::Vec2f f = flow.at<cv::Vec2f>(y, x);
+      out.at<float>(y, x) = static_cast<float>(
+          std::hypot(f[0] - (uv.x() - x - 0.5), f[1] - (uv.y() - y - 0.5)));
+    }
+  }
+  return out;
+}
+
+// Median of the values of `maps` where `valid` (same layout, optional) is
+// non-zero, from a regular subsample.
+double Median(const std::vector<cv::Mat>& maps,
+              const std::vector<cv::Mat>* valid) {
+  std::vector<float> values;
+  for (size_t i = 0; i < maps.size(); ++i) {
+    const cv::Mat& m = maps[i];
+    for (int p = 0; p < static_cast<int>(m.total()); p += 7) {
+      if (valid && (*valid)[i].at<float>(p) <= 0) continue;
+      values.push_back(m.at<float>(p));
+    }
+  }
+  if (values.empty()) return 0;
+  auto mid = values.begin() + values.size() / 2;
+  std::nth_element(values.begin(), mid, values.end());
+  return *mid;
+}
+
+// Otsu's threshold of the evidence, on its log (evidence spans decades).
+double OtsuThreshold(const std::vector<cv::Mat>& evidence) {
+  const double lo = std::log(0.25), hi = std::log(256.0);
+  std::vector<uchar> bytes;
+  for (const cv::Mat& e : evidence)
+    for (int p = 0; p < static_cast<int>(e.total()); p += 3) {
+      const double v = std::log(std::max(e.at<float>(p), 1e-6f));
+      bytes.push_back(cv::saturate_cast<uchar>(
+          255.0 * (std::clamp(v, lo, hi) - lo) / (hi - lo)));
+    }
+  cv::Mat row(1, static_cast<int>(bytes.size()), CV_8UC1, bytes.data());
+  cv::Mat unused;
+  const double t = cv::threshold(row, unused, 0, 255,
+                                 cv::THRESH_BINARY | cv::THRESH_OTSU);
+  return std::exp(lo + t / 255.0 * (hi - lo));
+}
+
+cv::Mat Disk(int radius) {
+  radius = std::max(radius, 1);
+  return cv::getStructuringElement(cv::MORPH_ELLIPSE,
+                                   cv::Size(2 * radius + 1, 2 * radius + 1));
+}
+
+// Removes connected blobs smaller than min_area pixels.
+void DropSmallBlobs(int min_area, cv::Mat* mask) {
+  cv::Mat labels, stats, centroids;
+  const int n = cv::connectedComponentsWithStats(*mask, labels, stats,
+                                                 centroids, 8, CV_32S);
+  for (int y = 0; y < mask->rows; ++y)
+    for (int x = 0; x < mask->cols; ++x) {
+      const int l = labels.at<int>(y, x);
+      if (l > 0 && l < n &&
+          stats.at<int>(l, cv::CC_STAT_AREA) < min_area)
+        mask->at<uchar>(y, x) = 0;
+    }
+}
+
+// For each frame, the frames within `window` video frames of it (itself
+// included), as indices into frames.
+std::vector<std::vector<int>> TemporalNeighbours(
+    const std::vector<Frame>& frames, int window) {
+  std::vector<std::vector<int>> out(frames.size());
+  for (size_t i = 0; i < frames.size(); ++i)
+    for (size_t j = 0; j < frames.size(); ++j)
+      if (std::abs(frames[j].time_index - frames[i].time_index) <= window)
+        out[i].push_back(static_cast<int>(j));
+  return out;
+}
+
+}  // namespace
+
+WaterMaskResult EstimateWaterMasks(
+    const Scene& scene, const GaussianSet& static_model,
+    const WaterMaskOptions& options,
+    const std::function<void(int, int)>& progress) {
+  const std::vector<Frame>& frames = scene.frames;
+  const int n = static_cast<int>(frames.size());
+  CHECK_GT(n, 0);
+  std::map<int, int> by_time;
+  for (int i = 0; i < n; ++i) by_time[frames[i].time_index] = i;
+
+  // Both cues for every frame.
+  const SplatView splats = SplatView::Of(static_model);
+  Rasterizer rasterizer;
+  OpticalFlow flow(FlowMethod::kDisMedium);
+  std::vector<cv::Mat> misfit(n), nonrigid(n), has_depth(n);
+  for (int i = 0; i < n; ++i) {
+    const StaticFit fit =
+        FitFrame(frames[i], splats, options.render, &rasterizer);
+    misfit[i] = fit.misfit;
+    cv::threshold(fit.depth, has_depth[i], 0, 1, cv::THRESH_BINARY);
+    // The next frame in time, else the previous one.
+    int j = -1;
+    for (int step : {1, -1}) {
+      const auto it = by_time.find(frames[i].time_index + step);
+      if (it != by_time.end()) {
+        j = it->second;
+        break;
+      }
+    }
+    nonrigid[i] = j < 0 ? cv::Mat(fit.depth.size(), CV_32FC1, cv::Scalar(0.f))
+                        : NonRigidFlow(flow.Compute(frames[i].image,
+                                                    frames[j].image),
+                                       fit.depth, frames[i].camera,
+                                       frames[j].camera);
+    if (progress) progress(i + 1, n);
+  }
+
+  // Each cue in units of the static majority's level.
+  // Floors: below them a level is noise, and a video in which nothing
+  // moves must not find water in its noise.
+  const double flow_level =
+      std::max(Median(nonrigid, &has_depth), options.min_flow_level);
+  const double misfit_level =
+      std::max(Median(misfit, nullptr), options.min_misfit_level);
+  std::vector<cv::Mat> cue(n);
+  for (int i = 0; i < n; ++i) {
+    const cv::Mat flow_cue = nonrigid[i] / flow_level;
+    const cv::Mat misfit_cue = misfit[i] / misfit_level;
+    cue[i] = cv::max(flow_cue, misfit_cue);
+    cv::GaussianBlur(cue[i], cue[i], cv::Size(0, 0), 1.0);
+  }
+  const std::vector<std::vector<int>> near =
+      TemporalNeighbours(frames, options.window);
+  WaterMaskResult result;
+  result.evidence.resize(n);
+  for (int i = 0; i < n; ++i) {
+    result.evidence[i] = cv::Mat(cue[i].size(), CV_32FC1, cv::Scalar(0.f));
+    for (int j : near[i]) result.evidence[i] += cue[j];
+    result.evidence[i] /= static_cast<double>(near[i].size());
+  }
+  result.threshold =
+      std::max(OtsuThreshold(result.evidence), options.min_score);
+
+  // Threshold and clean each frame, then vote over the window.
+  const int width = frames[0].image.cols;
+  const cv::Mat open = Disk(std::lround(options.open_radius * width));
+  const cv::Mat close = Disk(std::lround(options.close_radius * width));
+  std::vector<cv::Mat> raw(n);
+  for (int i = 0; i < n; ++i) {
+    cv::Mat m;
+    cv::threshold(result.evidence[i], m, result.threshold, 255,
+                  cv::THRESH_BINARY);
+    m.convertTo(raw[i], CV_8U);
+    cv::morphologyEx(raw[i], raw[i], cv::MORPH_OPEN, open);
+    cv::morphologyEx(raw[i], raw[i], cv::MORPH_CLOSE, close);
+  }
+  result.masks.resize(n);
+  double fraction = 0;
+  for (int i = 0; i < n; ++i) {
+    cv::Mat votes(raw[i].size(), CV_32FC1, cv::Scalar(0.f));
+    for (int j : near[i]) cv::accumulate(raw[j], votes);
+    cv::Mat majority;
+    cv::threshold(votes, majority, 255.0 * near[i].size() / 2, 255,
+                  cv::THRESH_BINARY);
+    majority.convertTo(result.masks[i], CV_8U);
+    DropSmallBlobs(static_cast<int>(options.min_blob *
+                                    result.masks[i].total()),
+                   &result.masks[i]);
+    fraction += cv::countNonZero(result.masks[i]) /
+                static_cast<double>(result.masks[i].total());
+  }
+  result.water_fraction = fraction / n;
+  result.has_water = result.water_fraction >= options.min_water_fraction;
+  return result;
+}
+
+double MaskIou(const cv::Mat& a, const cv::Mat& b) {
+  CHECK_EQ(a.size(), b.size());
+  auto binary = [](const cv::Mat& m) {
+    cv::Mat f, out;
+    m.convertTo(f, CV_32F, m.depth() == CV_8U ? 1.0 / 255 : 1.0);
+    cv::threshold(f, out, 0.5, 1, cv::THRESH_BINARY);
+    out.convertTo(out, CV_8U);
+    return out;
+  };
+  const cv::Mat x = binary(a), y = binary(b);
+  const int inter = cv::countNonZero(x & y);
+  const int uni = cv::countNonZero(x | y);
+  return uni == 0 ? 1.0 : static_cast<double>(inter) / uni;
+}
+
+cv::Mat WaterMaskSheet(const Scene& scene, const WaterMaskResult& result,
+                       int count) {
+  const int n = static_cast<int>(scene.frames.size());
+  CHECK_EQ(static_cast<int>(result.masks.size()), n);
+  count = std::clamp(count, 1, n);
+  const cv::Size size = scene.frames[0].image.size();
+  const int columns = 4;  // two (frame, evidence) pairs per row
+  const int rows = (2 * count + columns - 1) / columns;
+  cv::Mat sheet(rows * size.height, columns * size.width, CV_8UC3,
+                cv::Scalar(40, 40, 40));
+  for (int k = 0; k < count; ++k) {
+    const int i = count == 1 ? 0 : k * (n - 1) / (count - 1);
+    cv::Mat bgr;
+    cv::cvtColor(scene.frames[i].image, bgr, cv::COLOR_RGB2BGR);
+    bgr.convertTo(bgr, CV_8U, 255);
+    cv::Mat tinted = bgr.clone();
+    tinted.setTo(cv::Scalar(255, 160, 0), result.masks[i]);
+    cv::addWeighted(bgr, 0.55, tinted, 0.45, 0, bgr);
+    std::vector<std::vector<cv::Point>> contours;
+    cv::findContours(result.masks[i].clone(), contours, cv::RETR_EXTERNAL,
+                     cv::CHAIN_APPROX_SIMPLE);
+    cv::drawContours(bgr, contours, -1, cv::Scalar(0, 255, 255), 1);
+    // Evidence on a log scale: 1 (static level) dark, 64 bright.
+    cv::Mat level;
+    cv::log(cv::max(result.evidence[i], 1.0f), level);
+    level.convertTo(level, CV_8U, 255.0 / std::log(64.0));
+    cv::Mat heat;
+    cv::applyColorMap(level, heat, cv::COLORMAP_INFERNO);
+    const cv::Mat tiles[2] = {bgr, heat};
+    for (int t = 0; t < 2; ++t) {
+      const int slot = 2 * k + t;
+      const cv::Rect where((slot % columns) * size.width,
+                           (slot / columns) * size.height, size.width,
+                           size.height);
+      tiles[t].copyTo(sheet(where));
+      const std::string label =
+          t == 0 ? scene.frames[i].camera.image_name : "evidence";
+      cv::putText(sheet, label, where.tl() + cv::Point(3, 12),
+                  cv::FONT_HERSHEY_SIMPLEX, std::max(0.3, size.width / 800.0),
+                  cv::Scalar(255, 255, 255), 1, cv::LINE_AA);
+    }
+  }
+  return sheet;
+}
+
+}  // namespace es

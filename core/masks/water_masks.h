@@ -1,0 +1,70 @@
+#ifndef EULERSPLAT_CORE_MASKS_WATER_MASKS_H_
+#define EULERSPLAT_CORE_MASKS_WATER_MASKS_H_
+
+#include <functional>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "core/io/scene.h"
+#include "core/model/gaussians.h"
+#include "core/render/rasterizer.h"
+
+namespace es {
+
+// Water masks found from the video itself, without a segmentation network.
+// A static model fitted to all frames (no masks) explains everything that
+// stands still; water is what it cannot explain:
+//  - non-rigid motion: the optical flow to the next frame minus the flow the
+//    camera motion induces over the static model's depth,
+//  - misfit: |frame - static render|, where the time-averaged model cannot
+//    fit a surface that changes over time.
+// Each cue is divided by its median over all pixels (the static majority's
+// noise level); a pixel's evidence is the stronger of the two (water shows
+// either, e.g. slow water misfits, fast thin water moves), averaged over a
+// temporal window, thresholded
+// (Otsu on the log, never below min_score), cleaned with morphology, voted
+// over the same window, and small blobs are dropped.
+struct WaterMaskOptions {
+  int window = 2;            // frames on each side for averaging and voting
+  double min_score = 2.0;    // evidence (x the median) that can be water
+  double min_flow_level = 0.35;    // px per frame: optical flow noise
+  double min_misfit_level = 0.02;  // of the [0, 1] range: fit noise
+  double open_radius = 0.006;   // morphology radii, fraction of the width
+  double close_radius = 0.015;
+  double min_blob = 0.002;   // blobs below this fraction of the frame: gone
+  // Below this mean water fraction the scene is called static.
+  double min_water_fraction = 0.02;
+  RenderOptions render;      // the static model's background
+};
+
+struct WaterMaskResult {
+  std::vector<cv::Mat> masks;     // per frame, CV_8UC1, 255 = water
+  std::vector<cv::Mat> evidence;  // per frame, CV_32FC1, x the median
+  double threshold = 0;           // on the evidence
+  double water_fraction = 0;      // mean over frames
+  bool has_water = false;         // water_fraction >= min_water_fraction
+};
+
+// Masks for every frame of `scene` (at the frames' size), in its order.
+// Consecutive frames are those one video frame apart (Frame::time_index);
+// a frame with no neighbour in time gets only the misfit cue. Calls
+// progress(done, total) per frame.
+WaterMaskResult EstimateWaterMasks(
+    const Scene& scene, const GaussianSet& static_model,
+    const WaterMaskOptions& options,
+    const std::function<void(int, int)>& progress = nullptr);
+
+// Intersection over union of two binary masks (> 0.5 of their range is
+// water); 1 when both are empty.
+double MaskIou(const cv::Mat& a, const cv::Mat& b);
+
+// A sheet a person can check masks with: `count` frames evenly spaced,
+// each as the frame with its water tinted and outlined, beside the
+// evidence map; labelled with the frame names. BGR 8-bit.
+cv::Mat WaterMaskSheet(const Scene& scene, const WaterMaskResult& result,
+                       int count);
+
+}  // namespace es
+
+#endif  // EULERSPLAT_CORE_MASKS_WATER_MASKS_H_

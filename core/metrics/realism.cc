@@ -1,0 +1,297 @@
+#include "core/metrics/realism.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include <glog/logging.h>
+#include <opencv2/imgproc.hpp>
+
+namespace es {
+namespace {
+
+constexpr int kRegions = 3;  // water, static, frame
+constexpr int kMinPatches = 16;
+const double kNan = std::numeric_limits<double>::quiet_NaN();
+
+cv::Mat Grey(const cv::Mat& frame) {
+  cv::Mat f;
+  frame.convertTo(f, CV_32F, frame.depth() == CV_8U ? 1.0 / 255 : 1.0);
+  if (f.channels() == 1) return f;
+  CHECK(f.channels() == 3 || f.channels() == 4) << f.channels();
+  cv::Mat grey;
+  cv::cvtColor(f, grey, f.channels() == 3 ? cv::COLOR_RGB2GRAY
+                                          : cv::COLOR_RGBA2GRAY);
+  return grey;
+}
+
+// Gaussian levels 0..levels and the Laplacian bands 0..levels-1 between.
+struct Pyramid {
+  std::vector<cv::Mat> gauss;
+  std::vector<cv::Mat> bands;
+};
+
+Pyramid BuildPyramid(const cv::Mat& frame, int levels) {
+  Pyramid p;
+  p.gauss.push_back(Grey(frame));
+  for (int l = 0; l < levels; ++l) {
+    cv::Mat down, up;
+    cv::pyrDown(p.gauss[l], down);
+    cv::pyrUp(down, up, p.gauss[l].size());
+    p.bands.push_back(p.gauss[l] - up);
+    p.gauss.push_back(down);
+  }
+  return p;
+}
+
+// Region masks (CV_8U, 255 = inside) of one frame at every level.
+using LevelMasks = std::vector<cv::Mat>;
+
+std::array<LevelMasks, kRegions> RegionMasks(const cv::Mat& mask,
+                                             const Pyramid& shape) {
+  std::array<LevelMasks, kRegions> out;
+  for (size_t l = 0; l < shape.bands.size(); ++l) {
+    const cv::Size size = shape.bands[l].size();
+    out[2].push_back(cv::Mat(size, CV_8U, cv::Scalar(255)));
+    if (mask.empty()) continue;
+    cv::Mat m;
+    mask.convertTo(m, CV_32F, mask.depth() == CV_8U ? 1.0 / 255 : 1.0);
+    if (l > 0) cv::resize(m, m, size, 0, 0, cv::INTER_AREA);
+    cv::Mat water = m > 0.5f;
+    out[0].push_back(water);
+    out[1].push_back(~water);
+  }
+  return out;
+}
+
+struct Patch {
+  int t, x, y;
+};
+
+// Up to `count` positions (t < frames - 1, so a 3D patch has a next
+// frame) inside the region, by rejection against the full-size masks.
+std::vector<Patch> DrawPatches(const std::vector<cv::Mat>& masks, int region,
+                               cv::Size size, int frames, int count,
+                               std::mt19937_64* rng) {
+  std::uniform_int_distribution<int> t_of(0, frames - 2);
+  std::uniform_int_distribution<int> x_of(0, size.width - 1);
+  std::uniform_int_distribution<int> y_of(0, size.height - 1);
+  std::vector<Patch> out;
+  const long long attempts = 64LL * count;
+  for (long long a = 0; a < attempts && static_cast<int>(out.size()) < count;
+       ++a) {
+    const Patch p{t_of(*rng), x_of(*rng), y_of(*rng)};
+    if (region != 2) {
+      const cv::Mat& m = masks[p.t];
+      const double v = m.depth() == CV_8U ? m.at<uint8_t>(p.y, p.x) / 255.0
+                                          : m.depth() == CV_32F
+                                                ? m.at<float>(p.y, p.x)
+                                                : m.at<double>(p.y, p.x);
+      if ((v > 0.5) != (region == 0)) continue;
+    }
+    out.push_back(p);
+  }
+  return out;
+}
+
+// Appends the 3x3 neighbourhood of `image` around full-size pixel (x, y)
+// at pyramid level `level` (clamped at the border).
+void AppendNeighbourhood(const cv::Mat& image, int level, int x, int y,
+                         std::vector<float>* out) {
+  const int cx = x >> level, cy = y >> level;
+  for (int dy = -1; dy <= 1; ++dy) {
+    const int yy = std::clamp(cy + dy, 0, image.rows - 1);
+    for (int dx = -1; dx <= 1; ++dx) {
+      const int xx = std::clamp(cx + dx, 0, image.cols - 1);
+      out->push_back(image.at<float>(yy, xx));
+    }
+  }
+}
+
+// Feature vectors of one video's patches, row-major, `dims` per patch.
+struct Features {
+  int dims = 0;
+  std::vector<float> values;
+};
+
+void AppendPatchFeatures(const Pyramid& now, const Pyramid& next,
+                         const Patch& p, Features* f2, Features* f3) {
+  std::vector<float> v;
+  for (size_t l = 0; l < now.bands.size(); ++l) {
+    AppendNeighbourhood(now.bands[l], l, p.x, p.y, &v);
+  }
+  f2->dims = static_cast<int>(v.size());
+  f2->values.insert(f2->values.end(), v.begin(), v.end());
+  for (size_t l = 0; l < now.bands.size(); ++l) {
+    AppendNeighbourhood(next.gauss[l] - now.gauss[l], l, p.x, p.y, &v);
+  }
+  f3->dims = static_cast<int>(v.size());
+  f3->values.insert(f3->values.end(), v.begin(), v.end());
+}
+
+// Sliced Wasserstein-1 distance between two equally large point sets.
+double SlicedWasserstein(const Features& a, const Features& b,
+                         int projections, uint64_t seed) {
+  CHECK_EQ(a.dims, b.dims);
+  CHECK_EQ(a.values.size(), b.values.size());
+  const int d = a.dims;
+  const size_t n = a.values.size() / d;
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> normal;
+  std::vector<double> dir(d), pa(n), pb(n);
+  double total = 0;
+  for (int k = 0; k < projections; ++k) {
+    double norm = 0;
+    for (double& c : dir) {
+      c = normal(rng);
+      norm += c * c;
+    }
+    norm = std::sqrt(norm);
+    for (size_t i = 0; i < n; ++i) {
+      double sa = 0, sb = 0;
+      for (int j = 0; j < d; ++j) {
+        sa += dir[j] * a.values[i * d + j];
+        sb += dir[j] * b.values[i * d + j];
+      }
+      pa[i] = sa / norm;
+      pb[i] = sb / norm;
+    }
+    std::sort(pa.begin(), pa.end());
+    std::sort(pb.begin(), pb.end());
+    double w = 0;
+    for (size_t i = 0; i < n; ++i) w += std::abs(pa[i] - pb[i]);
+    total += w / n;
+  }
+  return total / projections;
+}
+
+struct Accumulator {
+  std::vector<double> band_rendered, band_real;
+  long long pixels = 0;
+  double motion_rendered = 0, motion_real = 0;
+  long long motion_pixels = 0;
+  std::vector<Patch> patches;
+  size_t next_patch = 0;  // patches are sorted by frame
+  Features rendered2, real2, rendered3, real3;
+};
+
+// Sum of |image| over the mask's nonzero pixels.
+double MaskedAbsSum(const cv::Mat& image, const cv::Mat& mask) {
+  const int count = cv::countNonZero(mask);
+  return count ? cv::mean(cv::abs(image), mask)[0] * count : 0.0;
+}
+
+double Ratio(double a, double b) { return b > 0 ? a / b : kNan; }
+
+RealismRegion Finish(const Accumulator& acc, const RealismOptions& options,
+                     uint64_t seed) {
+  RealismRegion r;
+  r.pixels = acc.pixels;
+  if (acc.pixels == 0) {
+    r.band_ratio.assign(options.levels, kNan);
+    r.detail_ratio = r.motion_ratio = r.real_detail = r.real_motion = kNan;
+    r.distance_2d = r.distance_3d = kNan;
+    return r;
+  }
+  double sum = 0;
+  int bands = 0;
+  for (int l = 0; l < options.levels; ++l) {
+    r.band_ratio.push_back(Ratio(acc.band_rendered[l], acc.band_real[l]));
+    if (std::isfinite(r.band_ratio.back())) {
+      sum += r.band_ratio.back();
+      ++bands;
+    }
+  }
+  r.detail_ratio = bands ? sum / bands : kNan;
+  r.real_detail = acc.band_real[0] / acc.pixels;
+  r.motion_ratio = Ratio(acc.motion_rendered, acc.motion_real);
+  r.real_motion =
+      acc.motion_pixels ? acc.motion_real / acc.motion_pixels : kNan;
+  r.patches = static_cast<int>(acc.patches.size());
+  if (r.patches < kMinPatches) {
+    r.distance_2d = r.distance_3d = kNan;
+  } else {
+    r.distance_2d = SlicedWasserstein(acc.rendered2, acc.real2,
+                                      options.projections, seed);
+    r.distance_3d = SlicedWasserstein(acc.rendered3, acc.real3,
+                                      options.projections, seed + 1);
+  }
+  return r;
+}
+
+}  // namespace
+
+RealismMetrics ComputeRealism(const std::vector<cv::Mat>& rendered,
+                              const std::vector<cv::Mat>& real,
+                              const std::vector<cv::Mat>& masks,
+                              const RealismOptions& options) {
+  CHECK_GE(real.size(), 2u);
+  CHECK_EQ(rendered.size(), real.size());
+  CHECK(masks.empty() || masks.size() == real.size());
+  CHECK_GE(options.levels, 1);
+  const int frames = static_cast<int>(real.size());
+  const cv::Size size = real[0].size();
+  for (int t = 0; t < frames; ++t) {
+    CHECK(real[t].size() == size && rendered[t].size() == size);
+    CHECK(masks.empty() || masks[t].size() == size);
+  }
+  const bool has_masks = !masks.empty();
+
+  std::mt19937_64 rng(options.seed);
+  std::array<Accumulator, kRegions> acc;
+  for (int r = 0; r < kRegions; ++r) {
+    acc[r].band_rendered.assign(options.levels, 0.0);
+    acc[r].band_real.assign(options.levels, 0.0);
+    if (r < 2 && !has_masks) continue;
+    acc[r].patches = DrawPatches(masks, r, size, frames,
+                                 options.patch_samples, &rng);
+    std::sort(acc[r].patches.begin(), acc[r].patches.end(),
+              [](const Patch& a, const Patch& b) { return a.t < b.t; });
+  }
+
+  // One pass over the frames, holding two pyramids per video.
+  Pyramid prev_rendered, prev_real;
+  std::array<LevelMasks, kRegions> prev_masks;
+  for (int t = 0; t < frames; ++t) {
+    Pyramid pr = BuildPyramid(rendered[t], options.levels);
+    Pyramid pt = BuildPyramid(real[t], options.levels);
+    std::array<LevelMasks, kRegions> region =
+        RegionMasks(has_masks ? masks[t] : cv::Mat(), pt);
+    for (int r = 0; r < kRegions; ++r) {
+      if (region[r].empty()) continue;
+      Accumulator& a = acc[r];
+      a.pixels += cv::countNonZero(region[r][0]);
+      for (int l = 0; l < options.levels; ++l) {
+        const cv::Mat& m = region[r][l];
+        a.band_rendered[l] += MaskedAbsSum(pr.bands[l], m);
+        a.band_real[l] += MaskedAbsSum(pt.bands[l], m);
+      }
+      if (t == 0) continue;
+      const cv::Mat both = prev_masks[r][0] & region[r][0];
+      a.motion_pixels += cv::countNonZero(both);
+      a.motion_rendered +=
+          MaskedAbsSum(pr.gauss[0] - prev_rendered.gauss[0], both);
+      a.motion_real += MaskedAbsSum(pt.gauss[0] - prev_real.gauss[0], both);
+      while (a.next_patch < a.patches.size() &&
+             a.patches[a.next_patch].t == t - 1) {
+        const Patch& p = a.patches[a.next_patch++];
+        AppendPatchFeatures(prev_rendered, pr, p, &a.rendered2,
+                            &a.rendered3);
+        AppendPatchFeatures(prev_real, pt, p, &a.real2, &a.real3);
+      }
+    }
+    prev_rendered = std::move(pr);
+    prev_real = std::move(pt);
+    prev_masks = std::move(region);
+  }
+
+  RealismMetrics m;
+  m.water = Finish(acc[0], options, options.seed + 10);
+  m.static_region = Finish(acc[1], options, options.seed + 10);
+  m.frame = Finish(acc[2], options, options.seed + 10);
+  return m;
+}
+
+}  // namespace es

@@ -1,0 +1,87 @@
+#include "core/render/tile_kernels.h"
+
+#include <glog/logging.h>
+
+namespace es {
+
+const char* SimdLevelName(SimdLevel level) {
+  switch (level) {
+    case SimdLevel::kAuto:
+      return "auto";
+    case SimdLevel::kSse2:
+      return "sse2";
+    case SimdLevel::kAvx2:
+      return "avx2";
+    case SimdLevel::kAvx512:
+      return "avx512";
+  }
+  return "?";
+}
+
+bool SimdLevelSupported(SimdLevel level) {
+#if defined(ES_TILE_KERNELS_X86)
+  switch (level) {
+    case SimdLevel::kAuto:
+    case SimdLevel::kSse2:
+      return true;
+    case SimdLevel::kAvx2:
+      return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+    case SimdLevel::kAvx512:
+      return __builtin_cpu_supports("avx512f") &&
+             __builtin_cpu_supports("avx512vl") &&
+             __builtin_cpu_supports("avx512bw") &&
+             __builtin_cpu_supports("avx512dq");
+  }
+  return false;
+#else
+  // Elsewhere all three sets are the same portable build.
+  return true;
+#endif
+}
+
+SimdLevel BestSimdLevel() {
+  static const SimdLevel best = [] {
+    for (SimdLevel l : {SimdLevel::kAvx512, SimdLevel::kAvx2})
+      if (SimdLevelSupported(l)) return l;
+    return SimdLevel::kSse2;
+  }();
+  return best;
+}
+
+SimdLevel ResolveSimdLevel(SimdLevel level) {
+  if (level == SimdLevel::kAuto) return BestSimdLevel();
+  CHECK(SimdLevelSupported(level))
+      << "this CPU lacks the " << SimdLevelName(level) << " instructions";
+  return level;
+}
+
+int TileScratchSize(int num_features) {
+  constexpr int kTilePixels = kTileSize * kTileSize;
+  return kTilePixels * (num_features + 2) + num_features;
+}
+
+template <>
+const TileKernelSet<float>& TileKernels<float>(SimdLevel level) {
+  switch (ResolveSimdLevel(level)) {
+    case SimdLevel::kAvx512:
+      return tile_avx512::FloatKernels();
+    case SimdLevel::kAvx2:
+      return tile_avx2::FloatKernels();
+    default:
+      return tile_sse2::FloatKernels();
+  }
+}
+
+template <>
+const TileKernelSet<double>& TileKernels<double>(SimdLevel level) {
+  switch (ResolveSimdLevel(level)) {
+    case SimdLevel::kAvx512:
+      return tile_avx512::DoubleKernels();
+    case SimdLevel::kAvx2:
+      return tile_avx2::DoubleKernels();
+    default:
+      return tile_sse2::DoubleKernels();
+  }
+}
+
+}  // namespace es

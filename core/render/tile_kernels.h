@@ -1,0 +1,91 @@
+#ifndef EULERSPLAT_CORE_RENDER_TILE_KERNELS_H_
+#define EULERSPLAT_CORE_RENDER_TILE_KERNELS_H_
+
+// The rasterizer's per-tile forward and backward passes, compiled once per
+// instruction set (tile_kernels_{sse2,avx2,avx512}.cc from the one source in
+// tile_kernels_impl.h) and picked at run time from what the CPU supports,
+// so a default (SSE2) build still runs AVX2 / AVX-512 code where it can.
+
+#include "core/render/raster_constants.h"
+
+namespace es {
+
+// Instruction sets of the tile kernels; kAuto picks the best supported.
+enum class SimdLevel { kAuto = 0, kSse2, kAvx2, kAvx512 };
+
+const char* SimdLevelName(SimdLevel level);
+bool SimdLevelSupported(SimdLevel level);
+// The best level this CPU supports (never kAuto).
+SimdLevel BestSimdLevel();
+// `level` itself if supported, the best supported one for kAuto, and an
+// error (glog CHECK) for a level the CPU lacks.
+SimdLevel ResolveSimdLevel(SimdLevel level);
+
+// What the tile passes read and write, in the precision S of the inner
+// loops. Per binned Gaussian k (depth order): geom[6k..] mean x, mean y,
+// conic a, b, c, opacity; feature[num_features k..] r, g, b, depth, extras;
+// box[4k..] its pixel box px0, px1, py0, py1. Per tile: tile_entries
+// [tile_offsets[t], tile_offsets[t + 1]) its Gaussians, front to back.
+template <typename S>
+struct TilePass {
+  int width = 0, height = 0, tiles_x = 0;
+  int num_features = 4;  // r, g, b, depth, then num_extra extras
+  int num_extra = 0;
+  const int* tile_offsets = nullptr;
+  const int* tile_entries = nullptr;
+  const S* geom = nullptr;
+  const S* feature = nullptr;
+  const int* box = nullptr;
+  double background[3] = {0, 0, 0};
+
+  // Forward outputs (per pixel), and the state Backward reads back.
+  double* rgb = nullptr;    // 3 per pixel
+  double* alpha = nullptr;
+  double* depth = nullptr;
+  double* extra = nullptr;  // num_extra per pixel
+  S* t_final = nullptr;     // transmittance after the last Gaussian
+  int* last = nullptr;      // entries of the pixel's list used + 1
+
+  // Backward inputs (nullptr: zero) and output: per binned Gaussian,
+  // grad_stride doubles d mean2d (2), d conic (3), d opacity, then one per
+  // feature, added to atomically.
+  const double* d_rgb = nullptr;
+  const double* d_alpha = nullptr;
+  const double* d_depth = nullptr;
+  const double* d_extra = nullptr;
+  double* grad2d = nullptr;
+  int grad_stride = 0;
+};
+
+constexpr int kTileGeomStride = 6;
+constexpr int kTileGradHead = 6;
+
+// Scalars of per-thread scratch a tile pass needs.
+int TileScratchSize(int num_features);
+
+template <typename S>
+struct TileKernelSet {
+  // Renders one tile into the forward outputs; returns the Gaussian-pixel
+  // pairs it evaluated.
+  long long (*forward)(const TilePass<S>& pass, int tile, S* scratch);
+  // Adds the tile's share of every Gaussian's 2D gradient to grad2d.
+  void (*backward)(const TilePass<S>& pass, int tile, S* scratch);
+};
+
+template <typename S>
+const TileKernelSet<S>& TileKernels(SimdLevel level);
+
+// One set per instruction set (internal to the dispatch).
+#define ES_DECLARE_TILE_KERNELS(isa)                 \
+  namespace isa {                                    \
+  const TileKernelSet<float>& FloatKernels();        \
+  const TileKernelSet<double>& DoubleKernels();      \
+  }
+ES_DECLARE_TILE_KERNELS(tile_sse2)
+ES_DECLARE_TILE_KERNELS(tile_avx2)
+ES_DECLARE_TILE_KERNELS(tile_avx512)
+#undef ES_DECLARE_TILE_KERNELS
+
+}  // namespace es
+
+#endif  // EULERSPLAT_CORE_RENDER_TILE_KERNELS_H_

@@ -1,0 +1,460 @@
+// The per-tile forward and backward passes of the rasterizer. Included only
+// by tile_kernels_{sse2,avx2,avx512}.cc, each compiled for its instruction
+// set with ES_TILE_ISA naming its namespace. Everything here has internal
+// linkage and calls no out-of-line library code, so no function compiled
+// for AVX2 / AVX-512 can be merged into, or called from, code that runs on
+// a CPU without it.
+
+#if !defined(ES_TILE_ISA) || !defined(ES_TILE_FULL_ROWS)
+#error "define ES_TILE_ISA and ES_TILE_FULL_ROWS before this header"
+#endif
+
+// Lets GCC turn the selects in the row loops below into vector blends (it
+// keeps branches while a comparison might raise a floating-point exception
+// flag); values are unchanged and nothing here reads those flags.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC optimize("no-trapping-math")
+#endif
+
+#include <omp.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+
+#include "core/render/raster_constants.h"
+#include "core/render/tile_kernels.h"
+
+namespace es {
+namespace ES_TILE_ISA {
+namespace {
+
+constexpr int kTilePixels = kTileSize * kTileSize;
+// Whether a Gaussian's rows run over the whole tile row (a fixed trip
+// count of kTileSize, one or two vectors for AVX-512 / AVX2, no scalar
+// remainder) with the pixels outside its box masked to alpha 0, or over its
+// box only (fewer lanes wasted with 4-wide SSE2). Pixels with alpha 0 take
+// no part in either pass, so both give the same sums up to their order.
+constexpr bool kFullRows = ES_TILE_FULL_ROWS;
+
+inline int MinInt(int a, int b) { return a < b ? a : b; }
+inline int MaxInt(int a, int b) { return a > b ? a : b; }
+
+// exp(x) for float x <= 0: Cephes' expf polynomial (about 1 ulp), written
+// without a library call so the row loop below vectorizes. Double (the
+// reference precision) keeps the library exp.
+inline float ExpNonPositive(float x) {
+  x = x > -87.0f ? x : -87.0f;
+  // Round x / ln 2 to an integer n by the 1.5 * 2^23 trick.
+  const float shifted = x * 1.44269504088896341f + 12582912.0f;
+  const float n = shifted - 12582912.0f;
+  int32_t n_bits;
+  std::memcpy(&n_bits, &shifted, sizeof(n_bits));
+  n_bits -= 0x4B400000;  // the bits of 12582912.0f
+  const float r = x - n * 0.693359375f + n * 2.12194440e-4f;
+  float p = 1.9875691500e-4f;
+  p = p * r + 1.3981999507e-3f;
+  p = p * r + 8.3334519073e-3f;
+  p = p * r + 4.1665795894e-2f;
+  p = p * r + 1.6666665459e-1f;
+  p = p * r + 5.0000001201e-1f;
+  p = p * r * r + r + 1.0f;
+  const int32_t scale_bits = (n_bits + 127) << 23;
+  float scale;
+  std::memcpy(&scale, &scale_bits, sizeof(scale));
+  return p * scale;
+}
+inline double ExpNonPositive(double x) {
+  return __builtin_exp(x < 0.0 ? x : 0.0);
+}
+
+// A binned Gaussian in the tile pass.
+template <typename S>
+struct Footprint {
+  S mx, my, ca, cb, cc, opacity;
+  explicit Footprint(const S* geo)
+      : mx(geo[0]), my(geo[1]), ca(geo[2]), cb(geo[3]), cc(geo[4]),
+        opacity(geo[5]) {}
+};
+
+// The part of a tile one Gaussian's pixel box covers: pixels [x0, x1) x
+// [y0, y1) (empty when x0 >= x1 or y0 >= y1).
+struct Span {
+  int x0, x1, y0, y1;
+  bool empty() const { return x0 >= x1 || y0 >= y1; }
+};
+
+struct TileRect {
+  int x0, x1, y0, y1;
+  TileRect(int tile, int tiles_x, int width, int height)
+      : x0((tile % tiles_x) * kTileSize),
+        x1(MinInt(x0 + kTileSize, width)),
+        y0((tile / tiles_x) * kTileSize),
+        y1(MinInt(y0 + kTileSize, height)) {}
+  Span Clip(const int* box) const {
+    return {MaxInt(x0, box[0]), MinInt(x1, box[1]), MaxInt(y0, box[2]),
+            MinInt(y1, box[3])};
+  }
+  // Offset of pixel (x, y) in the tile's per-pixel arrays.
+  int Offset(int x, int y) const { return (y - y0) * kTileSize + (x - x0); }
+};
+
+// The pixels of one row a Gaussian is evaluated on: n pixels from x0, of
+// which those in [lo, hi) (its box within the tile) count.
+struct RowRange {
+  int x0, n, lo, hi;
+};
+
+inline RowRange RowOf(const TileRect& r, const Span& s) {
+  if (kFullRows) return {r.x0, kTileSize, s.x0, s.x1};
+  return {s.x0, s.x1 - s.x0, s.x0, s.x1};
+}
+
+// The Gaussian on the n pixels of row y from x0: raw[i] = o exp(-sigma),
+// alpha before the 0.99 clamp, with sigma = 0.5 d^T conic d, and 0 where
+// sigma < 0 or outside [lo, hi). Forward and backward share it so both take
+// exactly the same skip decisions.
+template <typename S>
+inline void RowAlphas(const Footprint<S>& g, int y, const RowRange& row,
+                      S* raw) {
+  const S dy = static_cast<S>(y) + S(0.5) - g.my;
+  const S row_term = S(0.5) * g.cc * dy * dy;
+  const S cross = g.cb * dy;
+  const int x0 = row.x0, lo = row.lo, hi = row.hi;
+#pragma omp simd
+  for (int i = 0; i < row.n; ++i) {
+    const int x = x0 + i;
+    const S dx = static_cast<S>(x) + S(0.5) - g.mx;
+    const S sigma = S(0.5) * g.ca * dx * dx + cross * dx + row_term;
+    const S a = g.opacity * ExpNonPositive(-sigma);
+    raw[i] = sigma >= S(0) && x >= lo && x < hi ? a : S(0);
+  }
+}
+
+// ---------------------------------------------------------------- forward
+
+// Composites one Gaussian (features f: r, g, b, depth) over n pixels of a
+// tile row, front to back, with the 3DGS rules: skip alpha < 1/255, clamp
+// alpha at 0.99, stop a pixel before T would fall below 1e-4. Per-pixel
+// arrays start at the row's first pixel; w receives each pixel's weight
+// alpha * T (0 where skipped) for the extra channels. Written without
+// branches so it vectorizes. Returns how many pixels stopped.
+template <typename S>
+inline int CompositeRow(int n, const S* raw, const S* f, int rank, S* t,
+                        S* done, int* last, S* acc0, S* acc1, S* acc2,
+                        S* acc3, S* w) {
+  const S max_alpha = static_cast<S>(kMaxAlpha);
+  const S min_alpha = static_cast<S>(kMinAlpha);
+  const S min_t = static_cast<S>(kMinTransmittance);
+  const S f0 = f[0], f1 = f[1], f2 = f[2], f3 = f[3];
+  int stopped = 0;
+#pragma omp simd reduction(+ : stopped)
+  for (int i = 0; i < n; ++i) {
+    const S r = raw[i];
+    const bool live = r >= min_alpha && done[i] == S(0);
+    const S alpha = live ? (r < max_alpha ? r : max_alpha) : S(0);
+    const S next_t = t[i] * (S(1) - alpha);
+    const bool stop = live && next_t < min_t;
+    const bool use = live && !stop;
+    const S wi = use ? alpha * t[i] : S(0);
+    acc0[i] += wi * f0;
+    acc1[i] += wi * f1;
+    acc2[i] += wi * f2;
+    acc3[i] += wi * f3;
+    w[i] = wi;
+    t[i] = use ? next_t : t[i];
+    last[i] = use ? rank : last[i];
+    done[i] = stop ? S(1) : done[i];
+    stopped += stop ? 1 : 0;
+  }
+  return stopped;
+}
+
+// Writes the composited tile (per-pixel arrays t and accum, nf features)
+// into the pass's images.
+template <typename S>
+void StoreTile(const TilePass<S>& p, const TileRect& r, const S* t,
+               const S* accum, const int* tile_last) {
+  const double* bg = p.background;
+  const int num_extra = p.num_extra;
+  for (int y = r.y0; y < r.y1; ++y) {
+    for (int x = r.x0; x < r.x1; ++x) {
+      const int q = r.Offset(x, y);
+      const size_t pix = static_cast<size_t>(y) * p.width + x;
+      const double tf = t[q];
+      for (int c = 0; c < 3; ++c)
+        p.rgb[3 * pix + c] = accum[c * kTilePixels + q] + bg[c] * tf;
+      p.alpha[pix] = 1 - tf;
+      p.depth[pix] = accum[3 * kTilePixels + q];
+      for (int c = 0; c < num_extra; ++c)
+        p.extra[pix * num_extra + c] = accum[(4 + c) * kTilePixels + q];
+      p.t_final[pix] = t[q];
+      p.last[pix] = tile_last[q];
+    }
+  }
+}
+
+template <typename S>
+long long ForwardTile(const TilePass<S>& p, int tile, S* scratch) {
+  const TileRect r(tile, p.tiles_x, p.width, p.height);
+  const int nf = p.num_features;
+  // Per-pixel state of the tile, one array per quantity.
+  S* t = scratch;
+  S* done = t + kTilePixels;
+  S* accum = done + kTilePixels;  // nf arrays
+  int tile_last[kTilePixels];
+  S w[kTileSize], raw[kTileSize];
+  for (int i = 0; i < kTilePixels; ++i) t[i] = S(1);
+  for (int i = 0; i < kTilePixels * (nf + 1); ++i) done[i] = S(0);
+  for (int i = 0; i < kTilePixels; ++i) tile_last[i] = 0;
+  int active = (r.x1 - r.x0) * (r.y1 - r.y0);
+  long long evaluations = 0;
+  const int begin = p.tile_offsets[tile], end = p.tile_offsets[tile + 1];
+  for (int e = begin; e < end && active > 0; ++e) {
+    const int k = p.tile_entries[e];
+    const Span s = r.Clip(&p.box[4 * static_cast<size_t>(k)]);
+    if (s.empty()) continue;
+    evaluations += static_cast<long long>(s.x1 - s.x0) * (s.y1 - s.y0);
+    const Footprint<S> g(&p.geom[static_cast<size_t>(kTileGeomStride) * k]);
+    const S* f = &p.feature[static_cast<size_t>(nf) * k];
+    const RowRange row = RowOf(r, s);
+    const int n = row.n;
+    for (int y = s.y0; y < s.y1; ++y) {
+      RowAlphas(g, y, row, raw);
+      const int q = r.Offset(row.x0, y);
+      active -= CompositeRow(n, raw, f, e - begin + 1, t + q, done + q,
+                             tile_last + q, accum + q,
+                             accum + kTilePixels + q,
+                             accum + 2 * kTilePixels + q,
+                             accum + 3 * kTilePixels + q, w);
+      for (int c = 4; c < nf; ++c) {
+        S* acc = accum + c * kTilePixels + q;
+        const S fc = f[c];
+        for (int i = 0; i < n; ++i) acc[i] += w[i] * fc;
+      }
+    }
+  }
+  StoreTile(p, r, t, accum, tile_last);
+  return evaluations;
+}
+
+// --------------------------------------------------------------- backward
+
+// The tile's per-pixel state for the backward pass.
+template <typename S>
+struct BackwardTileState {
+  S* t;          // transmittance, recovered back to front
+  S* suffix;     // d loss / d (everything behind), see BackwardRow
+  S* g_feat;     // num_features arrays of pixel gradients
+  S* acc_extra;  // one Gaussian's extra-channel gradients
+  int last[kTilePixels];
+};
+
+// Loads the pixel gradients and the forward's final state; returns the
+// largest number of entries any pixel of the tile used.
+template <typename S>
+int LoadTileGradients(const TilePass<S>& p, const TileRect& r,
+                      BackwardTileState<S>* st) {
+  const double* bg = p.background;
+  const int num_extra = p.num_extra;
+  int max_last = 0;
+  for (int y = r.y0; y < r.y1; ++y) {
+    for (int x = r.x0; x < r.x1; ++x) {
+      const int q = r.Offset(x, y);
+      const size_t pix = static_cast<size_t>(y) * p.width + x;
+      double g_bg = 0;
+      for (int c = 0; c < 3; ++c) {
+        const double gc = p.d_rgb ? p.d_rgb[3 * pix + c] : 0.0;
+        st->g_feat[c * kTilePixels + q] = static_cast<S>(gc);
+        g_bg += gc * bg[c];
+      }
+      st->g_feat[3 * kTilePixels + q] =
+          static_cast<S>(p.d_depth ? p.d_depth[pix] : 0.0);
+      for (int c = 0; c < num_extra; ++c) {
+        st->g_feat[(4 + c) * kTilePixels + q] = static_cast<S>(
+            p.d_extra ? p.d_extra[pix * num_extra + c] : 0.0);
+      }
+      const double g_alpha = p.d_alpha ? p.d_alpha[pix] : 0.0;
+      const double tf = p.t_final[pix];
+      st->t[q] = p.t_final[pix];
+      // The background term and alpha = 1 - T_final both scale T_final.
+      st->suffix[q] = static_cast<S>((g_bg - g_alpha) * tf);
+      st->last[q] = p.last[pix];
+      max_last = MaxInt(max_last, p.last[pix]);
+    }
+  }
+  return max_last;
+}
+
+// One Gaussian's 2D gradient summed over the pixels of a tile.
+template <typename S>
+struct FootprintGradient {
+  S mx = 0, my = 0, ca = 0, cb = 0, cc = 0, opacity = 0;
+  S f0 = 0, f1 = 0, f2 = 0, f3 = 0;
+};
+
+// Backward of CompositeRow, back to front, for n pixels of row y starting
+// at pixel x0: recovers T in front of the Gaussian (T / (1 - alpha)),
+// accumulates the Gaussian's gradients into *out and updates the per-pixel
+// suffix (d loss / d everything behind). g0..g3 are the pixels' gradients
+// for r, g, b, depth and g_extra_dot their extra gradients dotted with this
+// Gaussian's extras; w receives the weights for the extra channels.
+// Returns whether any pixel used the Gaussian.
+template <typename S>
+inline bool BackwardRow(int n, const S* raw, const Footprint<S>& g,
+                        const S* f, int rank, int x0, int y, const int* last,
+                        S* t, S* suffix, const S* g0, const S* g1,
+                        const S* g2, const S* g3, const S* g_extra_dot, S* w,
+                        FootprintGradient<S>* out) {
+  const S max_alpha = static_cast<S>(kMaxAlpha);
+  const S min_alpha = static_cast<S>(kMinAlpha);
+  const S f0 = f[0], f1 = f[1], f2 = f[2], f3 = f[3];
+  const S inv_opacity = S(1) / g.opacity;
+  const S dy = static_cast<S>(y) + S(0.5) - g.my;
+  const S dx0 = static_cast<S>(x0) + S(0.5) - g.mx;
+  S mx = 0, my = 0, ca = 0, cb = 0, cc = 0, op = 0;
+  S a0 = 0, a1 = 0, a2 = 0, a3 = 0;
+  int used = 0;
+#pragma omp simd reduction(+ : mx, my, ca, cb, cc, op, a0, a1, a2, a3, used)
+  for (int i = 0; i < n; ++i) {
+    const S r = raw[i];
+    const bool live = r >= min_alpha && rank < last[i];
+    const S alpha = live ? (r < max_alpha ? r : max_alpha) : S(0);
+    const S one_minus = S(1) - alpha;
+    const S t_front = t[i] / one_minus;  // T in front of this Gaussian
+    const S wi = alpha * t_front;
+    w[i] = wi;
+    // Selects, not products with wi = 0, so a non-finite gradient of a
+    // pixel the Gaussian does not reach cannot leak into its sums.
+    a0 += live ? g0[i] * wi : S(0);
+    a1 += live ? g1[i] * wi : S(0);
+    a2 += live ? g2[i] * wi : S(0);
+    a3 += live ? g3[i] * wi : S(0);
+    const S g_dot_f =
+        g0[i] * f0 + g1[i] * f1 + g2[i] * f2 + g3[i] * f3 + g_extra_dot[i];
+    // out = sum_i f_i a_i T_i + bg T_N: d out / d a_i = f_i T_i -
+    // (everything behind i, background and 1 - alpha included) / (1 - a_i).
+    const S g_alpha = g_dot_f * t_front - suffix[i] / one_minus;
+    suffix[i] += live ? g_dot_f * wi : S(0);
+    t[i] = t_front;
+    // No gradient through the 0.99 clamp.
+    const S g_sigma = live && r <= max_alpha ? -g_alpha * alpha : S(0);
+    op += live && r <= max_alpha ? g_alpha * r * inv_opacity : S(0);
+    const S dx = dx0 + static_cast<S>(i);
+    ca += S(0.5) * dx * dx * g_sigma;
+    cb += dx * dy * g_sigma;
+    cc += S(0.5) * dy * dy * g_sigma;
+    mx -= (g.ca * dx + g.cb * dy) * g_sigma;
+    my -= (g.cb * dx + g.cc * dy) * g_sigma;
+    used += live ? 1 : 0;
+  }
+  out->mx += mx;
+  out->my += my;
+  out->ca += ca;
+  out->cb += cb;
+  out->cc += cc;
+  out->opacity += op;
+  out->f0 += a0;
+  out->f1 += a1;
+  out->f2 += a2;
+  out->f3 += a3;
+  return used > 0;
+}
+
+// Walks one Gaussian (entry `rank` of the tile's list) back over its span
+// of the tile, accumulating its gradient into *acc and st->acc_extra.
+// Returns whether any pixel used it.
+template <typename S>
+bool BackwardGaussian(const TilePass<S>& p, const TileRect& r, const Span& s,
+                      int k, int rank, BackwardTileState<S>* st,
+                      FootprintGradient<S>* acc) {
+  const int nf = p.num_features, num_extra = p.num_extra;
+  const Footprint<S> g(&p.geom[static_cast<size_t>(kTileGeomStride) * k]);
+  const S* f = &p.feature[static_cast<size_t>(nf) * k];
+  const RowRange row = RowOf(r, s);
+  const int n = row.n;
+  S w[kTileSize], raw[kTileSize], g_extra_dot[kTileSize];
+  for (int i = 0; i < kTileSize; ++i) g_extra_dot[i] = S(0);
+  for (int c = 0; c < num_extra; ++c) st->acc_extra[c] = S(0);
+  bool touched = false;
+  for (int y = s.y0; y < s.y1; ++y) {
+    RowAlphas(g, y, row, raw);
+    const int q = r.Offset(row.x0, y);
+    const S* gf = st->g_feat + q;
+    for (int c = 4; c < nf; ++c) {
+      const S* gc = gf + c * kTilePixels;
+      const S fc = f[c];
+      for (int i = 0; i < n; ++i)
+        g_extra_dot[i] = (c == 4 ? S(0) : g_extra_dot[i]) + gc[i] * fc;
+    }
+    touched |= BackwardRow(n, raw, g, f, rank, row.x0, y, st->last + q,
+                           st->t + q, st->suffix + q, gf, gf + kTilePixels,
+                           gf + 2 * kTilePixels, gf + 3 * kTilePixels,
+                           g_extra_dot, w, acc);
+    for (int c = 4; c < nf; ++c) {
+      const S* gc = gf + c * kTilePixels;
+      S sum = 0;
+      for (int i = 0; i < n; ++i) sum += w[i] != S(0) ? gc[i] * w[i] : S(0);
+      st->acc_extra[c - 4] += sum;
+    }
+  }
+  return touched;
+}
+
+// Adds one Gaussian's tile gradient to its row of grad2d (tiles run in
+// parallel, hence atomically).
+template <typename S>
+void AddGaussianGradient(const TilePass<S>& p, int k,
+                         const FootprintGradient<S>& acc,
+                         const S* acc_extra) {
+  const S local[kTileGradHead + 4] = {acc.mx, acc.my, acc.ca,      acc.cb,
+                                      acc.cc, acc.opacity, acc.f0, acc.f1,
+                                      acc.f2, acc.f3};
+  double* out = &p.grad2d[static_cast<size_t>(p.grad_stride) * k];
+  for (int c = 0; c < kTileGradHead + 4; ++c) {
+#pragma omp atomic
+    out[c] += static_cast<double>(local[c]);
+  }
+  for (int c = 0; c < p.num_extra; ++c) {
+#pragma omp atomic
+    out[kTileGradHead + 4 + c] += static_cast<double>(acc_extra[c]);
+  }
+}
+
+template <typename S>
+void BackwardTile(const TilePass<S>& p, int tile, S* scratch) {
+  const int begin = p.tile_offsets[tile], end = p.tile_offsets[tile + 1];
+  if (begin == end) return;
+  const TileRect r(tile, p.tiles_x, p.width, p.height);
+  BackwardTileState<S> st;
+  st.t = scratch;
+  st.suffix = st.t + kTilePixels;
+  st.g_feat = st.suffix + kTilePixels;
+  st.acc_extra = st.g_feat + p.num_features * kTilePixels;
+  for (int i = 0; i < kTilePixels; ++i) st.last[i] = 0;
+  if (kFullRows && r.x1 - r.x0 < kTileSize) {
+    // Full rows also run over the pixels past the image's right edge.
+    const int n = (p.num_features + 2) * kTilePixels;
+    for (int i = 0; i < n; ++i) st.t[i] = S(0);
+  }
+  const int max_last = LoadTileGradients(p, r, &st);
+  for (int e = begin + max_last - 1; e >= begin; --e) {
+    const int k = p.tile_entries[e];
+    const Span s = r.Clip(&p.box[4 * static_cast<size_t>(k)]);
+    if (s.empty()) continue;
+    FootprintGradient<S> acc;
+    if (BackwardGaussian(p, r, s, k, e - begin, &st, &acc))
+      AddGaussianGradient(p, k, acc, st.acc_extra);
+  }
+}
+
+template <typename S>
+const TileKernelSet<S> kKernels = {&ForwardTile<S>, &BackwardTile<S>};
+
+}  // namespace
+
+const TileKernelSet<float>& FloatKernels() { return kKernels<float>; }
+const TileKernelSet<double>& DoubleKernels() { return kKernels<double>; }
+
+}  // namespace ES_TILE_ISA
+}  // namespace es

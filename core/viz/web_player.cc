@@ -1,0 +1,113 @@
+#include "core/viz/web_player.h"
+
+#include <algorithm>
+#include <filesystem>
+#include <iomanip>
+#include <sstream>
+
+#include <glog/logging.h>
+
+#include "core/io/atomic_file.h"
+#include "core/io/input_error.h"
+#include "core/loop/loop_file.h"
+
+namespace es {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr char kLoopFileName[] = "scene.esloop";
+
+// What the page imports, from web/node_modules, and where it goes under
+// lib/ (the import map in index.html names these paths).
+const struct {
+  const char* from;
+  const char* to;
+} kViewerFiles[] = {
+    {"@sparkjsdev/spark/dist/spark.module.js", "spark/spark.module.js"},
+    {"@sparkjsdev/spark/LICENSE", "spark/LICENSE"},
+    {"three/build/three.module.js", "three/build/three.module.js"},
+    {"three/build/three.core.js", "three/build/three.core.js"},
+    {"three/examples/jsm/controls/OrbitControls.js",
+     "three/examples/jsm/controls/OrbitControls.js"},
+    {"three/examples/jsm/postprocessing/Pass.js",
+     "three/examples/jsm/postprocessing/Pass.js"},
+    {"three/LICENSE", "three/LICENSE"},
+};
+
+void CopyInto(const fs::path& from, const fs::path& to,
+              const std::string& hint) {
+  if (!fs::is_regular_file(from))
+    throw InputError(from.string() + ": missing (" + hint + ")");
+  std::error_code error;
+  fs::create_directories(to.parent_path(), error);
+  if (!error) fs::copy_file(from, to, fs::copy_options::overwrite_existing, error);
+  if (error)
+    throw InputError(to.string() + ": cannot write (" + error.message() + ")");
+}
+
+// How far in front of the start camera the orbit target lies: the median
+// depth of the splats it sees.
+double TargetDistance(const LoopModel& model, const Camera& camera) {
+  std::vector<double> depths;
+  const GaussianSet& g = model.gaussians;
+  for (int i = 0; i < g.size(); ++i) {
+    const double z =
+        camera.WorldToCamera(Eigen::Vector3d(&g.means[3 * i])).z();
+    if (z > 0) depths.push_back(z);
+  }
+  if (depths.empty()) return 1.0;
+  std::nth_element(depths.begin(), depths.begin() + depths.size() / 2,
+                   depths.end());
+  return depths[depths.size() / 2];
+}
+
+std::string ViewJson(const LoopModel& model,
+                     const std::vector<Camera>& cameras) {
+  std::ostringstream json;
+  json << std::setprecision(9);
+  json << "{\n  \"loop\": \"" << kLoopFileName << "\",\n"
+       << "  \"target_distance\": " << TargetDistance(model, cameras[0])
+       << ",\n  \"cameras\": [\n";
+  for (size_t i = 0; i < cameras.size(); ++i) {
+    const Camera& c = cameras[i];
+    const Eigen::Matrix3d r = c.R();
+    json << "    {\"width\": " << c.width << ", \"height\": " << c.height
+         << ", \"fx\": " << c.fx << ", \"fy\": " << c.fy
+         << ", \"cx\": " << c.cx << ", \"cy\": " << c.cy
+         << ", \"rotation\": [";
+    for (int k = 0; k < 9; ++k) json << (k ? ", " : "") << r(k / 3, k % 3);
+    json << "], \"translation\": [" << c.t_cw.x() << ", " << c.t_cw.y()
+         << ", " << c.t_cw.z() << "]}" << (i + 1 < cameras.size() ? "," : "")
+         << "\n";
+  }
+  json << "  ]\n}\n";
+  return json.str();
+}
+
+}  // namespace
+
+int64_t ExportWebPlayer(const LoopModel& model,
+                        const std::vector<Camera>& cameras,
+                        const WebPlayerOptions& options,
+                        const std::string& dir) {
+  CHECK(!cameras.empty());
+  const fs::path out(dir);
+  for (const char* name : {"index.html", "player.js"})
+    CopyInto(fs::path(options.page_dir) / name, out / name,
+             "the page is in the project's web/player");
+  for (const auto& file : kViewerFiles)
+    CopyInto(fs::path(options.modules_dir) / file.from,
+             out / "lib" / file.to,
+             "scripts/setup.sh installs the npm packages");
+  LoopFileOptions loop;
+  loop.fps = options.fps;
+  loop.background = options.background;
+  const int64_t bytes =
+      WriteLoopFile(model, loop, (out / kLoopFileName).string());
+  WriteTextFileAtomically((out / "view.json").string(),
+                          ViewJson(model, cameras));
+  return bytes;
+}
+
+}  // namespace es

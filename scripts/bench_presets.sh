@@ -1,0 +1,135 @@
+#!/usr/bin/env bash
+# Run time against error: runs the eulersplat driver with each preset at a
+# few iteration budgets (Stage 1 and Stage 3 iterations = the budget, V
+# pretraining = half of it, no videos), then tabulates wall time, held-out
+# and water PSNR and every realism figure es_eval reports, and draws each
+# against wall time into DOCS/bench_presets_<metric>.png (es_plot).
+#
+#   scripts/bench_presets.sh [--scene DIR] [--out DIR] [--docs DIR]
+#                            [--presets "quick paper"] [--budgets "100 300"]
+#
+# Defaults: the default scene (out/default_scene, made by
+# scripts/run_default.sh), runs in out/bench_presets, figures and tables in
+# docs/benchmarks. The default run is short (four runs of at most 300
+# iterations per stage); raise --budgets for the real curve. Re-running
+# skips finished runs.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+scene=out/default_scene
+out=out/bench_presets
+docs=docs/benchmarks
+presets="quick paper"
+budgets="100 300"
+while [[ $# -gt 0 ]]; do
+  case "$1" in
+    --scene) scene=$2; shift 2 ;;
+    --out) out=$2; shift 2 ;;
+    --docs) docs=$2; shift 2 ;;
+    --presets) presets=$2; shift 2 ;;
+    --budgets) budgets=$2; shift 2 ;;
+    -h|--help) sed -n '2,15p' "$0"; exit 0 ;;
+    *) echo "bench_presets.sh: unknown argument '$1' (see --help)" >&2
+       exit 2 ;;
+  esac
+done
+for b in $budgets; do
+  [[ "$b" =~ ^[1-9][0-9]*$ ]] || {
+    echo "bench_presets.sh: --budgets: '$b' is not a positive integer" >&2
+    exit 2; }
+done
+if [[ ! -d "$scene/sparse/0" ]]; then
+  echo "bench_presets.sh: $scene has no sparse/0; run scripts/run_default.sh" \
+       "first or give --scene" >&2
+  exit 1
+fi
+for tool in eulersplat es_plot; do
+  [[ -x build/bin/$tool ]] || {
+    echo "bench_presets.sh: build/bin/$tool missing; run scripts/setup.sh" >&2
+    exit 1; }
+done
+mkdir -p "$out" "$docs"
+
+set -- $presets
+num_runs=$(( $# * $(wc -w <<< "$budgets") ))
+k=0
+for preset in $presets; do
+  for budget in $budgets; do
+    k=$((k + 1))
+    run="$out/${preset}_$budget"
+    if [[ -f "$run/wall_seconds" && -f "$run/eval/eval.json" ]]; then
+      echo "[bench $k/$num_runs] $preset, budget $budget: done before"
+      continue
+    fi
+    echo "[bench $k/$num_runs] $preset, budget $budget -> $run"
+    rm -rf "$run"
+    start=$(date +%s.%N)
+    build/bin/eulersplat --scene "$scene" --out "$run" --preset "$preset" \
+      --static_iterations "$budget" --joint_iterations "$budget" \
+      --flow_iterations $(( (budget + 1) / 2 )) --noanimate \
+      > "$run.log" 2>&1 || { tail -20 "$run.log" >&2; exit 1; }
+    python3 -c "import sys; print(float(sys.argv[2]) - float(sys.argv[1]))" \
+      "$start" "$(date +%s.%N)" > "$run/wall_seconds"
+  done
+done
+
+# One table per preset: budget, wall seconds, then every number in
+# eval.json (nested keys joined with '.'), so metrics added later are
+# picked up; a run without a key leaves the cell empty.
+python3 - "$out" "$docs" $presets -- $budgets <<'PY'
+import json, pathlib, sys
+out, docs = pathlib.Path(sys.argv[1]), pathlib.Path(sys.argv[2])
+split = sys.argv.index("--")
+presets, budgets = sys.argv[3:split], sys.argv[split + 1:]
+
+def numbers(value, prefix=""):
+    if isinstance(value, dict):
+        for key, v in value.items():
+            yield from numbers(v, prefix + key + ".")
+    elif isinstance(value, (int, float)) and not isinstance(value, bool):
+        yield prefix[:-1], value
+
+for preset in presets:
+    rows = []
+    for budget in budgets:
+        run = out / f"{preset}_{budget}"
+        row = {"budget": int(budget),
+               "wall_seconds": float((run / "wall_seconds").read_text())}
+        row.update(numbers(json.loads((run / "eval" / "eval.json").read_text())))
+        rows.append(row)
+    columns = ["budget", "wall_seconds"] + sorted(
+        {k for r in rows for k in r} - {"budget", "wall_seconds"})
+    with open(docs / f"bench_presets_{preset}.csv", "w") as f:
+        f.write(",".join(columns) + "\n")
+        for r in rows:
+            f.write(",".join("" if r.get(c) is None else repr(r[c])
+                             for c in columns) + "\n")
+PY
+
+# Water PSNR, PSNR and every realism figure (any eval.json key under
+# "realism"), each against wall time, one curve per preset.
+tables="" labels=""
+for preset in $presets; do
+  tables+="${tables:+,}$docs/bench_presets_$preset.csv"
+  labels+="${labels:+,}$preset"
+done
+metrics="held_out.psnr_water held_out.psnr loop_seam.score"
+metrics+=" $(head -qn1 $docs/bench_presets_*.csv | tr ',' '\n' \
+  | grep '^realism\.' | sort -u | tr '\n' ' ' || true)"
+for metric in $metrics; do
+  # A metric some preset's table lacks is skipped, not an error.
+  missing=0
+  for preset in $presets; do
+    head -n1 "$docs/bench_presets_$preset.csv" | tr ',' '\n' \
+      | grep -qx "$metric" || missing=1
+  done
+  if ((missing)); then
+    echo "[bench] $metric: not in every table, skipped"
+    continue
+  fi
+  build/bin/es_plot --csv "$tables" --labels "$labels" --x wall_seconds \
+    --y "$metric" --x_label "wall time of the whole run (s)" \
+    --title "$metric vs wall time ($scene; budgets: $budgets)" \
+    --out "$docs/bench_presets_${metric//./_}.png"
+done
+echo "[bench] tables and figures in $docs"

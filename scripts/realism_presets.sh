@@ -1,0 +1,49 @@
+#!/usr/bin/env bash
+# Realism of the full model against static-only on every synthetic preset:
+# makes each scene like the README's default (160x120, 60 frames, detail
+# 0.3), trains `full` and `static_only` from one shared Stage-1 model per
+# scene and seed list (scripts/ablations.sh), then checks the realism
+# targets per preset (scripts/realism_targets.py -> OUT/targets.md).
+# Re-running skips what is done.
+#
+#   scripts/realism_presets.sh [--out DIR] [--seeds "0 1 2"]
+#       [--presets "waterfall stream fountain droplets"]
+#       [--train_flags "es_train flags"] [-- extra eulersplat flags]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+out=out/realism
+seeds="0 1 2"
+presets="waterfall stream fountain droplets"
+train_flags=""
+while [[ $# -gt 0 ]]; do
+  case "$1" in
+    --out) out=$2; shift 2 ;;
+    --seeds) seeds=$2; shift 2 ;;
+    --presets) presets=$2; shift 2 ;;
+    --train_flags) train_flags=$2; shift 2 ;;
+    --) shift; break ;;
+    -h|--help) sed -n '2,11p' "$0"; exit 0 ;;
+    *) echo "realism_presets.sh: unknown argument '$1' (see --help)" >&2
+       exit 2 ;;
+  esac
+done
+if [[ ! -x build/bin/es_synth ]]; then
+  echo "realism_presets.sh: build/bin/es_synth missing; run" \
+       "scripts/setup.sh" >&2
+  exit 1
+fi
+
+for preset in $presets; do
+  scene=$out/scenes/$preset
+  if [[ ! -d $scene/sparse/0 ]]; then
+    echo "[realism] generating $scene"
+    build/bin/es_synth --out "$scene" --preset "$preset" --frames 60 \
+      --width 160 --height 120 --detail 0.3 --num_points 2000
+  fi
+  bash scripts/ablations.sh --scene "$scene" --out "$out/$preset" \
+    --seeds "$seeds" --variants "full static_only" \
+    --train_flags "$train_flags" -- "$@"
+done
+# shellcheck disable=SC2086
+python3 scripts/realism_targets.py "$out" $presets

@@ -1,0 +1,89 @@
+#!/usr/bin/env python3
+"""Checks the realism targets per preset from scripts/realism_presets.sh
+runs: OUT/<preset>/{full,static_only}/seed*/eval/eval.json and
+OUT/<preset>/static/flow_metrics.json -> OUT/targets.md (mean over seeds;
+a target holds when the mean meets it).
+
+    scripts/realism_targets.py OUT PRESET...
+"""
+import json
+import pathlib
+import statistics
+import sys
+
+
+def evals(out, preset, variant):
+    runs = sorted((out / preset / variant).glob("seed*/eval/eval.json"))
+    return [json.loads(r.read_text()) for r in runs]
+
+
+def mean(values):
+    values = [v for v in values if v is not None]
+    return statistics.mean(values) if values else None
+
+
+def fmt(v, spec="{:.2f}"):
+    return "n/a" if v is None else spec.format(v)
+
+
+def check(ok):
+    return "n/a" if ok is None else ("yes" if ok else "**no**")
+
+
+def main():
+    if len(sys.argv) > 1 and sys.argv[1] in ("-h", "--help"):
+        print(__doc__.strip())
+        return
+    if len(sys.argv) < 3:
+        sys.exit(__doc__)
+    out = pathlib.Path(sys.argv[1])
+    header = ["preset", "seeds", "water detail (>= 0.85)",
+              "water motion (0.8-1.25)", "static detail (>= 0.9)",
+              "water PSNR full - static (>= 1.5)",
+              "water dist. 2D / 3D full / static (<= 0.5)",
+              "rel. EPE flow init -> joint", "loop seam (<= 1.3)"]
+    rows = []
+    for preset in sys.argv[2:]:
+        full = evals(out, preset, "full")
+        static = evals(out, preset, "static_only")
+        if not full or not static:
+            sys.exit(f"{out / preset}: missing full or static_only runs")
+        w = lambda e, k: e["realism"]["water"][k]
+        detail = mean([w(e, "detail_ratio") for e in full])
+        motion = mean([w(e, "motion_ratio") for e in full])
+        static_detail = mean([e["realism"]["static"]["detail_ratio"]
+                              for e in full])
+        gain = mean([f["held_out"]["psnr_water"] for f in full]) - mean(
+            [s["held_out"]["psnr_water"] for s in static])
+        d2 = mean([w(e, "distance_2d") for e in full]) / mean(
+            [w(e, "distance_2d") for e in static])
+        d3 = mean([w(e, "distance_3d") for e in full]) / mean(
+            [w(e, "distance_3d") for e in static])
+        joint_epe = mean([e["motion_gt"]["rel_epe"] if e["motion_gt"]
+                          else None for e in full])
+        flow = out / preset / "static" / "flow_metrics.json"
+        init_epe = (json.loads(flow.read_text()).get("rel_epe_gt")
+                    if flow.exists() else None)
+        seam = mean([e["loop_seam"]["score"] for e in full])
+        epe_ok = (None if joint_epe is None or init_epe is None else
+                  joint_epe <= init_epe and
+                  (preset != "waterfall" or joint_epe <= 0.35))
+        rows.append([
+            preset, str(len(full)),
+            f"{fmt(detail)} {check(detail is not None and detail >= 0.85)}",
+            f"{fmt(motion)} {check(motion is not None and 0.8 <= motion <= 1.25)}",
+            f"{fmt(static_detail)} "
+            f"{check(static_detail is not None and static_detail >= 0.9)}",
+            f"{gain:+.2f} dB {check(gain >= 1.5)}",
+            f"{d2:.2f} / {d3:.2f} {check(d2 <= 0.5 and d3 <= 0.5)}",
+            f"{fmt(init_epe, '{:.3f}')} -> {fmt(joint_epe, '{:.3f}')} "
+            f"{check(epe_ok)}",
+            f"{fmt(seam)} {check(seam is not None and seam <= 1.3)}"])
+    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    lines += ["| " + " | ".join(r) + " |" for r in rows]
+    (out / "targets.md").write_text("\n".join(lines) + "\n")
+    print("\n".join(lines))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,80 @@
+#include "solvers/eval/realism_evaluation.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include <glog/logging.h>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "core/io/atomic_file.h"
+
+#include "core/loop/loop_renderer.h"
+
+namespace es {
+
+std::vector<cv::Mat> RenderAtInputCameras(const LoopModel& model,
+                                          const std::vector<Frame>& frames,
+                                          const RenderOptions& options) {
+  LoopRenderer renderer(&model, options);
+  std::vector<cv::Mat> out;
+  // Each frame at its place in the video: frames COLMAP did not register
+  // are stepped over, not closed up.
+  int time = 0;
+  for (size_t i = 0; i < frames.size(); ++i) {
+    if (i == 0 || frames[i].time_index < time) {
+      time = frames[i].time_index;
+      renderer.Start(time);
+    }
+    for (; time < frames[i].time_index; ++time) renderer.Advance();
+    const RenderResult& r = renderer.Render(frames[i].camera);
+    out.push_back(cv::Mat(r.height, r.width, CV_64FC3,
+                          const_cast<double*>(r.rgb.data()))
+                      .clone());
+  }
+  return out;
+}
+
+RealismMetrics EvaluateRealism(const std::vector<cv::Mat>& rendered,
+                               const std::vector<Frame>& frames,
+                               const RealismOptions& realism) {
+  CHECK_GE(frames.size(), 2u);
+  std::vector<cv::Mat> real, masks;
+  bool has_masks = true;
+  for (const Frame& f : frames) {
+    real.push_back(f.image);
+    masks.push_back(f.mask);
+    has_masks = has_masks && !f.mask.empty();
+  }
+  if (!has_masks) masks.clear();
+  return ComputeRealism(rendered, real, masks, realism);
+}
+
+void WriteComparisonFrames(const std::vector<cv::Mat>& rendered,
+                           const std::vector<Frame>& frames, int count,
+                           const std::string& dir) {
+  CHECK_EQ(rendered.size(), frames.size());
+  std::filesystem::create_directories(dir);
+  const int n = static_cast<int>(frames.size());
+  count = std::min(count, n);
+  for (int k = 0; k < count; ++k) {
+    const int i = count > 1 ? k * (n - 1) / (count - 1) : 0;
+    cv::Mat side, out;
+    cv::Mat input;
+    frames[i].image.convertTo(input, CV_64FC3);
+    cv::hconcat(rendered[i], input, side);
+    side.convertTo(out, CV_8UC3, 255.0);
+    cv::cvtColor(out, out, cv::COLOR_RGB2BGR);
+    char name[32];
+    std::snprintf(name, sizeof(name), "/frame_%06d.png", i);
+    std::vector<uchar> png;
+    cv::imencode(".png", out, png);
+    WriteFileAtomically(dir + name, [&png](std::ofstream& file) {
+      file.write(reinterpret_cast<const char*>(png.data()), png.size());
+    });
+  }
+}
+
+}  // namespace es

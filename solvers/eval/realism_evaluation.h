@@ -1,0 +1,38 @@
+#ifndef EULERSPLAT_SOLVERS_EVAL_REALISM_EVALUATION_H_
+#define EULERSPLAT_SOLVERS_EVAL_REALISM_EVALUATION_H_
+
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "core/io/scene.h"
+#include "core/metrics/realism.h"
+#include "core/model/loop_model.h"
+#include "core/render/rasterizer.h"
+
+namespace es {
+
+// The looping model played with Alg. 2 (p = 0) from frame 0 and seen by
+// every input camera: element i is the loop at frames[i].time_index (its
+// place in the video) rendered at frames[i]'s camera (CV_64FC3, RGB). Training and held-out frames alike.
+std::vector<cv::Mat> RenderAtInputCameras(const LoopModel& model,
+                                          const std::vector<Frame>& frames,
+                                          const RenderOptions& options);
+
+// core/metrics/realism.h of that video against the input frames, inside
+// the input's water masks (when the scene has them), the static rest and
+// the whole frame.
+RealismMetrics EvaluateRealism(const std::vector<cv::Mat>& rendered,
+                               const std::vector<Frame>& frames,
+                               const RealismOptions& realism = {});
+
+// Writes `count` frames spread over the video as DIR/frame_NNNNNN.png,
+// rendered (left) beside the input (right), 8-bit RGB: to look at.
+void WriteComparisonFrames(const std::vector<cv::Mat>& rendered,
+                           const std::vector<Frame>& frames, int count,
+                           const std::string& dir);
+
+}  // namespace es
+
+#endif  // EULERSPLAT_SOLVERS_EVAL_REALISM_EVALUATION_H_

@@ -1,0 +1,242 @@
+// Every binary and script as a new user meets them: --help lists the tool's
+// own flags first and exits 0, --version names the commit, and each bad
+// flag value is refused before any work with a message that names the flag,
+// exit status 1 and no stack trace. Runs the built binaries (ES_BINARY_DIR)
+// on a tiny synthetic scene; a few seconds in all.
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+const fs::path kBin = fs::path(ES_BINARY_DIR) / "bin";
+const fs::path kScripts = fs::path(ES_SOURCE_DIR) / "scripts";
+
+struct Result {
+  int status = -1;
+  std::string output;  // stdout and stderr
+};
+
+Result RunCommand(const std::string& command) {
+  Result r;
+  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
+  if (pipe == nullptr) return r;
+  char buffer[4096];
+  size_t n;
+  while ((n = fread(buffer, 1, sizeof(buffer), pipe)) > 0) {
+    r.output.append(buffer, n);
+  }
+  const int status = pclose(pipe);
+  r.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+const std::vector<std::string> kApps = {
+    "es_static", "es_flowinit", "es_train",     "es_animate",
+    "es_eval",   "es_render",   "es_synth",     "es_contact_sheet",
+    "es_plot",   "eulersplat",  "bench_static", "es_export"};
+
+class CliTest : public ::testing::Test {
+ protected:
+  // One tiny scene (8 frames) for the checks that need a real scene.
+  static void SetUpTestSuite() {
+    root_ = fs::path(ES_BINARY_DIR) / "cli_test";
+    fs::remove_all(root_);
+    scene_ = root_ / "scene";
+    const Result r =
+        RunCommand((kBin / "es_synth").string() + " --out " + scene_.string() +
+                   " --frames 8 --width 32 --height 24 --detail 0.02"
+                   " --num_points 50");
+    ASSERT_EQ(r.status, 0) << r.output;
+  }
+
+  // Runs a binary that must refuse its flags: exit 1, a message containing
+  // `expected`, and no CHECK failure or stack trace.
+  static void ExpectRefused(const std::string& binary, const std::string& args,
+                            const std::string& expected) {
+    const Result r = RunCommand((kBin / binary).string() + " " + args);
+    EXPECT_EQ(r.status, 1) << binary << " " << args << "\n" << r.output;
+    EXPECT_NE(r.output.find(expected), std::string::npos)
+        << binary << " " << args << "\nwanted: " << expected << "\ngot:\n"
+        << r.output;
+    EXPECT_EQ(r.output.find("Check failed"), std::string::npos) << r.output;
+    EXPECT_EQ(r.output.find("stack trace"), std::string::npos) << r.output;
+  }
+
+  static fs::path root_, scene_;
+};
+
+fs::path CliTest::root_, CliTest::scene_;
+
+TEST_F(CliTest, HelpListsTheToolsOwnFlagsFirstAndExitsZero) {
+  for (const std::string& app : kApps) {
+    const Result r = RunCommand((kBin / app).string() + " --help");
+    EXPECT_EQ(r.status, 0) << app << "\n" << r.output;
+    const size_t flags = r.output.find("\nFlags:\n  --");
+    ASSERT_NE(flags, std::string::npos) << app << "\n" << r.output;
+    // The usage text comes first, then the tool's own flags; glog's and
+    // gflags' own flags only with --helpfull.
+    EXPECT_LT(flags, 800u) << app;
+    EXPECT_EQ(r.output.find("logtostderr"), std::string::npos) << app;
+    EXPECT_EQ(r.output.find("flagfile"), std::string::npos) << app;
+  }
+  const Result full = RunCommand((kBin / "es_train").string() + " --helpfull");
+  EXPECT_EQ(full.status, 0);
+  EXPECT_NE(full.output.find("logtostderr"), std::string::npos);
+  EXPECT_LT(full.output.find("--cycle_length"),
+            full.output.find("logtostderr"));
+  EXPECT_EQ(RunCommand((kBin / "es_eval").string() + " -h").status, 0);
+}
+
+TEST_F(CliTest, HelpShowsReadableDefaults) {
+  const Result r = RunCommand((kBin / "es_static").string() + " --help");
+  // 2.5e-3 / 20, which gflags itself prints as 0.00012500000000000001.
+  EXPECT_NE(r.output.find("--lr_sh_rest (double, default 0.000125)"),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("--scene (string, default \"\")"), std::string::npos);
+  EXPECT_NE(r.output.find("--iterations (int32, default 10000)"),
+            std::string::npos);
+  // Descriptions are wrapped to 80 columns.
+  std::istringstream lines(r.output);
+  for (std::string line; std::getline(lines, line);) {
+    EXPECT_LE(line.size(), 80u) << line;
+  }
+}
+
+// Shared plumbing (apps/common, and benchmark_main.h for the Google
+// Benchmark binaries): a few binaries stand for all.
+TEST_F(CliTest, VersionNamesTheCommit) {
+  const std::regex version(
+      R"(eulersplat [0-9]+\.[0-9]+\.[0-9]+ \(commit ([0-9a-f]{12}|unknown)\)\n)");
+  for (const std::string app :
+       {"es_train", "eulersplat", "es_plot", "bench_looping"}) {
+    const Result r = RunCommand((kBin / app).string() + " --version");
+    EXPECT_EQ(r.status, 0) << app;
+    EXPECT_TRUE(std::regex_match(r.output, version)) << app << ": " << r.output;
+  }
+}
+
+TEST_F(CliTest, NonFiniteOrNegativeLearningRatesAreRefused) {
+  const std::string io =
+      " --scene " + scene_.string() + " --out " + (root_ / "o").string();
+  ExpectRefused("es_static", io + " --lr_opacity nan",
+                "--lr_opacity=nan: must be a finite number");
+  ExpectRefused("es_static", io + " --lr_position inf",
+                "--lr_position=inf: must be a finite number");
+  ExpectRefused("es_train", io + " --init x --lr_motion_mlp -1",
+                "--lr_motion_mlp=-1: a learning rate must be >= 0");
+  ExpectRefused("es_flowinit", io + " --lr_triplane -inf",
+                "--lr_triplane=-inf: must be a finite number");
+  ExpectRefused("es_animate", io + " --model m --fps nan",
+                "--fps=nan: must be a finite number");
+  EXPECT_FALSE(fs::exists(root_ / "o")) << "work started anyway";
+}
+
+TEST_F(CliTest, OutOfRangeValuesAreRefusedBeforeAnyWork) {
+  const std::string scene = " --scene " + scene_.string();
+  const std::string out = (root_ / "o").string();
+  ExpectRefused("eulersplat",
+                scene + " --out " + out + " --static_iterations -5",
+                "--static_iterations=-5: must be >= 1");
+  ExpectRefused("eulersplat",
+                scene + " --out " + out + " --joint_iterations -2",
+                "--joint_iterations=-2: must be >= 0");
+  ExpectRefused("es_train",
+                scene + " --init x --out " + out + " --dynamic_threshold 1.5",
+                "--dynamic_threshold=1.5: must be in (0, 1)");
+  ExpectRefused("es_static", scene + " --out " + out + " --iterations 0",
+                "--iterations must be positive");
+  ExpectRefused("es_animate",
+                scene + " --model m --out " + out + " --track_count -3",
+                "--track_count=-3: must be >= 1");
+  ExpectRefused("es_animate",
+                scene + " --model m --out " + out +
+                    " --xt_slice middle "
+                    "--camera fixed",
+                "");
+  ExpectRefused("es_flowinit", scene + " --stride 0",
+                "--stride=0: must be >= 1");
+  ExpectRefused("es_eval",
+                scene + " --model m --out " + out + " --seam_cycles 1",
+                "--seam_cycles must be >= 2");
+  ExpectRefused("es_render", "--ply p --sparse s --out_dir o --depth_scale 0",
+                "--depth_scale must be positive");
+  ExpectRefused("es_plot", "--history h.csv --out o --width 10",
+                "--width=10: must be >= 200");
+  ExpectRefused("es_synth", "--out " + out + " stray",
+                "unexpected argument 'stray'");
+  ExpectRefused("es_train", "--scene", "");  // gflags: missing value
+  EXPECT_FALSE(fs::exists(root_ / "o")) << "work started anyway";
+}
+
+// The loop cannot be longer than the video (and its cost grows with L):
+// es_train refuses it, and the driver before Stage 1 trains.
+TEST_F(CliTest, CycleLengthLongerThanTheVideoIsRefused) {
+  const std::string out = (root_ / "long_loop").string();
+  ExpectRefused("es_train",
+                "--scene " + scene_.string() + " --init missing --out " + out +
+                    " --cycle_length 1000",
+                "--cycle_length=1000: must be <= 8");
+  ExpectRefused(
+      "eulersplat",
+      "--scene " + scene_.string() + " --out " + out + " --cycle_length 1000",
+      "--cycle_length=1000: must be <= 8");
+  EXPECT_FALSE(fs::exists(fs::path(out) / "static"));
+}
+
+TEST_F(CliTest, UnwritableOutputIsRefusedBeforeTraining) {
+  const fs::path file = root_ / "a_file";
+  std::ofstream(file) << "not a directory";
+  const std::string out = (file / "out").string();
+  ExpectRefused(
+      "es_static",
+      "--scene " + scene_.string() + " --out " + out + " --iterations 5",
+      "--out=" + out + ": cannot create the directory");
+  ExpectRefused("es_train",
+                "--scene " + scene_.string() + " --init x --out " + out,
+                "--out=" + out + ": cannot create the directory");
+  ExpectRefused("eulersplat", "--scene " + scene_.string() + " --out " + out,
+                "--out=" + out + ": cannot create the directory");
+}
+
+// Every script answers --help with its usage, exit 0 and no side effects:
+// run from a copy of scripts/ in an empty folder, anything it built or
+// wrote would show up there.
+TEST_F(CliTest, ScriptsAnswerHelpWithoutSideEffects) {
+  const fs::path sandbox = root_ / "sandbox";
+  fs::create_directories(sandbox);
+  fs::copy(kScripts, sandbox / "scripts", fs::copy_options::recursive);
+  int scripts = 0;
+  for (const auto& entry : fs::directory_iterator(sandbox / "scripts")) {
+    const std::string name = entry.path().filename().string();
+    const bool python = entry.path().extension() == ".py";
+    if (entry.path().extension() != ".sh" && !python) continue;
+    ++scripts;
+    const Result r = RunCommand(std::string(python ? "python3 " : "bash ") +
+                                entry.path().string() + " --help");
+    EXPECT_EQ(r.status, 0) << name << "\n" << r.output;
+    EXPECT_GT(r.output.size(), 30u) << name;
+    EXPECT_NE(r.output.find("scripts/" + name), std::string::npos)
+        << name << " --help does not show its usage line\n"
+        << r.output;
+  }
+  EXPECT_GE(scripts, 6);
+  std::vector<std::string> left;
+  for (const auto& entry : fs::directory_iterator(sandbox)) {
+    left.push_back(entry.path().filename().string());
+  }
+  EXPECT_EQ(left, std::vector<std::string>{"scripts"});
+}
+
+}  // namespace

@@ -1,0 +1,102 @@
+// Auto water masks on a synthetic scene whose answer is known: with the
+// true scenery as the static model, the masks must find the true water;
+// a video with no water must be called static; IoU on known cases.
+
+#include "core/masks/water_masks.h"
+
+#include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
+
+#include "synth/scene.h"
+
+namespace es {
+namespace {
+
+SynthSettings SmallSettings(const std::string& preset) {
+  SynthSettings s;
+  s.preset = preset;
+  s.frames = 12;
+  s.width = 96;
+  s.height = 72;
+  s.detail = 0.08;
+  s.seed = 3;
+  s.grid_resolution = 8;
+  s.num_points = 100;
+  return s;
+}
+
+Scene ToScene(const SynthScene& synth) {
+  Scene scene;
+  for (size_t i = 0; i < synth.images.size(); ++i) {
+    Frame f;
+    f.camera = synth.cameras[i];
+    synth.images[i].convertTo(f.image, CV_32FC3, 1.0 / 255);
+    f.time_index = static_cast<int>(i);
+    scene.frames.push_back(f);
+  }
+  return scene;
+}
+
+double MeanIou(const WaterMaskResult& result, const SynthScene& synth,
+               const Scene& scene) {
+  double sum = 0;
+  for (size_t k = 0; k < scene.frames.size(); ++k)
+    sum += MaskIou(result.masks[k],
+                   synth.masks[scene.frames[k].time_index]);
+  return sum / scene.frames.size();
+}
+
+TEST(WaterMasksTest, FindsTheTrueWaterOfEachPreset) {
+  for (const std::string preset : {"waterfall", "stream", "fountain"}) {
+    const SynthScene synth = GenerateSynthScene(SmallSettings(preset));
+    Scene scene = ToScene(synth);
+    const WaterMaskResult result =
+        EstimateWaterMasks(scene, synth.scenery, WaterMaskOptions());
+    ASSERT_EQ(result.masks.size(), scene.frames.size());
+    EXPECT_TRUE(result.has_water) << preset;
+    EXPECT_GT(MeanIou(result, synth, scene), 0.6) << preset;
+
+    // A frame COLMAP did not register: the others keep their neighbours in
+    // time and still find the water.
+    scene.frames.erase(scene.frames.begin() + 5);
+    const WaterMaskResult gap =
+        EstimateWaterMasks(scene, synth.scenery, WaterMaskOptions());
+    EXPECT_GT(MeanIou(gap, synth, scene), 0.6) << preset;
+  }
+}
+
+TEST(WaterMasksTest, AVideoWithoutWaterIsStatic) {
+  const SynthScene synth = GenerateSynthScene(SmallSettings("waterfall"));
+  Scene scene = ToScene(synth);
+  // Frames of the scenery alone: everything the camera sees stands still.
+  Rasterizer rasterizer;
+  RenderResult render;
+  for (Frame& f : scene.frames) {
+    rasterizer.Forward(f.camera, SplatView::Of(synth.scenery),
+                       RenderOptions(), &render);
+    cv::Mat(render.height, render.width, CV_64FC3, render.rgb.data())
+        .convertTo(f.image, CV_32FC3);
+  }
+  // A slightly wrong static model, as a fit would be.
+  GaussianSet fitted = synth.scenery;
+  for (double& c : fitted.sh) c *= 0.97;
+  const WaterMaskResult result =
+      EstimateWaterMasks(scene, fitted, WaterMaskOptions());
+  EXPECT_FALSE(result.has_water) << result.water_fraction;
+  EXPECT_LT(result.water_fraction, WaterMaskOptions().min_water_fraction);
+}
+
+TEST(WaterMasksTest, IouOfKnownMasks) {
+  cv::Mat a(10, 10, CV_8UC1, cv::Scalar(0)), b = a.clone();
+  EXPECT_EQ(MaskIou(a, b), 1.0);  // both empty
+  a(cv::Rect(0, 0, 4, 10)).setTo(255);  // 40 pixels
+  b(cv::Rect(2, 0, 4, 10)).setTo(255);  // 40 pixels, 20 shared
+  EXPECT_NEAR(MaskIou(a, b), 20.0 / 60.0, 1e-12);
+  cv::Mat f;
+  a.convertTo(f, CV_32F, 1.0 / 255);
+  EXPECT_NEAR(MaskIou(f, b), 20.0 / 60.0, 1e-12);
+  EXPECT_EQ(MaskIou(a, a), 1.0);
+}
+
+}  // namespace
+}  // namespace es
