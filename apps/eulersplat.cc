@@ -345,6 +345,7 @@ std::vector<std::string> StaticFlags(const Pipeline& run) {
 }
 
 void StaticStage(const Pipeline& run) {
+  run.stages->Begin("static model (es_static)");
   if (AllExist({run.static_ply(), run.static_dir() / "metrics.json"})) {
     Skip("static", run.static_dir());
     return;
