@@ -9,49 +9,24 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <regex>
-#include <sstream>
 #include <string>
-
-#include <sys/wait.h>
 
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/videoio.hpp>
 
 #include "core/masks/water_masks.h"
+#include "tests/pipeline_test_util.h"
 
 namespace {
+
+using es::JsonNumber;
+using es::ReadFile;
+using es::RunCommand;
 
 namespace fs = std::filesystem;
 
 const fs::path kBin = fs::path(ES_BINARY_DIR) / "bin";
-
-int RunCommand(const std::string& command, std::string* out) {
-  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
-  if (pipe == nullptr) return -1;
-  char buffer[4096];
-  size_t n;
-  while ((n = fread(buffer, 1, sizeof(buffer), pipe)) > 0) {
-    out->append(buffer, n);
-  }
-  const int status = pclose(pipe);
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
-
-std::string ReadFile(const fs::path& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-double JsonNumber(const std::string& json, const std::string& key) {
-  const std::regex re("\"" + key + "\": (-?[0-9.eE+-]+)");
-  std::smatch m;
-  if (!std::regex_search(json, m, re)) return std::nan("");
-  return std::stod(m[1]);
-}
 
 std::string FrameName(int f) {
   char name[32];

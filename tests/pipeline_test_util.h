@@ -1,0 +1,48 @@
+#ifndef EULERSPLAT_TESTS_PIPELINE_TEST_UTIL_H_
+#define EULERSPLAT_TESTS_PIPELINE_TEST_UTIL_H_
+
+// Helpers for the tests that run the built apps as commands.
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <string>
+
+#include <sys/wait.h>
+
+namespace es {
+
+// Runs a command, returns its exit status and appends its output to *out.
+inline int RunCommand(const std::string& command, std::string* out) {
+  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
+  if (pipe == nullptr) return -1;
+  char buffer[4096];
+  size_t n;
+  while ((n = fread(buffer, 1, sizeof(buffer), pipe)) > 0) {
+    out->append(buffer, n);
+  }
+  const int status = pclose(pipe);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+inline std::string ReadFile(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// The number after "key": in a JSON text; NaN when it is null or missing.
+inline double JsonNumber(const std::string& json, const std::string& key) {
+  const std::regex re("\"" + key + "\": (-?[0-9.eE+-]+)");
+  std::smatch m;
+  if (!std::regex_search(json, m, re)) return std::nan("");
+  return std::stod(m[1]);
+}
+
+}  // namespace es
+
+#endif  // EULERSPLAT_TESTS_PIPELINE_TEST_UTIL_H_
