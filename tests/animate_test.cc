@@ -19,6 +19,7 @@
 #include "core/viz/video_writer.h"
 #include "core/viz/xt_slice.h"
 #include "solvers/eval/loop_evaluation.h"
+#include "tests/water_loop_fixture.h"
 
 namespace es {
 namespace {
@@ -58,23 +59,11 @@ LoopModel TinyModel(bool with_residual) {
     }
   }
   m.start_times = RandomStartTimes(m.num_dynamic(), kL, 3);
-  MotionFieldOptions mo;
-  mo.triplane.resolution = 8;
-  mo.triplane.channels = 4;
-  mo.mlp_width = 16;
-  mo.velocity_scale = 0.01;
-  mo.last_layer_init_scale = 1.0;
-  m.motion.emplace(mo);
+  m.motion.emplace(SmallMotionFieldOptions(0.01));
   m.motion->SetBox({-1, -1, -1}, {1, 1, 1});
   m.motion->Initialize(5);
   if (with_residual) {
-    ResidualFieldOptions ro;
-    ro.triplane.resolution = 8;
-    ro.triplane.channels = 4;
-    ro.cycle_length = kL;
-    ro.mlp_width = 16;
-    ro.last_layer_init_scale = 0.3;
-    m.residual.emplace(ro);
+    m.residual.emplace(SmallResidualFieldOptions(kL));
     m.residual->SetBox({-1, -1, -1}, {1, 1, 1});
     m.residual->Initialize(6);
   }

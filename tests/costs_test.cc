@@ -12,6 +12,7 @@
 #include "costs/photometric_loss.h"
 #include "costs/scalar_loss.h"
 #include "costs/splat_render_cost.h"
+#include "tests/loss_gradient.h"
 #include "tests/splat_probe_scene.h"
 
 namespace es {
@@ -40,23 +41,6 @@ bool Probe(const ceres::CostFunction& cost, GaussianSet* g, std::string* log) {
   return ok;
 }
 
-// Gradient of the loss (not the residual) by calling Evaluate directly, as
-// the trainer does: dl/dtheta = J r.
-std::vector<std::vector<double>> LossGradient(const ceres::CostFunction& cost,
-                                              GaussianSet* g, double* loss) {
-  const std::vector<double*> blocks = SplatRenderCost::Blocks(g);
-  std::vector<std::vector<double>> jac;
-  std::vector<double*> jac_ptrs;
-  for (int size : cost.parameter_block_sizes()) jac.emplace_back(size);
-  for (auto& j : jac) jac_ptrs.push_back(j.data());
-  double r = 0;
-  EXPECT_TRUE(cost.Evaluate(blocks.data(), &r, jac_ptrs.data()));
-  for (auto& j : jac)
-    for (double& v : j) v *= r;
-  *loss = 0.5 * (r * r - kScalarLossEps);
-  return jac;
-}
-
 TEST(CostsTest, PhotometricGradientMatchesFiniteDifferences) {
   const Frame frame = TinyFrame();
   GaussianSet g = SixGaussians();
@@ -66,7 +50,7 @@ TEST(CostsTest, PhotometricGradientMatchesFiniteDifferences) {
   EXPECT_TRUE(Probe(*cost, &g, &log)) << log;
   // The dynamic block is not touched by this term.
   double loss;
-  const auto grad = LossGradient(*cost, &g, &loss);
+  const auto grad = LossGradient(*cost, SplatRenderCost::Blocks(&g), &loss);
   for (double v : grad[kDynamicBlock]) EXPECT_EQ(v, 0.0);
   for (int b = 0; b < kDynamicBlock; ++b) {
     double norm = 0;
@@ -83,7 +67,7 @@ TEST(CostsTest, MaskBceGradientMatchesFiniteDifferences) {
   std::string log;
   EXPECT_TRUE(Probe(*cost, &g, &log)) << log;
   double loss;
-  const auto grad = LossGradient(*cost, &g, &loss);
+  const auto grad = LossGradient(*cost, SplatRenderCost::Blocks(&g), &loss);
   for (double v : grad[kShBlock]) EXPECT_EQ(v, 0.0);  // colour not involved
   double geometry = 0;
   for (double v : grad[kMeansBlock]) geometry += v * v;
@@ -137,7 +121,8 @@ TEST(CostsTest, ScaledLossWeightsAndCombinedCostAgree) {
   terms.mask_weight = 0.5;
   const SplatRenderCost combined(&frame, 6, 1, terms, options);
   double combined_loss;
-  const auto combined_grad = LossGradient(combined, &g, &combined_loss);
+  const auto combined_grad =
+      LossGradient(combined, SplatRenderCost::Blocks(&g), &combined_loss);
 
   ceres::Problem::Options po;
   po.loss_function_ownership = ceres::TAKE_OWNERSHIP;
@@ -173,7 +158,7 @@ TEST(CostsTest, ScaledLossScalesProblemGradient) {
   std::unique_ptr<ceres::CostFunction> direct(
       CreatePhotometricCost(&frame, 6, 1, 0.2, DoubleOptions()));
   double loss;
-  const auto grad = LossGradient(*direct, &g, &loss);
+  const auto grad = LossGradient(*direct, SplatRenderCost::Blocks(&g), &loss);
   const std::vector<double*> blocks = SplatRenderCost::Blocks(&g);
   ceres::ScaledLoss scaled(nullptr, 0.7, ceres::DO_NOT_TAKE_OWNERSHIP);
   ceres::Problem::Options po;

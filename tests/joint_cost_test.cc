@@ -12,7 +12,9 @@
 #include "costs/residual_l2_cost.h"
 #include "costs/scalar_loss.h"
 #include "costs/splat_render_cost.h"
+#include "tests/loss_gradient.h"
 #include "tests/splat_probe_scene.h"
+#include "tests/water_loop_fixture.h"
 
 namespace es {
 namespace {
@@ -34,21 +36,10 @@ LoopModel TinyModel() {
   m.dynamic_index = {0, 2, 3, 5};
   m.start_times = {0, 3, 1, 2};
   const Eigen::Vector3d lo(-0.8, -0.7, 2.2), hi(0.8, 0.7, 3.8);
-  MotionFieldOptions mo;
-  mo.triplane.resolution = 8;
-  mo.triplane.channels = 4;
-  mo.mlp_width = 16;
-  mo.velocity_scale = 0.02;
-  mo.last_layer_init_scale = 1.0;
-  m.motion.emplace(mo);
+  m.motion.emplace(SmallMotionFieldOptions(0.02));
   m.motion->SetBox(lo, hi);
-  ResidualFieldOptions ro;
-  ro.triplane.resolution = 8;
-  ro.triplane.channels = 4;
-  ro.cycle_length = kCycle;
-  ro.mlp_width = 16;
+  ResidualFieldOptions ro = SmallResidualFieldOptions(kCycle);
   ro.position_scale = 0.02;
-  ro.last_layer_init_scale = 0.3;
   m.residual.emplace(ro);
   m.residual->SetBox(lo, hi);
   return m;
@@ -101,22 +92,6 @@ bool ProbeBlockwise(const ceres::CostFunction& cost,
     }
   }
   return ok;
-}
-
-// dl/dtheta per block from a direct Evaluate (the trainer's path).
-std::vector<std::vector<double>> LossGradient(const ceres::CostFunction& cost,
-                                              std::vector<double*> blocks,
-                                              double* loss) {
-  std::vector<std::vector<double>> jac;
-  std::vector<double*> ptrs;
-  for (int size : cost.parameter_block_sizes()) jac.emplace_back(size);
-  for (auto& j : jac) ptrs.push_back(j.data());
-  double r = 0;
-  EXPECT_TRUE(cost.Evaluate(blocks.data(), &r, ptrs.data()));
-  for (auto& j : jac)
-    for (double& v : j) v *= r;
-  *loss = 0.5 * (r * r - kScalarLossEps);
-  return jac;
 }
 
 double Norm(const std::vector<double>& v) {

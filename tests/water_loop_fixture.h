@@ -11,6 +11,28 @@
 
 namespace es {
 
+// Small fields (R = 8, 4 channels, width 16) whose outputs are far from
+// zero, for the tests of a moving, recolored loop.
+inline MotionFieldOptions SmallMotionFieldOptions(double velocity_scale) {
+  MotionFieldOptions mo;
+  mo.triplane.resolution = 8;
+  mo.triplane.channels = 4;
+  mo.mlp_width = 16;
+  mo.velocity_scale = velocity_scale;
+  mo.last_layer_init_scale = 1.0;
+  return mo;
+}
+
+inline ResidualFieldOptions SmallResidualFieldOptions(int cycle_length) {
+  ResidualFieldOptions ro;
+  ro.triplane.resolution = 8;
+  ro.triplane.channels = 4;
+  ro.cycle_length = cycle_length;
+  ro.mlp_width = 16;
+  ro.last_layer_init_scale = 0.3;
+  return ro;
+}
+
 // A small looping scene with a static half and a water half, for the export
 // tests: opaque static splats on a wall at x < -0.1, water splats at
 // x > 0.1 in front of it, moved by a motion field fast enough to shift them
@@ -54,22 +76,10 @@ inline LoopModel WaterLoopModel(int sh_degree = 1) {
     if (water) m.dynamic_index.push_back(i);
   }
   m.start_times = RandomStartTimes(m.num_dynamic(), kWaterLoopLength, 3);
-  MotionFieldOptions mo;
-  mo.triplane.resolution = 8;
-  mo.triplane.channels = 4;
-  mo.mlp_width = 16;
-  mo.velocity_scale = 0.02;
-  mo.last_layer_init_scale = 1.0;
-  m.motion.emplace(mo);
+  m.motion.emplace(SmallMotionFieldOptions(0.02));
   m.motion->SetBox({-1, -1, -1}, {1, 1, 1});
   m.motion->Initialize(5);
-  ResidualFieldOptions ro;
-  ro.triplane.resolution = 8;
-  ro.triplane.channels = 4;
-  ro.cycle_length = kWaterLoopLength;
-  ro.mlp_width = 16;
-  ro.last_layer_init_scale = 0.3;
-  m.residual.emplace(ro);
+  m.residual.emplace(SmallResidualFieldOptions(kWaterLoopLength));
   m.residual->SetBox({-1, -1, -1}, {1, 1, 1});
   m.residual->Initialize(6);
   return m;
