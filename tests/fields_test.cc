@@ -10,6 +10,7 @@
 #include "core/fields/residual_field.h"
 #include "core/loop/cycle_time.h"
 #include "tests/central_differences.h"
+#include "tests/plane_combination_name.h"
 
 namespace es {
 namespace {
@@ -27,19 +28,6 @@ TriplaneOptions SmallPlanes(PlaneCombination combination) {
   options.combination = combination;
   options.init_noise = 0.5;
   return options;
-}
-
-std::string CombinationName(
-    const ::testing::TestParamInfo<PlaneCombination>& info) {
-  switch (info.param) {
-    case PlaneCombination::kSum:
-      return "Sum";
-    case PlaneCombination::kProduct:
-      return "Product";
-    case PlaneCombination::kConcat:
-      return "Concat";
-  }
-  return "Unknown";
 }
 
 class MotionFieldGradientTest

@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "tests/central_differences.h"
+#include "tests/plane_combination_name.h"
 
 namespace es {
 namespace {
@@ -40,19 +41,6 @@ std::vector<double> RandomPoints(int n, uint32_t seed) {
     x[3 * i + 2] = uz(rng);
   }
   return x;
-}
-
-std::string CombinationName(
-    const ::testing::TestParamInfo<PlaneCombination>& info) {
-  switch (info.param) {
-    case PlaneCombination::kSum:
-      return "Sum";
-    case PlaneCombination::kProduct:
-      return "Product";
-    case PlaneCombination::kConcat:
-      return "Concat";
-  }
-  return "Unknown";
 }
 
 class TriplaneGradientTest : public ::testing::TestWithParam<PlaneCombination> {
