@@ -15,6 +15,7 @@
 
 #include "core/io/colmap_camera_models.h"
 #include "core/io/colmap_io.h"
+#include "core/io/colmap_points.h"
 #include "core/io/input_error.h"
 
 namespace es {
@@ -158,14 +159,7 @@ void ReadPoints(const fs::path& path, ColmapModel* model) {
     model->points.push_back(std::move(point));
   }
   reader.ExpectEnd();
-  std::sort(model->points.begin(), model->points.end(),
-            [](const ColmapPoint3D& a, const ColmapPoint3D& b) {
-              return a.id < b.id;
-            });
-  for (size_t i = 1; i < model->points.size(); ++i)
-    if (model->points[i].id == model->points[i - 1].id)
-      throw InputError(path.string() + ": duplicate point id " +
-                       std::to_string(model->points[i].id));
+  SortPointsById(path, &model->points);
 }
 
 }  // namespace

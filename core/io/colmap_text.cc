@@ -13,6 +13,7 @@
 
 #include "core/io/colmap_camera_models.h"
 #include "core/io/colmap_io.h"
+#include "core/io/colmap_points.h"
 #include "core/io/input_error.h"
 
 namespace es {
@@ -169,14 +170,7 @@ void ReadPoints(const fs::path& path, ColmapModel* model) {
       point.track.emplace_back(reader.Int32(t[i]), reader.Int32(t[i + 1]));
     model->points.push_back(std::move(point));
   }
-  std::sort(model->points.begin(), model->points.end(),
-            [](const ColmapPoint3D& a, const ColmapPoint3D& b) {
-              return a.id < b.id;
-            });
-  for (size_t i = 1; i < model->points.size(); ++i)
-    if (model->points[i].id == model->points[i - 1].id)
-      throw InputError(path.string() + ": duplicate point id " +
-                       std::to_string(model->points[i].id));
+  SortPointsById(path, &model->points);
 }
 
 std::ofstream OpenForWriting(const fs::path& path) {
