@@ -17,6 +17,7 @@
 
 #include "apps/common/app_main.h"
 #include "apps/common/flag_checks.h"
+#include "apps/common/scaled_scene.h"
 #include "core/io/input_error.h"
 #include "core/io/json_file.h"
 #include "core/io/output_dir.h"
@@ -241,9 +242,7 @@ int Run() {
   es::PrepareOutputDirectory(FLAGS_out, "out");
   es::RenderOptions options;
   if (FLAGS_white_background) options.background.setOnes();
-  es::SceneOptions scene_options;
-  scene_options.image_scale = FLAGS_image_scale;
-  const es::Scene scene = es::LoadScene(FLAGS_scene, scene_options);
+  const es::Scene scene = es::LoadScaledScene(FLAGS_scene, FLAGS_image_scale);
   const es::LoopModel model = es::LoadLoopModel(FLAGS_model);
   if (scene.test.empty()) {
     throw es::InputError(FLAGS_scene + ": no held-out frames to evaluate "
