@@ -13,15 +13,10 @@
 
 #include "tests/pipeline_test_util.h"
 
+namespace es {
 namespace {
 
-using es::JsonNumber;
-using es::ReadFile;
-using es::RunCommand;
-
 namespace fs = std::filesystem;
-
-const fs::path kBin = fs::path(ES_BINARY_DIR) / "bin";
 
 TEST(EndToEndTest, DriverRunsEveryStageAndResumes) {
   for (const char* app : {"es_synth", "eulersplat", "es_static",
@@ -120,3 +115,4 @@ TEST(EndToEndTest, BadPresetIsAClearError) {
 }
 
 }  // namespace
+}  // namespace es

@@ -1,6 +1,8 @@
 #ifndef EULERSPLAT_TESTS_LOSS_GRADIENT_H_
 #define EULERSPLAT_TESTS_LOSS_GRADIENT_H_
 
+#include <algorithm>
+#include <cmath>
 #include <vector>
 
 #include <ceres/ceres.h>
@@ -25,6 +27,23 @@ inline std::vector<std::vector<double>> LossGradient(
     for (double& v : j) v *= r;
   *loss = 0.5 * (r * r - kScalarLossEps);
   return jac;
+}
+
+// Expects Problem::Evaluate's flat gradient to hold the per-block gradient
+// `blocks`, within `relative_tolerance` of its largest entry (not zero).
+inline void ExpectSameGradient(const std::vector<double>& flat,
+                               const std::vector<std::vector<double>>& blocks,
+                               double relative_tolerance) {
+  size_t offset = 0;
+  double max_err = 0, max_abs = 0;
+  for (const auto& block : blocks)
+    for (double v : block) {
+      max_err = std::max(max_err, std::abs(flat[offset++] - v));
+      max_abs = std::max(max_abs, std::abs(v));
+    }
+  EXPECT_EQ(offset, flat.size());
+  EXPECT_GT(max_abs, 0.0);
+  EXPECT_LT(max_err, relative_tolerance * max_abs);
 }
 
 }  // namespace es

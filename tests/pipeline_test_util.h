@@ -15,6 +15,10 @@
 
 namespace es {
 
+// Where the build puts the apps.
+inline const std::filesystem::path kBin =
+    std::filesystem::path(ES_BINARY_DIR) / "bin";
+
 // Runs a command, returns its exit status and appends its output to *out.
 inline int RunCommand(const std::string& command, std::string* out) {
   FILE* pipe = popen((command + " 2>&1").c_str(), "r");

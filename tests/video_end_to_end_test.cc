@@ -18,15 +18,10 @@
 #include "core/masks/water_masks.h"
 #include "tests/pipeline_test_util.h"
 
+namespace es {
 namespace {
 
-using es::JsonNumber;
-using es::ReadFile;
-using es::RunCommand;
-
 namespace fs = std::filesystem;
-
-const fs::path kBin = fs::path(ES_BINARY_DIR) / "bin";
 
 std::string FrameName(int f) {
   char name[32];
@@ -155,3 +150,4 @@ TEST(VideoEndToEndTest, BadVideoIsAClearError) {
 }
 
 }  // namespace
+}  // namespace es
