@@ -18,7 +18,7 @@
 #include "apps/common/app_main.h"
 #include "core/io/atomic_file.h"
 #include "core/io/frame_loading.h"
-#include "core/io/image_write.h"
+#include "core/io/image_file.h"
 #include "core/io/input_error.h"
 #include "core/io/ply_io.h"
 #include "core/io/scene.h"

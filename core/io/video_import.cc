@@ -8,7 +8,7 @@
 #include <opencv2/videoio.hpp>
 
 #include "core/io/frame_loading.h"
-#include "core/io/image_write.h"
+#include "core/io/image_file.h"
 #include "core/io/input_error.h"
 
 namespace es {

@@ -1,47 +1,17 @@
 #include "core/viz/render_png.h"
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <cstdio>
-#include <filesystem>
 #include <string>
 #include <vector>
 
 #include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
 
-#include "core/io/atomic_file.h"
-#include "core/io/input_error.h"
+#include "core/io/image_file.h"
 #include "core/render/render_maps.h"
 
 namespace es {
-
-namespace {
-
-// Written beside `path` (same extension, so imwrite picks the same format)
-// and renamed over it: a crash never leaves a truncated image.
-void Write(const cv::Mat& image, const std::string& path) {
-  const std::string extension = std::filesystem::path(path).extension();
-  const std::string tmp =
-      path + ".tmp." + std::to_string(::getpid()) + extension;
-  bool ok = false;
-  try {
-    ok = cv::imwrite(tmp, image);
-  } catch (const cv::Exception& e) {
-    std::remove(tmp.c_str());
-    throw InputError(path + ": cannot write image: " + e.what());
-  }
-  if (!ok) {
-    std::remove(tmp.c_str());
-    throw InputError(path + ": cannot write image");
-  }
-  ReplaceFile(tmp, path);
-}
-
-}  // namespace
 
 void WriteRgbPng(const RenderResult& result, const std::string& path) {
   cv::Mat image(result.height, result.width, CV_8UC3);
@@ -55,7 +25,7 @@ void WriteRgbPng(const RenderResult& result, const std::string& path) {
       }
     }
   }
-  Write(image, path);
+  WriteImageAtomically(path, image);
 }
 
 void WriteDepthPng(const RenderResult& result, double scale,
@@ -69,7 +39,7 @@ void WriteDepthPng(const RenderResult& result, double scale,
           std::lround(std::clamp(v, 0.0, 65535.0)));
     }
   }
-  Write(image, path);
+  WriteImageAtomically(path, image);
 }
 
 }  // namespace es
