@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <cstdio>
 #include <filesystem>
@@ -50,7 +51,10 @@ class CliTest : public ::testing::Test {
  protected:
   // One tiny scene (8 frames) for the checks that need a real scene.
   static void SetUpTestSuite() {
-    root_ = fs::path(ES_BINARY_DIR) / "cli_test";
+    // One folder per process: ctest runs each test of this suite as its own
+    // process, in parallel, and a shared folder was wiped under a neighbour.
+    root_ = fs::path(ES_BINARY_DIR) /
+            ("cli_test_" + std::to_string(::getpid()));
     fs::remove_all(root_);
     scene_ = root_ / "scene";
     const Result r =
@@ -59,6 +63,7 @@ class CliTest : public ::testing::Test {
                    " --num_points 50");
     ASSERT_EQ(r.status, 0) << r.output;
   }
+  static void TearDownTestSuite() { fs::remove_all(root_); }
 
   // Runs a binary that must refuse its flags: exit 1, a message containing
   // `expected`, and no CHECK failure or stack trace.
