@@ -8,7 +8,7 @@
 #
 # Reads SCENE_DIR/images. Writes OUT_DIR (default SCENE_DIR/sparse/0), which
 # must not exist, so ground truth is never overwritten. Environment:
-# CAMERA_MODEL (PINHOLE or SIMPLE_RADIAL), COLMAP (binary), ES_BIN (where
+# CAMERA_MODEL (SIMPLE_PINHOLE, PINHOLE or SIMPLE_RADIAL), COLMAP (binary), ES_BIN (where
 # es_poses is, default build/bin), ES_POSE_FLAGS (more es_poses flags).
 set -euo pipefail
 
@@ -25,5 +25,5 @@ bin=${ES_BIN:-$root/build/bin}
 out=${2:-$1/sparse/0}
 # shellcheck disable=SC2086
 exec "$bin/es_poses" --scene "$1" --out "$out" \
-  --camera_model "${CAMERA_MODEL:-PINHOLE}" --colmap "${COLMAP:-colmap}" \
+  --camera_model "${CAMERA_MODEL:-SIMPLE_PINHOLE}" --colmap "${COLMAP:-colmap}" \
   ${ES_POSE_FLAGS:-}

@@ -4,6 +4,10 @@
 
 #include "apps/common/colmap_poses.h"
 
+#include <algorithm>
+#include <utility>
+#include <vector>
+
 #include <gtest/gtest.h>
 
 #include "core/io/input_error.h"
@@ -60,6 +64,29 @@ TEST(ColmapPosesTest, MeanReprojectionErrorOverObservations) {
   b.track = {{1, 1}};
   model.points = {a, b};
   EXPECT_DOUBLE_EQ(MeanReprojectionError(model), (3 * 1.0 + 3.0) / 4);
+}
+
+TEST(ColmapPosesTest, VideoMatchPairsAreNeighboursAndPowersOfTwo) {
+  using Pairs = std::vector<std::pair<int, int>>;
+  // overlap 2 in 10 frames: 1 and 2 apart, then 4 and 8 apart.
+  const Pairs pairs = VideoMatchPairs(10, 2);
+  EXPECT_EQ(Pairs(pairs.begin(), pairs.begin() + 4),
+            (Pairs{{0, 1}, {0, 2}, {0, 4}, {0, 8}}));
+  EXPECT_EQ(pairs.back(), std::make_pair(8, 9));
+  // Frame 9 is last: it pairs with nothing after it, and nothing twice.
+  EXPECT_EQ(std::count(pairs.begin(), pairs.end(), std::make_pair(1, 9)),
+            1);
+  EXPECT_EQ(std::count(pairs.begin(), pairs.end(), std::make_pair(1, 5)),
+            1);
+  // 9 + 8 neighbours, and 6 + 2 + ... pairs 4 and 8 apart (6 + 2).
+  EXPECT_EQ(pairs.size(), 9u + 8u + 6u + 2u);
+  for (const auto& [a, b] : pairs) {
+    EXPECT_LT(a, b);
+    EXPECT_LT(b, 10);
+  }
+  // A long video costs about overlap + log2(frames) pairs per frame.
+  EXPECT_LT(VideoMatchPairs(1000, 5).size(), 1000u * (5 + 8));
+  EXPECT_TRUE(VideoMatchPairs(1, 5).empty());
 }
 
 }  // namespace

@@ -1,11 +1,12 @@
 #include "apps/common/colmap_poses.h"
 
 #include <stdlib.h>  // mkdtemp
+#include <sys/resource.h>  // getrusage
 
 #include <algorithm>
 #include <chrono>
-#include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <vector>
 
 #include <opencv2/imgcodecs.hpp>
@@ -22,6 +23,33 @@ using Clock = std::chrono::steady_clock;
 
 double SecondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// CPU time (user + system) of the finished child processes so far.
+double ChildCpuSeconds() {
+  rusage usage;
+  getrusage(RUSAGE_CHILDREN, &usage);
+  return usage.ru_utime.tv_sec + usage.ru_stime.tv_sec +
+         1e-6 * (usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
+}
+
+// Wall and CPU time of one step.
+struct StepTimer {
+  Clock::time_point start = Clock::now();
+  double cpu_start = ChildCpuSeconds();
+  void Stop(double* wall, double* cpu) const {
+    *wall = SecondsSince(start);
+    *cpu = ChildCpuSeconds() - cpu_start;
+  }
+};
+
+void WritePairList(const std::vector<std::string>& names, int overlap,
+                   const fs::path& path) {
+  std::ofstream out(path);
+  for (const auto& [a, b] :
+       VideoMatchPairs(static_cast<int>(names.size()), overlap))
+    out << names[a] << ' ' << names[b] << '\n';
+  if (!out) throw InputError(path.string() + ": cannot write");
 }
 
 bool IsImageFile(const fs::path& path) {
@@ -117,6 +145,17 @@ ColmapModel LargestModel(const fs::path& sparse, int* models) {
 
 }  // namespace
 
+std::vector<std::pair<int, int>> VideoMatchPairs(int frames, int overlap) {
+  std::vector<std::pair<int, int>> pairs;
+  for (int i = 0; i < frames; ++i) {
+    for (int d = 1; d <= overlap && i + d < frames; ++d)
+      pairs.emplace_back(i, i + d);
+    for (int d = 1; i + d < frames; d *= 2)
+      if (d > overlap) pairs.emplace_back(i, i + d);
+  }
+  return pairs;
+}
+
 void RescaleColmapModel(double sx, double sy, int width, int height,
                         ColmapModel* model) {
   for (auto& [id, camera] : model->cameras) {
@@ -149,19 +188,20 @@ double MeanReprojectionError(const ColmapModel& model) {
   return count > 0 ? sum / count : 0.0;
 }
 
-std::string PoseReportJson(const PoseReport& r) {
-  char text[640];
-  std::snprintf(
-      text, sizeof(text),
-      "{\n  \"frames\": %d,\n  \"registered\": %d,\n  \"models\": %d,\n"
-      "  \"points\": %d,\n  \"mean_reprojection_error_px\": %.4f,\n"
-      "  \"sfm_scale\": %.4f,\n  \"extract_seconds\": %.1f,\n"
-      "  \"match_seconds\": %.1f,\n  \"map_seconds\": %.1f,\n"
-      "  \"total_seconds\": %.1f\n}\n",
-      r.frames, r.registered, r.models, r.points,
-      r.mean_reprojection_error_px, r.scale, r.extract_seconds,
-      r.match_seconds, r.map_seconds, r.total_seconds);
-  return text;
+nlohmann::ordered_json PoseReportJson(const PoseReport& r) {
+  return {{"frames", r.frames},
+          {"registered", r.registered},
+          {"models", r.models},
+          {"points", r.points},
+          {"mean_reprojection_error_px", r.mean_reprojection_error_px},
+          {"sfm_scale", r.scale},
+          {"extract_seconds", r.extract_seconds},
+          {"match_seconds", r.match_seconds},
+          {"map_seconds", r.map_seconds},
+          {"total_seconds", r.total_seconds},
+          {"extract_cpu_seconds", r.extract_cpu_seconds},
+          {"match_cpu_seconds", r.match_cpu_seconds},
+          {"map_cpu_seconds", r.map_cpu_seconds}};
 }
 
 PoseReport RecoverPoses(
@@ -171,12 +211,15 @@ PoseReport RecoverPoses(
   auto say = [&progress](const std::string& line) {
     if (progress) progress(line);
   };
-  if (options.camera_model != "PINHOLE" &&
+  if (options.camera_model != "SIMPLE_PINHOLE" &&
+      options.camera_model != "PINHOLE" &&
       options.camera_model != "SIMPLE_RADIAL")
-    throw InputError("camera model must be PINHOLE or SIMPLE_RADIAL, got " +
-                     options.camera_model);
+    throw InputError("camera model must be SIMPLE_PINHOLE, PINHOLE or "
+                     "SIMPLE_RADIAL, got " + options.camera_model);
   if (options.max_features < 100 || options.overlap < 1)
     throw InputError("max_features must be >= 100 and overlap >= 1");
+  if (options.global_ba_ratio < 1.01)
+    throw InputError("global_ba_ratio must be >= 1.01");
   if (fs::exists(out_dir))
     throw InputError(out_dir + ": exists; poses are only written to a new "
                      "folder (never over a scene's model)");
@@ -205,7 +248,7 @@ PoseReport RecoverPoses(
   say("feature extraction: " + std::to_string(names.size()) + " frames at " +
       std::to_string(int(std::lround(full.width * sx))) + " px wide, at most " +
       std::to_string(options.max_features) + " features each");
-  Clock::time_point step = Clock::now();
+  StepTimer timer;
   RunStep("feature extraction",
           {options.colmap, "feature_extractor", "--database_path", db,
            "--image_path", (work / "images").string(),
@@ -213,40 +256,45 @@ PoseReport RecoverPoses(
            options.camera_model, "--SiftExtraction.use_gpu", "0",
            "--SiftExtraction.num_threads", threads,
            "--SiftExtraction.max_num_features",
-           std::to_string(options.max_features)},
+           std::to_string(options.max_features),
+           "--SiftExtraction.first_octave", options.upsample ? "-1" : "0"},
           work / "extract.log");
-  report.extract_seconds = SecondsSince(step);
+  timer.Stop(&report.extract_seconds, &report.extract_cpu_seconds);
 
-  // Quadratic overlap also pairs frames 16, 32, ... apart: the wide
-  // baselines the mapper needs to start from in a slow video.
-  say("sequential matching, overlap " + std::to_string(options.overlap) +
-      " plus frames 2^k apart");
-  step = Clock::now();
-  RunStep("sequential matching",
-          {options.colmap, "sequential_matcher", "--database_path", db,
+  const fs::path pairs = work / "pairs.txt";
+  WritePairList(names, options.overlap, pairs);
+  say("matching each frame with the next " +
+      std::to_string(options.overlap) + " and those 2^k after it");
+  timer = StepTimer();
+  RunStep("matching",
+          {options.colmap, "matches_importer", "--database_path", db,
+           "--match_list_path", pairs.string(), "--match_type", "pairs",
            "--SiftMatching.use_gpu", "0", "--SiftMatching.num_threads",
-           threads, "--SequentialMatching.overlap",
-           std::to_string(options.overlap),
-           "--SequentialMatching.quadratic_overlap", "1"},
+           threads},
           work / "match.log");
-  report.match_seconds = SecondsSince(step);
+  timer.Stop(&report.match_seconds, &report.match_cpu_seconds);
 
   say("incremental mapping");
-  step = Clock::now();
+  timer = StepTimer();
   fs::create_directories(work / "sparse");
-  // Global bundle adjustment less often and shorter: video frames come in
-  // order with small baselines, local BA keeps the chain consistent.
+  // Frames 2^k apart give the start the wide baseline (COLMAP's 16 degree
+  // default, which it halves itself if no pair has it) that a short sweep
+  // needs to pin down the focal length. Global bundle adjustment (COLMAP's
+  // costliest step) each time the model grew by global_ba_ratio, once
+  // rather than repeated until it settles; local adjustment after every
+  // frame.
+  const std::string ratio = std::to_string(options.global_ba_ratio);
   RunStep("mapping",
           {options.colmap, "mapper", "--database_path", db, "--image_path",
            (work / "images").string(), "--output_path",
            (work / "sparse").string(), "--Mapper.num_threads", threads,
-           "--Mapper.init_min_tri_angle", "8",
-           "--Mapper.ba_global_images_ratio", "1.5",
-           "--Mapper.ba_global_points_ratio", "1.5",
+           "--Mapper.ba_global_images_ratio", ratio,
+           "--Mapper.ba_global_points_ratio", ratio,
+           "--Mapper.ba_global_max_refinements", "1",
            "--Mapper.ba_global_max_num_iterations", "20",
            "--Mapper.ba_local_max_num_iterations", "15"},
           work / "map.log");
-  report.map_seconds = SecondsSince(step);
+  timer.Stop(&report.map_seconds, &report.map_cpu_seconds);
 
   ColmapModel model = LargestModel(work / "sparse", &report.models);
   if (model.images.empty())

@@ -3,20 +3,30 @@
 
 #include <functional>
 #include <string>
+#include <utility>
+#include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "core/io/colmap_io.h"
 
 namespace es {
 
 // COLMAP settings for the frames of one video: one shared camera, a cap on
-// SIFT features, sequential matching, and structure from motion on frames
-// scaled down to sfm_width (the model is scaled back to the frames' size).
+// SIFT features, matching of neighbours in time (VideoMatchPairs), and
+// structure from motion on frames scaled down to sfm_width (the model is
+// scaled back to the frames' size) with global bundle adjustment run once
+// per growth step instead of until it settles (COLMAP's costliest step;
+// measured in docs/RESULTS.md, "Poses"). One focal length: a phone's
+// pixels are square, and a short sweep cannot pin down two.
 struct PoseOptions {
   std::string colmap = "colmap";  // binary
-  std::string camera_model = "PINHOLE";  // or SIMPLE_RADIAL
+  std::string camera_model = "SIMPLE_PINHOLE";  // or PINHOLE, SIMPLE_RADIAL
   int sfm_width = 320;     // frames wider than this are matched at this width
-  int max_features = 1024;  // SIFT features kept per frame
-  int overlap = 10;         // each frame is matched with this many successors
+  int max_features = 512;  // SIFT features kept per frame
+  int overlap = 5;         // each frame is matched with this many successors
+  bool upsample = true;    // SIFT's first octave at twice the size
+  double global_ba_ratio = 1.5;  // global BA when the model grew this much
   int threads = -1;         // -1: all cores
 };
 
@@ -29,7 +39,17 @@ struct PoseReport {
   double scale = 1;     // SfM frame size / frame size
   double extract_seconds = 0, match_seconds = 0, map_seconds = 0;
   double total_seconds = 0;
+  // CPU time (user + system) of COLMAP in each step, all threads.
+  double extract_cpu_seconds = 0, match_cpu_seconds = 0,
+         map_cpu_seconds = 0;
 };
+
+// The frame pairs (indices, first < second) to match in a video of
+// `frames` frames: each frame with the next `overlap` ones, and with the
+// frames 2^k after it for every 2^k > overlap: the wide baselines a slow
+// video needs to start the reconstruction from, at a cost of log2(frames)
+// pairs per frame instead of all of them.
+std::vector<std::pair<int, int>> VideoMatchPairs(int frames, int overlap);
 
 // Recovers the poses of the frames in scene_dir/images (image files, one
 // size) with COLMAP and writes the largest model as text into out_dir,
@@ -53,7 +73,7 @@ void RescaleColmapModel(double sx, double sy, int width, int height,
 double MeanReprojectionError(const ColmapModel& model);
 
 // The report as a JSON object (pose_report.json).
-std::string PoseReportJson(const PoseReport& report);
+nlohmann::ordered_json PoseReportJson(const PoseReport& report);
 
 }  // namespace es
 
