@@ -46,7 +46,7 @@ JointRenderCost::JointRenderCost(const Frame* frame, int frame_index,
       residual_weight_(terms.residual_weight),
       options_(options),
       rasterizer_(rasterizer),
-      image_loss_(terms) {
+      image_loss_(terms, options) {
   if (!rasterizer_) {
     owned_rasterizer_ = std::make_unique<Rasterizer>();
     rasterizer_ = owned_rasterizer_.get();
