@@ -10,7 +10,6 @@
 #include "core/loop/cycle_time.h"
 #include "core/loop/frame_composer.h"
 #include "core/profile/stage_profile.h"
-#include "costs/scalar_loss.h"
 #include "costs/splat_render_cost.h"
 #include "solvers/checkpoint/rng_state.h"
 #include "solvers/optim/lr_schedule.h"
@@ -183,8 +182,7 @@ JointIterationStats JointTrainer::Step() {
   std::vector<double*> params = JointBlocks(&model_);
   std::vector<double*> gradients = SplatRenderCost::Blocks(&grad_);
   for (std::vector<double>& g : field_grad_) gradients.push_back(g.data());
-  out.loss =
-      EvaluateScalarLossGradient(*cost_, params.data(), gradients.data());
+  out.loss = cost_->LossGradient(params.data(), gradients.data());
   out.photometric = cost_->last_photometric();
   out.mask = cost_->last_mask();
   out.residual = cost_->last_residual();
