@@ -20,6 +20,7 @@
 #include "core/io/json_file.h"
 #include "core/io/output_dir.h"
 #include "core/io/ply_io.h"
+#include "core/io/scene_flow_io.h"
 #include "core/io/scene.h"
 #include "core/model/loop_model.h"
 #include "core/profile/stage_profile.h"
@@ -109,6 +110,16 @@ DEFINE_int32(max_particles, 20000,
 DEFINE_double(max_dynamic_pixels, 0,
               "> 0: keep water Gaussians at most this large on screen (std "
               "dev in pixels) during training; 0: no limit.");
+DEFINE_double(flow_prior_weight, 0,
+              "> 0: keep Stage 2's lifted scene-flow samples "
+              "(<init>/scene_flow_samples.bin, written by es_flowinit) as a "
+              "loss on V during joint training, with this weight at the "
+              "start (relative to the mean squared sample speed); 0: off.");
+DEFINE_double(flow_prior_final_factor, 0.1,
+              "The scene-flow prior's weight decays log-linearly to this "
+              "fraction of --flow_prior_weight by the last iteration.");
+DEFINE_int32(flow_prior_batch, 1024,
+             "Scene-flow samples per iteration for the prior.");
 
 namespace es {
 namespace {
@@ -149,6 +160,10 @@ JointTrainerOptions OptionsFromFlags() {
   RequireNonNegative("max_dynamic_pixels", FLAGS_max_dynamic_pixels);
   RequireAtLeast("max_particle_children", FLAGS_max_particle_children, 1);
   RequireAtLeast("max_particles", FLAGS_max_particles, 1);
+  RequireNonNegative("flow_prior_weight", FLAGS_flow_prior_weight);
+  RequireInRange("flow_prior_final_factor", FLAGS_flow_prior_final_factor, 0,
+                 1);
+  RequireAtLeast("flow_prior_batch", FLAGS_flow_prior_batch, 1);
   JointTrainerOptions o;
   o.iterations = FLAGS_iterations;
   o.seed = FLAGS_seed;
@@ -175,6 +190,9 @@ JointTrainerOptions OptionsFromFlags() {
   o.lr_residual_mlp = FLAGS_lr_residual_mlp;
   o.field_lr_final_factor = FLAGS_field_lr_final_factor;
   o.max_dynamic_pixels = FLAGS_max_dynamic_pixels;
+  o.flow_prior.weight = FLAGS_flow_prior_weight;
+  o.flow_prior.final_factor = FLAGS_flow_prior_final_factor;
+  o.flow_prior.batch_size = FLAGS_flow_prior_batch;
   o.motion.triplane.resolution = FLAGS_motion_resolution;
   o.motion.triplane.channels = FLAGS_motion_channels;
   o.motion.mlp_width = FLAGS_motion_width;
@@ -225,6 +243,31 @@ std::optional<MotionField> PretrainedMotion(const JointTrainerOptions& options,
   *flow_init = true;
   std::printf("V: pretrained from %s\n", path.c_str());
   return LoadMotionField(path);
+}
+
+// Gives the trainer Stage 2's samples as a prior on V when one is wanted
+// and V was pretrained from them.
+void AddFlowPrior(const JointTrainerOptions& options, bool flow_init,
+                  JointTrainer* trainer) {
+  if (options.flow_prior.weight <= 0 || !options.use_motion) return;
+  const std::string path =
+      (fs::path(FLAGS_init) / "scene_flow_samples.bin").string();
+  if (!flow_init || !fs::exists(path)) {
+    std::printf("scene-flow prior: off (%s)\n",
+                flow_init ? (path + " not found").c_str()
+                          : "V is not pretrained");
+    return;
+  }
+  std::vector<SceneFlowSample> samples = LoadSceneFlowSamples(path);
+  if (samples.empty()) {
+    std::printf("scene-flow prior: off (%s holds no samples)\n",
+                path.c_str());
+    return;
+  }
+  std::printf("scene-flow prior: %zu samples from %s, weight %g -> %g\n",
+              samples.size(), path.c_str(), options.flow_prior.weight,
+              options.flow_prior.weight * options.flow_prior.final_factor);
+  trainer->SetSceneFlowPrior(std::move(samples));
 }
 
 // Splits the static model's large water Gaussians into particles
@@ -406,6 +449,7 @@ int Run() {
 
   JointTrainer trainer(&scene.frames, scene.train, options,
                        std::move(initial), std::move(motion));
+  AddFlowPrior(options, flow_init, &trainer);
   std::printf("dynamic Gaussians: %d of %d; V %s, D %s; masks %s\n",
               trainer.model().num_dynamic(), trainer.model().gaussians.size(),
               options.use_motion ? "on" : "off",

@@ -172,6 +172,8 @@ TEST_F(CliTest, OutOfRangeValuesAreRefusedBeforeAnyWork) {
                 "");
   ExpectRefused("es_flowinit", scene + " --stride 0",
                 "--stride=0: must be >= 1");
+  ExpectRefused("es_flowinit", scene + " --frame_gap 0",
+                "--frame_gap=0: must be >= 1");
   ExpectRefused("es_eval",
                 scene + " --model m --out " + out + " --seam_cycles 1",
                 "--seam_cycles must be >= 2");

@@ -99,6 +99,12 @@ JointTrainer::JointTrainer(const std::vector<Frame>* frames,
                 render_options(), &rasterizer_);
 }
 
+void JointTrainer::SetSceneFlowPrior(std::vector<SceneFlowSample> samples) {
+  CHECK(model_.motion) << "a scene-flow prior needs the motion field";
+  flow_prior_.emplace(&*model_.motion, std::move(samples),
+                      options_.flow_prior);
+}
+
 RenderOptions JointTrainer::render_options() const {
   return MakeRenderOptions(options_);
 }
@@ -189,6 +195,13 @@ JointIterationStats JointTrainer::Step() {
   out.mask = cost_->last_mask();
   out.residual = cost_->last_residual();
   out.euler = cost_->last_euler_stats();
+  if (flow_prior_) {
+    // V's blocks come first among the field gradients.
+    out.flow_prior = flow_prior_->AddLossAndGradient(
+        model_.motion->params(), iteration_, options_.iterations,
+        options_.seed, {field_grad_[0].data(), field_grad_[1].data()});
+    out.loss += out.flow_prior;
+  }
   bool finite = std::isfinite(out.loss) && AllFinite(grad_);
   for (const std::vector<double>& g : field_grad_)
     finite = finite && AllFinite(g);

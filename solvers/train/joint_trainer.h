@@ -19,6 +19,7 @@
 #include "solvers/checkpoint/joint_checkpoint.h"
 #include "solvers/optim/adam.h"
 #include "solvers/train/divergence_guard.h"
+#include "solvers/train/flow_prior.h"
 #include "solvers/train/frame_sampler.h"
 #include "solvers/train/splat_training.h"
 
@@ -51,6 +52,8 @@ struct JointTrainerOptions {
   // pixels at their distance from the training cameras), so they stay
   // particles instead of growing back into smooth sheets.
   double max_dynamic_pixels = 0;
+  // The scene-flow prior on V (SetSceneFlowPrior gives it its samples).
+  FlowPriorOptions flow_prior;
   // Shapes of fields made from scratch (a given V keeps its own). D's
   // cycle_length is set to cycle_length and its max_cycles to cover every
   // frame of the video.
@@ -68,6 +71,7 @@ struct JointIterationStats {
   double photometric = 0;
   double mask = 0;
   double residual = 0;
+  double flow_prior = 0;  // weighted; included in loss
   int num_dynamic = 0;
   EulerStats euler;
   bool skipped = false;  // non-finite loss or gradient: no update
@@ -90,6 +94,12 @@ class JointTrainer {
   JointTrainer(const std::vector<Frame>* frames, std::vector<int> train,
                const JointTrainerOptions& options, GaussianSet initial,
                std::optional<MotionField> motion);
+
+  // Keeps Stage 2's lifted samples as a decaying prior on V
+  // (options.flow_prior); needs V, and options.flow_prior.weight > 0 to
+  // have an effect. Not checkpointed: a resumed run passes them again.
+  void SetSceneFlowPrior(std::vector<SceneFlowSample> samples);
+  bool has_flow_prior() const { return flow_prior_.has_value(); }
 
   // One iteration. A non-finite loss or gradient skips the update (counted
   // in skipped_steps()); throws TrainingDiverged after too many in a row or
@@ -135,6 +145,7 @@ class JointTrainer {
   std::mt19937_64 rng_;
   Rasterizer rasterizer_;
   std::optional<JointRenderCost> cost_;
+  std::optional<SceneFlowPrior> flow_prior_;
   int64_t iteration_ = 0;
   DivergenceGuard guard_;
 };
