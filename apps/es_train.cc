@@ -120,6 +120,20 @@ DEFINE_double(flow_prior_final_factor, 0.1,
               "fraction of --flow_prior_weight by the last iteration.");
 DEFINE_int32(flow_prior_batch, 1024,
              "Scene-flow samples per iteration for the prior.");
+DEFINE_int32(densify_water_interval, 0,
+             "> 0: every this many iterations of the first half, split or "
+             "clone the water Gaussians the images disagree with most "
+             "(mean view-space gradient); 0: off.");
+DEFINE_double(densify_water_fraction, 0.1,
+              "Fraction of the water Gaussians densified each time, "
+              "highest gradient first.");
+DEFINE_int32(densify_water_max, 2000,
+             "Most water Gaussians densification may reach.");
+DEFINE_int32(densify_water_views, 8,
+             "Training frames whose gradients rank the water Gaussians.");
+DEFINE_double(densify_water_split_pixels, 1.0,
+              "Water Gaussians larger than this on screen (std dev, px) are "
+              "split in two smaller ones, smaller ones cloned.");
 
 namespace es {
 namespace {
@@ -164,6 +178,13 @@ JointTrainerOptions OptionsFromFlags() {
   RequireInRange("flow_prior_final_factor", FLAGS_flow_prior_final_factor, 0,
                  1);
   RequireAtLeast("flow_prior_batch", FLAGS_flow_prior_batch, 1);
+  RequireAtLeast("densify_water_interval", FLAGS_densify_water_interval, 0);
+  RequireInRange("densify_water_fraction", FLAGS_densify_water_fraction, 0,
+                 1);
+  RequireAtLeast("densify_water_max", FLAGS_densify_water_max, 0);
+  RequireAtLeast("densify_water_views", FLAGS_densify_water_views, 1);
+  RequirePositive("densify_water_split_pixels",
+                  FLAGS_densify_water_split_pixels);
   JointTrainerOptions o;
   o.iterations = FLAGS_iterations;
   o.seed = FLAGS_seed;
@@ -193,6 +214,11 @@ JointTrainerOptions OptionsFromFlags() {
   o.flow_prior.weight = FLAGS_flow_prior_weight;
   o.flow_prior.final_factor = FLAGS_flow_prior_final_factor;
   o.flow_prior.batch_size = FLAGS_flow_prior_batch;
+  o.water_densify.interval = FLAGS_densify_water_interval;
+  o.water_densify.fraction = FLAGS_densify_water_fraction;
+  o.water_densify.max_dynamic = FLAGS_densify_water_max;
+  o.water_densify.views = FLAGS_densify_water_views;
+  o.water_densify.split_pixels = FLAGS_densify_water_split_pixels;
   o.motion.triplane.resolution = FLAGS_motion_resolution;
   o.motion.triplane.channels = FLAGS_motion_channels;
   o.motion.mlp_width = FLAGS_motion_width;
@@ -332,6 +358,12 @@ TrainingOutcome Train(const JointTrainerOptions& options, const Scene& scene,
       ++counted;
     }
     const int64_t it = trainer->iteration();
+    if (s.densified.split + s.densified.cloned > 0) {
+      std::printf("iter %lld: water densified, %d split, %d cloned (water "
+                  "Gaussians %d)\n",
+                  static_cast<long long>(it), s.densified.split,
+                  s.densified.cloned, trainer->model().num_dynamic());
+    }
     const bool log =
         FLAGS_log_interval > 0 &&
         (it % FLAGS_log_interval == 0 || it == options.iterations);

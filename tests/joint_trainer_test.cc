@@ -270,6 +270,47 @@ TEST(JointTrainerTest, ResumeGivesTheUninterruptedResult) {
   ExpectSameModel(straight.model(), resumed.model());
 }
 
+TEST(JointTrainerTest, WaterDensificationGrowsWithinBudgetAndResumes) {
+  const std::vector<Frame> frames = TrueFrames();
+  JointTrainerOptions options = TinyOptions();
+  options.random_start = true;
+  options.iterations = 60;  // densifies at 10, 20, 30
+  options.water_densify.interval = 10;
+  options.water_densify.fraction = 0.5;
+  options.water_densify.max_dynamic = 9;
+  options.water_densify.views = 4;
+  options.water_densify.split_pixels = 0.5;
+  JointTrainer straight(&frames, kTrain, options, TrueCanonical(),
+                        std::nullopt);
+  int added = 0;
+  for (int i = 0; i < 60; ++i) {
+    const JointIterationStats s = straight.Step();
+    added += s.densified.cloned + s.densified.split;
+    EXPECT_LE(straight.model().num_dynamic(), 9);
+  }
+  EXPECT_EQ(straight.model().num_dynamic(), 9);
+  EXPECT_EQ(added, 5);  // one Gaussian more per split or clone
+  EXPECT_EQ(straight.model().gaussians.size(), kNumStatic + 9);
+  EXPECT_TRUE(AllFinite(straight.model().gaussians));
+
+  const std::string path =
+      (fs::path(::testing::TempDir()) /
+       ("es_joint_densify_" + std::to_string(getpid()) + ".bin"))
+          .string();
+  {
+    JointTrainer first(&frames, kTrain, options, TrueCanonical(),
+                       std::nullopt);
+    for (int i = 0; i < 15; ++i) first.Step();
+    WriteJointCheckpoint(first.Save(), path);
+  }
+  JointTrainer resumed(&frames, kTrain, options, TrueCanonical(),
+                       std::nullopt);
+  resumed.Restore(ReadJointCheckpoint(path), path);
+  while (resumed.iteration() < 60) resumed.Step();
+  fs::remove(path);
+  ExpectSameModel(straight.model(), resumed.model());
+}
+
 TEST(JointTrainerTest, RefreshKeepsStartTimesOfGaussiansThatStay) {
   const std::vector<Frame> frames = TrueFrames();
   JointTrainerOptions options = TinyOptions();

@@ -14,6 +14,7 @@
 #include "costs/splat_render_cost.h"
 #include "solvers/checkpoint/rng_state.h"
 #include "solvers/optim/lr_schedule.h"
+#include "solvers/train/densify.h"
 #include "solvers/train/water_particles.h"
 
 namespace es {
@@ -229,7 +230,60 @@ JointIterationStats JointTrainer::Step() {
   for (const std::vector<double>* block : blocks)
     params_finite = params_finite && AllFinite(*block);
   guard_.CheckParameters(iteration_, params_finite);
+  const WaterDensifyOptions& d = options_.water_densify;
+  if (d.interval > 0 && iteration_ % d.interval == 0 &&
+      iteration_ <= options_.iterations / 2 && model_.num_dynamic() > 0)
+    out.densified = DensifyWaterNow();
   return out;
+}
+
+WaterDensifyResult JointTrainer::DensifyWaterNow() {
+  ScopedStage timer(Stage::kDensify);
+  const WaterDensifyOptions& d = options_.water_densify;
+  const int n = model_.gaussians.size();
+  if (grad_.size() != n || grad_.sh_degree != model_.gaussians.sh_degree)
+    grad_ = ZeroGaussians(n, model_.gaussians.sh_degree);
+  // grad_ and field_grad_ are scratch here: Step refills them.
+  std::vector<double*> params = JointBlocks(&model_);
+  std::vector<double*> gradients = SplatRenderCost::Blocks(&grad_);
+  for (std::vector<double>& g : field_grad_) gradients.push_back(g.data());
+  DensityStats stats;
+  stats.Reset(n);
+  std::vector<int> radii;
+  std::vector<double> mean2d_grads;
+  const int views = std::min<int>(d.views, train_.size());
+  const int offset = static_cast<int>(iteration_ / d.interval);
+  for (int k = 0; k < views; ++k) {
+    const int t = (static_cast<int>(k * train_.size() / views) + offset) %
+                  static_cast<int>(train_.size());
+    const Frame& frame = (*frames_)[train_[t]];
+    cost_->Reset(&frame, frame.time_index, LoopStructure::Of(model_));
+    EvaluateScalarLossGradient(*cost_, params.data(), gradients.data());
+    rasterizer_.Radii(&radii);
+    rasterizer_.Mean2dGradients(&mean2d_grads);
+    stats.AddView(frame.camera.width, frame.camera.height, radii,
+                  mean2d_grads);
+  }
+  std::vector<double> mean_grad;
+  for (int i : model_.dynamic_index) {
+    const double g = stats.MeanGrad(i);
+    mean_grad.push_back(std::isfinite(g) ? g : 0.0);
+  }
+  const std::vector<int> picked = PickWaterToDensify(
+      model_.dynamic_index, mean_grad, d.fraction, d.max_dynamic);
+  if (picked.empty()) return {};
+  const std::vector<double> split_scale = PixelSizeInWorld(
+      model_.gaussians, picked, *frames_, train_, d.split_pixels);
+  std::seed_seq seq{static_cast<uint32_t>(options_.seed),
+                    static_cast<uint32_t>(options_.seed >> 32),
+                    static_cast<uint32_t>(iteration_),
+                    static_cast<uint32_t>(iteration_ >> 32), 0x57u};
+  std::mt19937_64 rng(seq);
+  const WaterDensifyResult result =
+      DensifyWater(picked, split_scale, &rng, &model_.gaussians, &adam_,
+                   &model_.dynamic_index, &model_.start_times);
+  UpdateScaleBounds();
+  return result;
 }
 
 JointCheckpoint JointTrainer::Save() const {

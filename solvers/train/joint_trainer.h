@@ -22,6 +22,7 @@
 #include "solvers/train/flow_prior.h"
 #include "solvers/train/frame_sampler.h"
 #include "solvers/train/splat_training.h"
+#include "solvers/train/water_densify.h"
 
 namespace es {
 
@@ -54,6 +55,8 @@ struct JointTrainerOptions {
   double max_dynamic_pixels = 0;
   // The scene-flow prior on V (SetSceneFlowPrior gives it its samples).
   FlowPriorOptions flow_prior;
+  // Splitting / cloning of water Gaussians in the first half of the run.
+  WaterDensifyOptions water_densify;
   // Shapes of fields made from scratch (a given V keeps its own). D's
   // cycle_length is set to cycle_length and its max_cycles to cover every
   // frame of the video.
@@ -75,6 +78,7 @@ struct JointIterationStats {
   int num_dynamic = 0;
   EulerStats euler;
   bool skipped = false;  // non-finite loss or gradient: no update
+  WaterDensifyResult densified;  // after this step's update
 };
 
 // D's max_cycles for a video of `frames` frames: every cycle number a
@@ -124,6 +128,11 @@ class JointTrainer {
 
  private:
   void RefreshDynamicSet();
+  // Ranks the water Gaussians by their mean view-space gradient over
+  // water_densify.views training frames and densifies the top fraction.
+  // Stateless (frames and draws follow from seed and iteration), so a
+  // resumed run densifies as the uninterrupted one.
+  WaterDensifyResult DensifyWaterNow();
   // The per-Gaussian bounds of max_dynamic_pixels, for the current set.
   void UpdateScaleBounds();
   void ClampDynamicScales();
