@@ -216,7 +216,7 @@ Eigen::Vector3d MeanVelocity(const LoopModel& m) {
 TEST(JointTrainerTest, SceneFlowPriorPullsVToTheSamples) {
   const std::vector<Frame> frames = TrueFrames();
   JointTrainerOptions options = TinyOptions();
-  options.iterations = 100;
+  options.iterations = 50;
   const Eigen::Vector3d other(-0.06, 0.0, 0.03);
   auto train = [&](double weight) {
     options.flow_prior.weight = weight;
