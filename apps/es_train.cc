@@ -127,8 +127,9 @@ DEFINE_int32(densify_water_interval, 0,
 DEFINE_double(densify_water_fraction, 0.1,
               "Fraction of the water Gaussians densified each time, "
               "highest gradient first.");
-DEFINE_int32(densify_water_max, 2000,
-             "Most water Gaussians densification may reach.");
+DEFINE_double(densify_water_growth, 3,
+              "Densification stops at this many times the water Gaussians "
+              "joint training starts with (training time grows with them).");
 DEFINE_int32(densify_water_views, 8,
              "Training frames whose gradients rank the water Gaussians.");
 DEFINE_double(densify_water_split_pixels, 1.0,
@@ -181,7 +182,7 @@ JointTrainerOptions OptionsFromFlags() {
   RequireAtLeast("densify_water_interval", FLAGS_densify_water_interval, 0);
   RequireInRange("densify_water_fraction", FLAGS_densify_water_fraction, 0,
                  1);
-  RequireAtLeast("densify_water_max", FLAGS_densify_water_max, 0);
+  RequireInRange("densify_water_growth", FLAGS_densify_water_growth, 1, 1000);
   RequireAtLeast("densify_water_views", FLAGS_densify_water_views, 1);
   RequirePositive("densify_water_split_pixels",
                   FLAGS_densify_water_split_pixels);
@@ -216,7 +217,7 @@ JointTrainerOptions OptionsFromFlags() {
   o.flow_prior.batch_size = FLAGS_flow_prior_batch;
   o.water_densify.interval = FLAGS_densify_water_interval;
   o.water_densify.fraction = FLAGS_densify_water_fraction;
-  o.water_densify.max_dynamic = FLAGS_densify_water_max;
+  o.water_densify.max_growth = FLAGS_densify_water_growth;
   o.water_densify.views = FLAGS_densify_water_views;
   o.water_densify.split_pixels = FLAGS_densify_water_split_pixels;
   o.motion.triplane.resolution = FLAGS_motion_resolution;

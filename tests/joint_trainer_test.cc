@@ -277,7 +277,7 @@ TEST(JointTrainerTest, WaterDensificationGrowsWithinBudgetAndResumes) {
   options.iterations = 60;  // densifies at 10, 20, 30
   options.water_densify.interval = 10;
   options.water_densify.fraction = 0.5;
-  options.water_densify.max_dynamic = 9;
+  options.water_densify.max_growth = 2.25;  // 4 -> 9 water Gaussians
   options.water_densify.views = 4;
   options.water_densify.split_pixels = 0.5;
   JointTrainer straight(&frames, kTrain, options, TrueCanonical(),

@@ -68,6 +68,7 @@ JointTrainer::JointTrainer(const std::vector<Frame>* frames,
   model_.gaussians = std::move(initial);
   model_.cycle_length = options_.cycle_length;
   RefreshDynamicSet();
+  initial_dynamic_ = model_.num_dynamic();
   Eigen::Vector3d lo, hi;
   FieldBox(model_.gaussians, model_.dynamic_index, &lo, &hi);
   if (options_.use_motion) {
@@ -270,7 +271,8 @@ WaterDensifyResult JointTrainer::DensifyWaterNow() {
     mean_grad.push_back(std::isfinite(g) ? g : 0.0);
   }
   const std::vector<int> picked = PickWaterToDensify(
-      model_.dynamic_index, mean_grad, d.fraction, d.max_dynamic);
+      model_.dynamic_index, mean_grad, d.fraction,
+      static_cast<int>(d.max_growth * initial_dynamic_));
   if (picked.empty()) return {};
   const std::vector<double> split_scale = PixelSizeInWorld(
       model_.gaussians, picked, *frames_, train_, d.split_pixels);

@@ -146,6 +146,7 @@ class JointTrainer {
   double extent_ = 1;
   LoopModel model_;
   std::vector<double> dynamic_max_scale_;  // per dynamic Gaussian
+  int initial_dynamic_ = 0;  // water Gaussians at construction
   GaussianSet grad_;
   GaussianAdam adam_;
   std::vector<std::vector<double>> field_grad_, field_m_, field_v_;

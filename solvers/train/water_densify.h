@@ -19,7 +19,9 @@ namespace es {
 struct WaterDensifyOptions {
   int interval = 0;        // every this many iterations (first half); 0: off
   double fraction = 0.1;   // of the water Gaussians, highest gradient first
-  int max_dynamic = 2000;  // budget of water Gaussians
+  // Budget: at most this many times the water Gaussians joint training
+  // started with (the Euler chain's cost grows with their number).
+  double max_growth = 3.0;
   int views = 8;           // training frames whose gradients rank them
   // Larger than this on screen (std dev, px): split into two children at
   // 1 / 1.6 the size; else cloned at its size.
