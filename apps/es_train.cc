@@ -110,7 +110,7 @@ DEFINE_int32(max_particles, 20000,
 DEFINE_double(max_dynamic_pixels, 0,
               "> 0: keep water Gaussians at most this large on screen (std "
               "dev in pixels) during training; 0: no limit.");
-DEFINE_double(flow_prior_weight, 0,
+DEFINE_double(flow_prior_weight, 1,
               "> 0: keep Stage 2's lifted scene-flow samples "
               "(<init>/scene_flow_samples.bin, written by es_flowinit) as a "
               "loss on V during joint training, with this weight at the "
@@ -120,11 +120,11 @@ DEFINE_double(flow_prior_final_factor, 0.1,
               "fraction of --flow_prior_weight by the last iteration.");
 DEFINE_int32(flow_prior_batch, 1024,
              "Scene-flow samples per iteration for the prior.");
-DEFINE_int32(densify_water_interval, 0,
+DEFINE_int32(densify_water_interval, 50,
              "> 0: every this many iterations of the first half, split or "
              "clone the water Gaussians the images disagree with most "
              "(mean view-space gradient); 0: off.");
-DEFINE_double(densify_water_fraction, 0.1,
+DEFINE_double(densify_water_fraction, 0.2,
               "Fraction of the water Gaussians densified each time, "
               "highest gradient first.");
 DEFINE_double(densify_water_growth, 3,

@@ -241,6 +241,8 @@ JointIterationStats JointTrainer::Step() {
 WaterDensifyResult JointTrainer::DensifyWaterNow() {
   ScopedStage timer(Stage::kDensify);
   const WaterDensifyOptions& d = options_.water_densify;
+  const int budget = static_cast<int>(d.max_growth * initial_dynamic_);
+  if (model_.num_dynamic() >= budget) return {};  // skip the ranking pass
   const int n = model_.gaussians.size();
   if (grad_.size() != n || grad_.sh_degree != model_.gaussians.sh_degree)
     grad_ = ZeroGaussians(n, model_.gaussians.sh_degree);
@@ -270,9 +272,8 @@ WaterDensifyResult JointTrainer::DensifyWaterNow() {
     const double g = stats.MeanGrad(i);
     mean_grad.push_back(std::isfinite(g) ? g : 0.0);
   }
-  const std::vector<int> picked = PickWaterToDensify(
-      model_.dynamic_index, mean_grad, d.fraction,
-      static_cast<int>(d.max_growth * initial_dynamic_));
+  const std::vector<int> picked =
+      PickWaterToDensify(model_.dynamic_index, mean_grad, d.fraction, budget);
   if (picked.empty()) return {};
   const std::vector<double> split_scale = PixelSizeInWorld(
       model_.gaussians, picked, *frames_, train_, d.split_pixels);

@@ -18,7 +18,7 @@ namespace es {
 // not depend on the scene's loss scale.
 struct WaterDensifyOptions {
   int interval = 0;        // every this many iterations (first half); 0: off
-  double fraction = 0.1;   // of the water Gaussians, highest gradient first
+  double fraction = 0.2;   // of the water Gaussians, highest gradient first
   // Budget: at most this many times the water Gaussians joint training
   // started with (the Euler chain's cost grows with their number).
   double max_growth = 3.0;
