@@ -97,7 +97,9 @@ void ReadVideoFrames(
         names[i] == VideoFrameName(index))
       wanted[index] = i;
   }
-  cv::VideoCapture capture(video.string());
+  // FFmpeg directly: other back ends (GStreamer) print noise, and leak, on
+  // files they reject.
+  cv::VideoCapture capture(video.string(), cv::CAP_FFMPEG);
   if (!capture.isOpened())
     throw InputError(video.string() + ": cannot open video");
   std::vector<bool> found(names.size(), false);
