@@ -55,9 +55,9 @@ DEFINE_string(second_end, "plane",
 DEFINE_int32(stride, 2, "Lift every stride-th pixel of every stride-th row.");
 DEFINE_int32(frame_gap, 1,
              "Flow between frames this many video frames apart, divided "
-             "by the gap: larger displacements against the under-estimate "
-             "of stochastic water's motion by optical flow (aperture), at "
-             "the cost of fewer consistent matches.");
+             "by the gap: larger displacements, but stochastic water "
+             "changes between the frames and fewer matches pass the "
+             "forward-backward check (on es_synth water 1 was best).");
 DEFINE_double(max_fb_px, 1.0,
               "Reject flow whose forward-backward round trip misses by more "
               "than this (px): occlusions and unreliable matches.");
@@ -355,7 +355,8 @@ int Run() {
       " samples (optical flow + lifting: once, before them)");
 
   es::SaveMotionField(field, out_dir + "/motion_field.bin");
-  es::SaveSceneFlowSamples(lifted.samples, out_dir + "/scene_flow_samples.bin");
+  es::SaveSceneFlowSamples(lifted.samples,
+                           out_dir + "/scene_flow_samples.bin");
   history.Write();
   const double seconds = std::chrono::duration<double>(
                              std::chrono::steady_clock::now() - start)

@@ -80,9 +80,9 @@ struct LiftingView {
 
 // Lifts the flow between frames `first` (i) and `second` (i + gap) to 3D:
 // x = unproject(p, depth_i), x' on the second camera's ray through p + f(p)
-// as options.second_end says, sample (x, (x' - x) / options.frame_gap). second.depth is only
-// read for kRenderedDepth. Appends the accepted samples to *samples; adds
-// the counts to *stats when not null.
+// as options.second_end says, sample (x, (x' - x) / options.frame_gap).
+// second.depth is only read for kRenderedDepth. Appends the accepted
+// samples to *samples; adds the counts to *stats when not null.
 void LiftFlow(const LiftingView& first, const LiftingView& second,
               const FlowPair& flow, const LiftingOptions& options,
               std::vector<SceneFlowSample>* samples, LiftingStats* stats);
@@ -120,9 +120,10 @@ struct SceneFlowResult {
 };
 
 // Stage 2's sample collection: for every pair of frames (i, i + gap) both
-// used for training (gap = options.lifting.frame_gap video frames), renders the static model's expected depth (and,
-// without masks, its dynamic probability) at both frames, computes the flow
-// both ways and lifts it. Throws InputError when masks are asked for but
+// used for training (gap = options.lifting.frame_gap video frames),
+// renders the static model's expected depth (and, without masks, its
+// dynamic probability) at both frames, computes the flow both ways and
+// lifts it. Throws InputError when masks are asked for but
 // missing, or no frame pair is usable.
 SceneFlowResult LiftSceneFlow(const Scene& scene, const GaussianSet& model,
                               const SceneFlowOptions& options);
