@@ -259,7 +259,7 @@ WaterDensifyResult JointTrainer::DensifyWaterNow() {
                   static_cast<int>(train_.size());
     const Frame& frame = (*frames_)[train_[t]];
     cost_->Reset(&frame, frame.time_index, LoopStructure::Of(model_));
-    EvaluateScalarLossGradient(*cost_, params.data(), gradients.data());
+    cost_->LossGradient(params.data(), gradients.data());
     rasterizer_.Radii(&radii);
     rasterizer_.Mean2dGradients(&mean2d_grads);
     stats.AddView(frame.camera.width, frame.camera.height, radii,
