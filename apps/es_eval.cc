@@ -187,7 +187,8 @@ nlohmann::ordered_json EvalJson(const es::LoopModel& model,
     json["motion_gt"] = {{"points", e.motion.num_points},
                          {"epe", e.motion.epe},
                          {"mean_speed", e.motion.mean_speed},
-                         {"rel_epe", e.motion.rel_epe}};
+                         {"rel_epe", e.motion.rel_epe},
+                         {"speed_ratio", e.motion.speed_ratio}};
   }
   return json;
 }
@@ -215,9 +216,9 @@ void PrintSummary(const es::LoopModel& model, const es::Scene& scene,
               scene.has_masks ? "" : "   (no masks)");
   if (e.has_motion_gt) {
     std::printf("  motion vs truth       EPE %.4g (%.1f%% of mean speed "
-                "%.4g) at %d points\n",
+                "%.4g, speed ratio %.2f) at %d points\n",
                 e.motion.epe, 100 * e.motion.rel_epe, e.motion.mean_speed,
-                e.motion.num_points);
+                e.motion.speed_ratio, e.motion.num_points);
   } else {
     std::printf("  motion vs truth       n/a (%s)\n",
                 model.motion ? "no gt/ in the scene" : "model has no V");

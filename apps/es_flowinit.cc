@@ -16,6 +16,7 @@
 #include "core/io/field_io.h"
 #include "core/io/input_error.h"
 #include "core/io/json_file.h"
+#include "core/io/scene_flow_io.h"
 #include "core/io/output_dir.h"
 #include "core/io/ply_io.h"
 #include "core/io/scene.h"
@@ -30,7 +31,8 @@ DEFINE_string(static, "",
               "Static model from Stage 1 (3DGS PLY with dynamic_logit); "
               "default <scene>/static.ply.");
 DEFINE_string(out, "",
-              "Output directory for motion_field.bin and flow_metrics.json; "
+              "Output directory for motion_field.bin, scene_flow_samples.bin "
+              "and flow_metrics.json; "
               "default the scene directory.");
 DEFINE_double(image_scale, 1.0, "Resize frames by this factor.");
 DEFINE_bool(use_test_frames, false,
@@ -51,6 +53,11 @@ DEFINE_string(second_end, "plane",
               "depth there; rough water depth turns into spurious motion "
               "along the ray).");
 DEFINE_int32(stride, 2, "Lift every stride-th pixel of every stride-th row.");
+DEFINE_int32(frame_gap, 1,
+             "Flow between frames this many video frames apart, divided "
+             "by the gap: larger displacements, but stochastic water "
+             "changes between the frames and fewer matches pass the "
+             "forward-backward check (on es_synth water 1 was best).");
 DEFINE_double(max_fb_px, 1.0,
               "Reject flow whose forward-backward round trip misses by more "
               "than this (px): occlusions and unreliable matches.");
@@ -108,6 +115,7 @@ void CheckFlags() {
   es::RequireFlag("scene", FLAGS_scene);
   es::RequirePositive("image_scale", FLAGS_image_scale);
   es::RequireAtLeast("stride", FLAGS_stride, 1);
+  es::RequireAtLeast("frame_gap", FLAGS_frame_gap, 1);
   es::RequireAtLeast("iterations", FLAGS_iterations, 0);
   es::RequireAtLeast("batch_size", FLAGS_batch_size, 1);
   es::RequireAtLeast("max_samples", FLAGS_max_samples, 1);
@@ -150,6 +158,7 @@ es::SceneFlowOptions SceneFlowOptionsFromFlags() {
   o.lifting.max_fb_error_px = FLAGS_max_fb_px;
   o.lifting.max_rel_depth_jump = FLAGS_max_depth_jump;
   o.lifting.water_threshold = FLAGS_water_threshold;
+  o.lifting.frame_gap = FLAGS_frame_gap;
   o.min_alpha = FLAGS_min_alpha;
   o.use_test_frames = FLAGS_use_test_frames;
   const auto start = std::chrono::steady_clock::now();
@@ -264,6 +273,7 @@ void WriteFlowMetrics(const std::string& path, double seconds,
       {"initial_rmse", fit.initial_rmse},
       {"flow", FLAGS_flow},
       {"second_end", FLAGS_second_end},
+      {"frame_gap", FLAGS_frame_gap},
       {"tv_weight", FLAGS_tv_weight},
       {"solver", FLAGS_solver},
       {"iterations", fit.iterations},
@@ -291,13 +301,17 @@ void WriteFlowMetrics(const std::string& path, double seconds,
         es::EvaluateMotionGt(field, points, truth);
     const es::MotionGtMetrics lifted_gt =
         es::EvaluateSamplesGt(lifted.samples, truth);
-    std::printf("ground truth: epe %.4g (mean speed %.4g, relative %.3f); "
-                "lifted samples: relative %.3f\n",
-                gt.epe, gt.mean_speed, gt.rel_epe, lifted_gt.rel_epe);
+    std::printf("ground truth: epe %.4g (mean speed %.4g, relative %.3f, "
+                "speed ratio %.2f); lifted samples: relative %.3f, speed "
+                "ratio %.2f\n",
+                gt.epe, gt.mean_speed, gt.rel_epe, gt.speed_ratio,
+                lifted_gt.rel_epe, lifted_gt.speed_ratio);
     json["epe_gt"] = gt.epe;
     json["rel_epe_gt"] = gt.rel_epe;
     json["mean_speed_gt"] = gt.mean_speed;
+    json["speed_ratio_gt"] = gt.speed_ratio;
     json["samples_rel_epe_gt"] = lifted_gt.rel_epe;
+    json["samples_speed_ratio_gt"] = lifted_gt.speed_ratio;
   }
   es::WriteJsonFile(path, json);
 }
@@ -341,14 +355,16 @@ int Run() {
       " samples (optical flow + lifting: once, before them)");
 
   es::SaveMotionField(field, out_dir + "/motion_field.bin");
+  es::SaveSceneFlowSamples(lifted.samples,
+                           out_dir + "/scene_flow_samples.bin");
   history.Write();
   const double seconds = std::chrono::duration<double>(
                              std::chrono::steady_clock::now() - start)
                              .count();
   WriteFlowMetrics(out_dir + "/flow_metrics.json", seconds, fit, lifted,
                    model, dynamic, field);
-  std::printf("wrote %s/motion_field.bin, flow_metrics.json and "
-              "flow_history.csv (%.1f s)\n",
+  std::printf("wrote %s/motion_field.bin, scene_flow_samples.bin, "
+              "flow_metrics.json and flow_history.csv (%.1f s)\n",
               out_dir.c_str(), seconds);
   return 0;
 }
@@ -361,13 +377,13 @@ int main(int argc, char** argv) {
       "Stage 2: motion-field initialization from optical flow.\n"
       "  es_flowinit --scene DIR [--static DIR/static.ply] [--out DIR]\n"
       "              [--flow dis|farneback|...] [--solver adam|lbfgs|lm]\n"
-      "Lifts the flow between adjacent training frames to 3D with the static "
-      "model's rendered depth, keeps water pixels (masks/, or the model's "
-      "dynamic channel), pretrains V on them and writes <out>/"
-      "motion_field.bin (core/io/field_io.h), <out>/flow_history.csv "
-      "(pretraining rmse by iteration) and <out>/flow_metrics.json "
-      "(num_samples, seconds, fit_rmse, ...; epe_gt and rel_epe_gt when the "
-      "scene has gt/). Exits 1 and writes nothing when the model has no "
-      "dynamic Gaussians or no sample survives.",
+      "Lifts the optical flow of training frames --frame_gap apart to 3D "
+      "with the static model's depth, keeps water pixels (masks/ or the "
+      "model's dynamic channel), pretrains V on them and writes <out>/"
+      "motion_field.bin, scene_flow_samples.bin (the samples; es_train "
+      "--flow_prior_weight keeps them as a prior), flow_history.csv and "
+      "flow_metrics.json (epe_gt, rel_epe_gt when the scene has gt/). "
+      "Exits 1 and writes nothing when the model has no dynamic Gaussians "
+      "or no sample survives.",
       Run);
 }

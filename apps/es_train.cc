@@ -20,6 +20,7 @@
 #include "core/io/json_file.h"
 #include "core/io/output_dir.h"
 #include "core/io/ply_io.h"
+#include "core/io/scene_flow_io.h"
 #include "core/io/scene.h"
 #include "core/model/loop_model.h"
 #include "core/profile/stage_profile.h"
@@ -109,6 +110,31 @@ DEFINE_int32(max_particles, 20000,
 DEFINE_double(max_dynamic_pixels, 0,
               "> 0: keep water Gaussians at most this large on screen (std "
               "dev in pixels) during training; 0: no limit.");
+DEFINE_double(flow_prior_weight, 1,
+              "> 0: keep Stage 2's lifted scene-flow samples "
+              "(<init>/scene_flow_samples.bin, written by es_flowinit) as a "
+              "loss on V during joint training, with this weight at the "
+              "start (relative to the mean squared sample speed); 0: off.");
+DEFINE_double(flow_prior_final_factor, 0.1,
+              "The scene-flow prior's weight decays log-linearly to this "
+              "fraction of --flow_prior_weight by the last iteration.");
+DEFINE_int32(flow_prior_batch, 1024,
+             "Scene-flow samples per iteration for the prior.");
+DEFINE_int32(densify_water_interval, 50,
+             "> 0: every this many iterations of the first half, split or "
+             "clone the water Gaussians the images disagree with most "
+             "(mean view-space gradient); 0: off.");
+DEFINE_double(densify_water_fraction, 0.2,
+              "Fraction of the water Gaussians densified each time, "
+              "highest gradient first.");
+DEFINE_double(densify_water_growth, 3,
+              "Densification stops at this many times the water Gaussians "
+              "joint training starts with (training time grows with them).");
+DEFINE_int32(densify_water_views, 8,
+             "Training frames whose gradients rank the water Gaussians.");
+DEFINE_double(densify_water_split_pixels, 1.0,
+              "Water Gaussians larger than this on screen (std dev, px) are "
+              "split in two smaller ones, smaller ones cloned.");
 
 namespace es {
 namespace {
@@ -149,6 +175,17 @@ JointTrainerOptions OptionsFromFlags() {
   RequireNonNegative("max_dynamic_pixels", FLAGS_max_dynamic_pixels);
   RequireAtLeast("max_particle_children", FLAGS_max_particle_children, 1);
   RequireAtLeast("max_particles", FLAGS_max_particles, 1);
+  RequireNonNegative("flow_prior_weight", FLAGS_flow_prior_weight);
+  RequireInRange("flow_prior_final_factor", FLAGS_flow_prior_final_factor, 0,
+                 1);
+  RequireAtLeast("flow_prior_batch", FLAGS_flow_prior_batch, 1);
+  RequireAtLeast("densify_water_interval", FLAGS_densify_water_interval, 0);
+  RequireInRange("densify_water_fraction", FLAGS_densify_water_fraction, 0,
+                 1);
+  RequireInRange("densify_water_growth", FLAGS_densify_water_growth, 1, 1000);
+  RequireAtLeast("densify_water_views", FLAGS_densify_water_views, 1);
+  RequirePositive("densify_water_split_pixels",
+                  FLAGS_densify_water_split_pixels);
   JointTrainerOptions o;
   o.iterations = FLAGS_iterations;
   o.seed = FLAGS_seed;
@@ -175,6 +212,14 @@ JointTrainerOptions OptionsFromFlags() {
   o.lr_residual_mlp = FLAGS_lr_residual_mlp;
   o.field_lr_final_factor = FLAGS_field_lr_final_factor;
   o.max_dynamic_pixels = FLAGS_max_dynamic_pixels;
+  o.flow_prior.weight = FLAGS_flow_prior_weight;
+  o.flow_prior.final_factor = FLAGS_flow_prior_final_factor;
+  o.flow_prior.batch_size = FLAGS_flow_prior_batch;
+  o.water_densify.interval = FLAGS_densify_water_interval;
+  o.water_densify.fraction = FLAGS_densify_water_fraction;
+  o.water_densify.max_growth = FLAGS_densify_water_growth;
+  o.water_densify.views = FLAGS_densify_water_views;
+  o.water_densify.split_pixels = FLAGS_densify_water_split_pixels;
   o.motion.triplane.resolution = FLAGS_motion_resolution;
   o.motion.triplane.channels = FLAGS_motion_channels;
   o.motion.mlp_width = FLAGS_motion_width;
@@ -225,6 +270,31 @@ std::optional<MotionField> PretrainedMotion(const JointTrainerOptions& options,
   *flow_init = true;
   std::printf("V: pretrained from %s\n", path.c_str());
   return LoadMotionField(path);
+}
+
+// Gives the trainer Stage 2's samples as a prior on V when one is wanted
+// and V was pretrained from them.
+void AddFlowPrior(const JointTrainerOptions& options, bool flow_init,
+                  JointTrainer* trainer) {
+  if (options.flow_prior.weight <= 0 || !options.use_motion) return;
+  const std::string path =
+      (fs::path(FLAGS_init) / "scene_flow_samples.bin").string();
+  if (!flow_init || !fs::exists(path)) {
+    std::printf("scene-flow prior: off (%s)\n",
+                flow_init ? (path + " not found").c_str()
+                          : "V is not pretrained");
+    return;
+  }
+  std::vector<SceneFlowSample> samples = LoadSceneFlowSamples(path);
+  if (samples.empty()) {
+    std::printf("scene-flow prior: off (%s holds no samples)\n",
+                path.c_str());
+    return;
+  }
+  std::printf("scene-flow prior: %zu samples from %s, weight %g -> %g\n",
+              samples.size(), path.c_str(), options.flow_prior.weight,
+              options.flow_prior.weight * options.flow_prior.final_factor);
+  trainer->SetSceneFlowPrior(std::move(samples));
 }
 
 // Splits the static model's large water Gaussians into particles
@@ -289,6 +359,12 @@ TrainingOutcome Train(const JointTrainerOptions& options, const Scene& scene,
       ++counted;
     }
     const int64_t it = trainer->iteration();
+    if (s.densified.split + s.densified.cloned > 0) {
+      std::printf("iter %lld: water densified, %d split, %d cloned (water "
+                  "Gaussians %d)\n",
+                  static_cast<long long>(it), s.densified.split,
+                  s.densified.cloned, trainer->model().num_dynamic());
+    }
     const bool log =
         FLAGS_log_interval > 0 &&
         (it % FLAGS_log_interval == 0 || it == options.iterations);
@@ -406,6 +482,7 @@ int Run() {
 
   JointTrainer trainer(&scene.frames, scene.train, options,
                        std::move(initial), std::move(motion));
+  AddFlowPrior(options, flow_init, &trainer);
   std::printf("dynamic Gaussians: %d of %d; V %s, D %s; masks %s\n",
               trainer.model().num_dynamic(), trainer.model().gaussians.size(),
               options.use_motion ? "on" : "off",

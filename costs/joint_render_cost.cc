@@ -46,7 +46,7 @@ JointRenderCost::JointRenderCost(const Frame* frame, int frame_index,
       residual_weight_(terms.residual_weight),
       options_(options),
       rasterizer_(rasterizer),
-      image_loss_(terms) {
+      image_loss_(terms, options) {
   if (!rasterizer_) {
     owned_rasterizer_ = std::make_unique<Rasterizer>();
     rasterizer_ = owned_rasterizer_.get();
@@ -98,8 +98,28 @@ bool JointRenderCost::Evaluate(double const* const* parameters,
                                    &model.canonical);
   const double r = ScalarLossResidual(Forward(model, jacobians != nullptr));
   residuals[0] = r;
-  if (jacobians != nullptr) Backward(model, r, jacobians);
+  if (jacobians == nullptr) return true;
+  Backward(model, jacobians);
+  const std::vector<int32_t>& sizes = layout_.sizes();
+  const double inv_r = 1.0 / r;
+  for (int b = 0; b < layout_.num_blocks(); ++b) {
+    if (!jacobians[b]) continue;
+    double* jac = jacobians[b];
+    const int size = sizes[b];
+#pragma omp parallel for if (size > 65536) schedule(static)
+    for (int i = 0; i < size; ++i) jac[i] *= inv_r;
+  }
   return true;
+}
+
+double JointRenderCost::LossGradient(double const* const* parameters,
+                                     double** gradients) const {
+  LoopModelView model = View(parameters);
+  image_loss_.AttachDynamicChannel(parameters[kDynamicBlock],
+                                   &model.canonical);
+  const double r = ScalarLossResidual(Forward(model, true));
+  Backward(model, gradients);
+  return 0.5 * r * r;
 }
 
 double JointRenderCost::Forward(const LoopModelView& model,
@@ -118,9 +138,9 @@ double JointRenderCost::Forward(const LoopModelView& model,
   return loss;
 }
 
-void JointRenderCost::Backward(const LoopModelView& model, double r,
+void JointRenderCost::Backward(const LoopModelView& model,
                                double** jacobians) const {
-  // Gradients accumulate into the Jacobian rows, then are divided by r.
+  // Gradients accumulate into the rows.
   const std::vector<int32_t>& sizes = layout_.sizes();
   for (int b = 0; b < layout_.num_blocks(); ++b)
     if (jacobians[b]) std::fill(jacobians[b], jacobians[b] + sizes[b], 0.0);
@@ -146,14 +166,6 @@ void JointRenderCost::Backward(const LoopModelView& model, double r,
   // The extra channel is the canonical probability (D does not touch it).
   if (double* jac = jacobians[kDynamicBlock])
     image_loss_.DynamicLogitGradient(grads_, structure_.count, 1.0, jac);
-  const double inv_r = 1.0 / r;
-  for (int b = 0; b < layout_.num_blocks(); ++b) {
-    if (!jacobians[b]) continue;
-    double* jac = jacobians[b];
-    const int size = sizes[b];
-#pragma omp parallel for if (size > 65536) schedule(static)
-    for (int i = 0; i < size; ++i) jac[i] *= inv_r;
-  }
 }
 
 ceres::CostFunction* CreateJointPhotometricCost(

@@ -68,6 +68,14 @@ class JointRenderCost : public ceres::CostFunction {
   bool Evaluate(double const* const* parameters, double* residuals,
                 double** jacobians) const override;
 
+  // The trainer's path: d loss / d block straight into `gradients` (one
+  // buffer per block, sized like it; null skips a block), without the
+  // residual's 1 / r that Evaluate applies and the caller would undo (two
+  // passes over the fields' parameters). Returns 0.5 r^2 = l + eps / 2, as
+  // EvaluateScalarLossGradient.
+  double LossGradient(double const* const* parameters,
+                      double** gradients) const;
+
   const JointBlockLayout& layout() const { return layout_; }
   // Unweighted terms of the last Evaluate (0 for a disabled term).
   double last_photometric() const { return image_loss_.last_photometric(); }
@@ -85,9 +93,8 @@ class JointRenderCost : public ceres::CostFunction {
   // Composes, renders and scores the frame; returns the weighted loss and
   // keeps what Backward needs when want_grad.
   double Forward(const LoopModelView& model, bool want_grad) const;
-  // Writes d loss / d block / r into every non-null Jacobian row.
-  void Backward(const LoopModelView& model, double r,
-                double** jacobians) const;
+  // Writes d loss / d block into every non-null gradient row.
+  void Backward(const LoopModelView& model, double** gradients) const;
 
   const Frame* frame_ = nullptr;
   int frame_index_ = 0;

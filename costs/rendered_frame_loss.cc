@@ -6,9 +6,14 @@
 
 #include "core/model/gaussians.h"
 #include "costs/mask_bce_loss.h"
-#include "costs/photometric_loss.h"
 
 namespace es {
+
+RenderedFrameLoss::RenderedFrameLoss(const ImageLossTerms& terms,
+                                     const RenderOptions& options)
+    : terms_(terms),
+      photometric_(terms.ssim_weight, options.use_double,
+                   terms.ssim_cache_bytes, options.simd) {}
 
 void RenderedFrameLoss::CheckFrame(const Frame& frame) const {
   CHECK_EQ(frame.image.rows, frame.camera.height);
@@ -35,9 +40,9 @@ double RenderedFrameLoss::Score(const RenderResult& render, const Frame& frame,
   last_photometric_ = last_mask_ = 0;
   if (terms_.photometric_weight != 0) {
     d_rgb_.resize(3 * pixels);
-    last_photometric_ = PhotometricLoss(
-        render.rgb.data(), frame.image, terms_.ssim_weight,
-        terms_.photometric_weight, want_grad ? d_rgb_.data() : nullptr);
+    last_photometric_ = photometric_.Evaluate(
+        render.rgb.data(), frame.image, terms_.photometric_weight,
+        want_grad ? d_rgb_.data() : nullptr);
     loss += terms_.photometric_weight * last_photometric_;
   }
   if (mask_on()) {

@@ -1,10 +1,12 @@
 #ifndef EULERSPLAT_COSTS_RENDERED_FRAME_LOSS_H_
 #define EULERSPLAT_COSTS_RENDERED_FRAME_LOSS_H_
 
+#include <cstddef>
 #include <vector>
 
 #include "core/io/scene.h"
 #include "core/render/rasterizer.h"
+#include "costs/photometric_loss.h"
 
 namespace es {
 
@@ -14,6 +16,8 @@ struct ImageLossTerms {
   double photometric_weight = 1.0;  // (1 - s) L1 + s (1 - SSIM)
   double ssim_weight = 0.2;         // s above
   double mask_weight = 0.0;         // BCE of the dynamic channel vs the mask
+  // Memory the targets' SSIM statistics may keep between evaluations.
+  size_t ssim_cache_bytes = kDefaultSsimCacheBytes;
 };
 
 // The image-space half that SplatRenderCost and JointRenderCost share:
@@ -24,7 +28,9 @@ struct ImageLossTerms {
 // buffers between frames: not thread-safe.
 class RenderedFrameLoss {
  public:
-  explicit RenderedFrameLoss(const ImageLossTerms& terms) : terms_(terms) {}
+  // The losses run in the renders' precision and instruction set
+  // (options.use_double, options.simd).
+  RenderedFrameLoss(const ImageLossTerms& terms, const RenderOptions& options);
 
   const ImageLossTerms& terms() const { return terms_; }
   bool mask_on() const { return terms_.mask_weight != 0; }
@@ -57,6 +63,7 @@ class RenderedFrameLoss {
 
  private:
   ImageLossTerms terms_;
+  PhotometricLoss photometric_;
   std::vector<double> probability_, d_rgb_, d_extra_;
   double last_photometric_ = 0, last_mask_ = 0;
 };

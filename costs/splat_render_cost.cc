@@ -10,7 +10,9 @@ SplatRenderCost::SplatRenderCost(const Frame* frame, int count, int sh_degree,
                                  const ImageLossTerms& terms,
                                  const RenderOptions& options,
                                  Rasterizer* rasterizer)
-    : options_(options), rasterizer_(rasterizer), loss_(terms) {
+    : options_(options),
+      rasterizer_(rasterizer),
+      loss_(terms, options) {
   if (!rasterizer_) {
     owned_rasterizer_ = std::make_unique<Rasterizer>();
     rasterizer_ = owned_rasterizer_.get();

@@ -37,6 +37,34 @@ TEST(AdamTest, SecondStepMatchesHandComputation) {
   EXPECT_NEAR(x, -0.01 - 0.01 * m_hat / std::sqrt(v_hat), 1e-13);
 }
 
+// AdamUpdate skips runs of parameters whose gradient and moments are all
+// zero; every other parameter, a zero-gradient one with momentum left
+// included, must take the textbook step, in any position of a run.
+TEST(AdamTest, SkippingUntouchedParametersChangesNothing) {
+  const AdamOptions o;
+  const int n = 1000;
+  std::vector<double> x(n), g(n, 0.0), m(n, 0.0), v(n, 0.0);
+  for (int i = 0; i < n; ++i) x[i] = 0.001 * i - 0.3;
+  for (int i : {3, 130, 131, 640, 999}) g[i] = 0.01 * (i % 7) - 0.02;
+  m[300] = 0.05, v[300] = 0.002;  // momentum, no gradient this step
+  std::vector<double> ex = x, em = m, ev = v;
+  const double lr = 0.01;
+  const int t = 5;
+  const double bc1 = 1 - std::pow(o.beta1, t), bc2 = 1 - std::pow(o.beta2, t);
+  for (int i = 0; i < n; ++i) {
+    em[i] = o.beta1 * em[i] + (1 - o.beta1) * g[i];
+    ev[i] = o.beta2 * ev[i] + (1 - o.beta2) * g[i] * g[i];
+    ex[i] -= lr / bc1 * em[i] / (std::sqrt(ev[i]) / std::sqrt(bc2) + o.eps);
+  }
+  AdamUpdate(o, t, lr, n, g.data(), m.data(), v.data(), x.data());
+  for (int i = 0; i < n; ++i) {
+    EXPECT_NEAR(x[i], ex[i], 1e-15) << i;
+    EXPECT_EQ(m[i], em[i]) << i;
+    EXPECT_EQ(v[i], ev[i]) << i;
+  }
+  EXPECT_NE(x[300], 0.001 * 300 - 0.3);  // the momentum moved it
+}
+
 TEST(AdamTest, ConvergesOnAQuadratic) {
   // f(x) = sum_i a_i (x_i - c_i)^2 with very different curvatures.
   const std::vector<double> a = {1e-3, 1.0, 1e3}, c = {2.0, -1.0, 0.25};

@@ -160,6 +160,13 @@ TEST_F(CliTest, OutOfRangeValuesAreRefusedBeforeAnyWork) {
   ExpectRefused("es_train",
                 scene + " --init x --out " + out + " --dynamic_threshold 1.5",
                 "--dynamic_threshold=1.5: must be in (0, 1)");
+  ExpectRefused("es_train",
+                scene + " --init x --out " + out + " --flow_prior_weight -1",
+                "--flow_prior_weight=-1: must be >= 0");
+  ExpectRefused("es_train",
+                scene + " --init x --out " + out +
+                    " --densify_water_growth 0.5",
+                "--densify_water_growth=0.5: must be in [1, 1000]");
   ExpectRefused("es_static", scene + " --out " + out + " --iterations 0",
                 "--iterations must be positive");
   ExpectRefused("es_animate",
@@ -172,6 +179,8 @@ TEST_F(CliTest, OutOfRangeValuesAreRefusedBeforeAnyWork) {
                 "");
   ExpectRefused("es_flowinit", scene + " --stride 0",
                 "--stride=0: must be >= 1");
+  ExpectRefused("es_flowinit", scene + " --frame_gap 0",
+                "--frame_gap=0: must be >= 1");
   ExpectRefused("es_eval",
                 scene + " --model m --out " + out + " --seam_cycles 1",
                 "--seam_cycles must be >= 2");

@@ -174,12 +174,13 @@ TEST(CostsTest, PhotometricLossIsZeroOnTheTarget) {
   cv::Mat y;
   frame.image.convertTo(y, CV_64F);
   std::vector<double> d(kWidth * kHeight * 3);
-  EXPECT_NEAR(PhotometricLoss(y.ptr<double>(), frame.image, 0.2, 1.0, d.data()),
-              0.0, 1e-12);
+  PhotometricLoss loss(0.2, /*use_double=*/true);
+  EXPECT_NEAR(loss.Evaluate(y.ptr<double>(), frame.image, 1.0, d.data()), 0.0,
+              1e-12);
   // Off the target: 0.8 L1 + 0.2 (1 - SSIM).
   cv::Mat x = y + 0.1;
   const double expected = 0.8 * L1Loss(x, y) + 0.2 * (1 - Ssim(x, y));
-  EXPECT_NEAR(PhotometricLoss(x.ptr<double>(), frame.image, 0.2, 1.0, d.data()),
+  EXPECT_NEAR(loss.Evaluate(x.ptr<double>(), frame.image, 1.0, d.data()),
               expected, 1e-12);
 }
 

@@ -138,6 +138,29 @@ TEST(FlowLiftingTest, ExactFlowRecoversPlaneTranslation) {
   }
 }
 
+// Frames three video frames apart: the plane moved three times its
+// per-frame motion between them, and the samples are motion per frame.
+TEST(FlowLiftingTest, FrameGapDividesTheDisplacement) {
+  const TwoViews v = MakeTwoViews(64, 48, 60);
+  const Eigen::Vector3d displacement = 3.0 * v.motion;
+  const Plane moved = v.plane.Moved(displacement);
+  FlowPair flow;
+  flow.forward = PlaneFlow(v.a, v.plane, v.b, displacement);
+  flow.backward = PlaneFlow(v.b, moved, v.a, -displacement);
+  const LiftingView first{&v.a, PlaneDepth(v.a, v.plane), Ones(v.a)};
+  const LiftingView second{&v.b, PlaneDepth(v.b, moved), Ones(v.b)};
+  LiftingOptions options;
+  options.stride = 2;
+  options.second_end = SecondEnd::kRenderedDepth;
+  options.frame_gap = 3;
+  std::vector<SceneFlowSample> samples;
+  LiftingStats stats;
+  LiftFlow(first, second, flow, options, &samples, &stats);
+  ASSERT_GT(stats.accepted, stats.candidates / 2);
+  for (const SceneFlowSample& s : samples)
+    EXPECT_LT((s.v - v.motion).norm(), 1e-3 * v.motion.norm());
+}
+
 TEST(FlowLiftingTest, EstimatedFlowRecoversPlaneTranslation) {
   const TwoViews v = MakeTwoViews(160, 120, 150);
   const Plane moved = v.plane.Moved(v.motion);

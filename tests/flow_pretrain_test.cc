@@ -150,10 +150,12 @@ TEST(MotionGtTest, EndpointErrorOfSamples) {
   EXPECT_EQ(exact.num_points, 50);
   EXPECT_EQ(exact.epe, 0.0);
   EXPECT_GT(exact.mean_speed, 0.0);
+  EXPECT_NEAR(exact.speed_ratio, 1.0, 1e-12);
   // Samples at half speed are off by half the speed.
   for (SceneFlowSample& s : samples) s.v *= 0.5;
   const MotionGtMetrics half = EvaluateSamplesGt(samples, TrueVelocity);
   EXPECT_NEAR(half.rel_epe, 0.5, 1e-12);
+  EXPECT_NEAR(half.speed_ratio, 0.5, 1e-12);
   EXPECT_EQ(EvaluateSamplesGt({}, TrueVelocity).num_points, 0);
 }
 
@@ -168,6 +170,7 @@ TEST(MotionGtTest, EndpointErrorOfFittedAndZeroFields) {
   EXPECT_GT(zero.mean_speed, 0.0);
   EXPECT_NEAR(zero.epe, zero.mean_speed, 1e-12);
   EXPECT_NEAR(zero.rel_epe, 1.0, 1e-12);
+  EXPECT_EQ(zero.speed_ratio, 0.0);
 
   FlowPretrainOptions options;
   options.iterations = 300;

@@ -181,14 +181,72 @@ void ExpectSameModel(const LoopModel& a, const LoopModel& b) {
     ASSERT_EQ(ra.triplane[i], rb.triplane[i]) << i;
 }
 
+// Scene-flow samples of velocity `v` around the dynamic Gaussians.
+std::vector<SceneFlowSample> FlowSamples(const Eigen::Vector3d& v) {
+  const GaussianSet g = TrueCanonical();
+  std::mt19937 rng(4);
+  std::normal_distribution<double> jitter(0, 0.05);
+  std::vector<SceneFlowSample> samples;
+  for (int n = kNumStatic; n < g.size(); ++n) {
+    for (int k = 0; k < 50; ++k) {
+      const Eigen::Vector3d x = Eigen::Vector3d(&g.means[3 * n]) +
+                                Eigen::Vector3d(jitter(rng), jitter(rng),
+                                                jitter(rng));
+      samples.push_back({x, v});
+    }
+  }
+  return samples;
+}
+
+// Mean of V at the dynamic Gaussians' canonical positions.
+Eigen::Vector3d MeanVelocity(const LoopModel& m) {
+  std::vector<double> x, v(3 * m.num_dynamic());
+  for (int n : m.dynamic_index)
+    for (int j = 0; j < 3; ++j) x.push_back(m.gaussians.means[3 * n + j]);
+  FieldWorkspace ws;
+  m.motion->Evaluate(m.motion->params(), m.num_dynamic(), x.data(), v.data(),
+                     &ws);
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (int k = 0; k < m.num_dynamic(); ++k) mean += Eigen::Vector3d(&v[3 * k]);
+  return mean / m.num_dynamic();
+}
+
+// Samples that say the water moves the other way than the images show: a
+// strong prior holds V there, without it V follows the images.
+TEST(JointTrainerTest, SceneFlowPriorPullsVToTheSamples) {
+  const std::vector<Frame> frames = TrueFrames();
+  JointTrainerOptions options = TinyOptions();
+  options.iterations = 50;
+  const Eigen::Vector3d other(-0.06, 0.0, 0.03);
+  auto train = [&](double weight) {
+    options.flow_prior.weight = weight;
+    JointTrainer trainer(&frames, kTrain, options, TrueCanonical(),
+                         std::nullopt);
+    trainer.SetSceneFlowPrior(FlowSamples(other));
+    double prior = 0;
+    while (trainer.iteration() < options.iterations)
+      prior += trainer.Step().flow_prior;
+    EXPECT_EQ(prior > 0, weight > 0);
+    return MeanVelocity(trainer.model());
+  };
+  const Eigen::Vector3d free = train(0), held = train(100);
+  EXPECT_LT((held - other).norm(), 0.3 * other.norm()) << held.transpose();
+  EXPECT_LT((free - kVelocity).norm(), (free - other).norm())
+      << free.transpose();
+}
+
 TEST(JointTrainerTest, ResumeGivesTheUninterruptedResult) {
   const std::vector<Frame> frames = TrueFrames();
   JointTrainerOptions options = TinyOptions();
   options.random_start = true;
   options.mask_weight = 0.5;  // dynamic logits learn: refreshes change sets
   options.iterations = 30;
+  options.flow_prior.weight = 0.5;  // its batches must not depend on a run
+  options.flow_prior.batch_size = 16;
+  const std::vector<SceneFlowSample> samples = FlowSamples(kVelocity);
   JointTrainer straight(&frames, kTrain, options, TrueCanonical(),
                         std::nullopt);
+  straight.SetSceneFlowPrior(samples);
   for (int i = 0; i < 30; ++i) straight.Step();
 
   const std::string path =
@@ -198,14 +256,57 @@ TEST(JointTrainerTest, ResumeGivesTheUninterruptedResult) {
   {
     JointTrainer first(&frames, kTrain, options, TrueCanonical(),
                        std::nullopt);
+    first.SetSceneFlowPrior(samples);
     for (int i = 0; i < 20; ++i) first.Step();  // a refresh comes next
     WriteJointCheckpoint(first.Save(), path);
   }
   JointTrainer resumed(&frames, kTrain, options, TrueCanonical(),
                        std::nullopt);
+  resumed.SetSceneFlowPrior(samples);
   resumed.Restore(ReadJointCheckpoint(path), path);
   EXPECT_EQ(resumed.iteration(), 20);
   while (resumed.iteration() < 30) resumed.Step();
+  fs::remove(path);
+  ExpectSameModel(straight.model(), resumed.model());
+}
+
+TEST(JointTrainerTest, WaterDensificationGrowsWithinBudgetAndResumes) {
+  const std::vector<Frame> frames = TrueFrames();
+  JointTrainerOptions options = TinyOptions();
+  options.random_start = true;
+  options.iterations = 60;  // densifies at 10, 20, 30
+  options.water_densify.interval = 10;
+  options.water_densify.fraction = 0.5;
+  options.water_densify.max_growth = 2.25;  // 4 -> 9 water Gaussians
+  options.water_densify.views = 4;
+  options.water_densify.split_pixels = 0.5;
+  JointTrainer straight(&frames, kTrain, options, TrueCanonical(),
+                        std::nullopt);
+  int added = 0;
+  for (int i = 0; i < 60; ++i) {
+    const JointIterationStats s = straight.Step();
+    added += s.densified.cloned + s.densified.split;
+    EXPECT_LE(straight.model().num_dynamic(), 9);
+  }
+  EXPECT_EQ(straight.model().num_dynamic(), 9);
+  EXPECT_EQ(added, 5);  // one Gaussian more per split or clone
+  EXPECT_EQ(straight.model().gaussians.size(), kNumStatic + 9);
+  EXPECT_TRUE(AllFinite(straight.model().gaussians));
+
+  const std::string path =
+      (fs::path(::testing::TempDir()) /
+       ("es_joint_densify_" + std::to_string(getpid()) + ".bin"))
+          .string();
+  {
+    JointTrainer first(&frames, kTrain, options, TrueCanonical(),
+                       std::nullopt);
+    for (int i = 0; i < 15; ++i) first.Step();
+    WriteJointCheckpoint(first.Save(), path);
+  }
+  JointTrainer resumed(&frames, kTrain, options, TrueCanonical(),
+                       std::nullopt);
+  resumed.Restore(ReadJointCheckpoint(path), path);
+  while (resumed.iteration() < 60) resumed.Step();
   fs::remove(path);
   ExpectSameModel(straight.model(), resumed.model());
 }

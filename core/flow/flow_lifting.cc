@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <map>
 #include <optional>
 
 #include <glog/logging.h>
@@ -133,6 +134,7 @@ void LiftFlow(const LiftingView& first, const LiftingView& second,
   CHECK(first.camera != nullptr && second.camera != nullptr);
   CHECK(samples != nullptr);
   CHECK_GE(options.stride, 1);
+  CHECK_GE(options.frame_gap, 1);
   const cv::Size size = first.depth.size();
   for (const cv::Mat* m : {&first.depth, &first.water, &second.depth,
                            &second.water, &flow.forward, &flow.backward}) {
@@ -189,7 +191,7 @@ void LiftFlow(const LiftingView& first, const LiftingView& second,
         p1 = UnprojectToWorld(*second.camera, x1, y1,
                               Bilinear<float>(second.depth, x1, y1));
       }
-      samples->push_back({p0, p1 - p0});
+      samples->push_back({p0, (p1 - p0) / options.frame_gap});
       ++s.accepted;
     }
   }
@@ -230,18 +232,24 @@ SceneFlowResult LiftSceneFlow(const Scene& scene, const GaussianSet& model,
   if (options.use_test_frames) {
     for (int i : scene.test) usable[i] = true;
   }
-  // Samples are motion per frame: a pair must be one video frame apart,
-  // not merely neighbours among the frames COLMAP registered.
-  std::vector<int> pairs;  // first frame of each pair
-  for (int i = 0; i + 1 < num_frames; ++i) {
-    if (usable[i] && usable[i + 1] &&
-        scene.frames[i + 1].time_index == scene.frames[i].time_index + 1)
-      pairs.push_back(i);
+  // Samples are motion per frame: the ends of a pair must be frame_gap
+  // video frames apart, not merely neighbours among the frames COLMAP
+  // registered.
+  const int gap = options.lifting.frame_gap;
+  CHECK_GE(gap, 1);
+  std::map<int, int> frame_at_time;  // time index -> frame
+  for (int i = 0; i < num_frames; ++i)
+    if (usable[i]) frame_at_time[scene.frames[i].time_index] = i;
+  std::vector<std::pair<int, int>> pairs;
+  for (const auto& [time, i] : frame_at_time) {
+    const auto second = frame_at_time.find(time + gap);
+    if (second != frame_at_time.end()) pairs.emplace_back(i, second->second);
   }
   if (pairs.empty()) {
-    throw InputError(scene.dir +
-                     ": no two consecutive video frames are both training frames, so "
-                     "there is no optical flow to lift");
+    throw InputError(scene.dir + ": no two training frames are " +
+                     std::to_string(gap) +
+                     " video frame(s) apart, so there is no optical flow "
+                     "to lift");
   }
   result.num_pairs = static_cast<int>(pairs.size());
 
@@ -278,11 +286,11 @@ SceneFlowResult LiftSceneFlow(const Scene& scene, const GaussianSet& model,
   OpticalFlow flow(options.method);
   std::optional<RenderedFrame> previous;
   for (size_t k = 0; k < pairs.size(); ++k) {
-    const int i = pairs[k];
+    const auto [i, j] = pairs[k];
     const RenderedFrame first = previous && previous->index == i
                                     ? *previous
                                     : render_frame(i);
-    const RenderedFrame second = render_frame(i + 1);
+    const RenderedFrame second = render_frame(j);
     previous = second;
     if (first.water.type() == CV_32FC1 &&
         !HasWaterCandidate(first.water, options.lifting)) {
@@ -290,27 +298,26 @@ SceneFlowResult LiftSceneFlow(const Scene& scene, const GaussianSet& model,
       if (options.progress) {
         options.progress(static_cast<int>(k), result.num_pairs,
                          scene.frames[i].camera.image_name,
-                         scene.frames[i + 1].camera.image_name, 0);
+                         scene.frames[j].camera.image_name, 0);
       }
       continue;
     }
 
     auto start = Clock::now();
     const FlowPair pair =
-        flow.ComputePair(scene.frames[i].image, scene.frames[i + 1].image);
+        flow.ComputePair(scene.frames[i].image, scene.frames[j].image);
     result.flow_seconds += SecondsSince(start);
 
     start = Clock::now();
     const LiftingView a{&scene.frames[i].camera, first.depth, first.water};
-    const LiftingView b{&scene.frames[i + 1].camera, second.depth,
-                        second.water};
+    const LiftingView b{&scene.frames[j].camera, second.depth, second.water};
     const size_t before = result.samples.size();
     LiftFlow(a, b, pair, options.lifting, &result.samples, &result.stats);
     result.lift_seconds += SecondsSince(start);
     if (options.progress) {
       options.progress(static_cast<int>(k), result.num_pairs,
                        scene.frames[i].camera.image_name,
-                       scene.frames[i + 1].camera.image_name,
+                       scene.frames[j].camera.image_name,
                        static_cast<long>(result.samples.size() - before));
     }
   }

@@ -16,7 +16,8 @@
 namespace es {
 
 // A pseudo ground-truth scene-flow pair for pretraining V: the point x (world)
-// seen in water at frame i moves by v (world units per frame) to frame i + 1.
+// seen in water at frame i moves by v (world units per frame): its motion to
+// frame i + gap divided by the gap.
 struct SceneFlowSample {
   Eigen::Vector3d x;
   Eigen::Vector3d v;
@@ -50,6 +51,9 @@ struct LiftingOptions {
   // the pixel straddles an occluding edge, its depth is a blend; reject.
   double max_rel_depth_jump = 0.05;
   double water_threshold = 0.5;    // water mask value that counts as water
+  // Video frames between the two ends; samples are motion per frame (the
+  // displacement divided by this).
+  int frame_gap = 1;
 };
 
 // Why candidates were dropped (a candidate is a water pixel of frame i on the
@@ -74,11 +78,11 @@ struct LiftingView {
   cv::Mat water;
 };
 
-// Lifts the flow between frames `first` (i) and `second` (i + 1) to 3D:
+// Lifts the flow between frames `first` (i) and `second` (i + gap) to 3D:
 // x = unproject(p, depth_i), x' on the second camera's ray through p + f(p)
-// as options.second_end says, sample (x, x' - x). second.depth is only
-// read for kRenderedDepth. Appends the accepted samples to *samples; adds
-// the counts to *stats when not null.
+// as options.second_end says, sample (x, (x' - x) / options.frame_gap).
+// second.depth is only read for kRenderedDepth. Appends the accepted
+// samples to *samples; adds the counts to *stats when not null.
 void LiftFlow(const LiftingView& first, const LiftingView& second,
               const FlowPair& flow, const LiftingOptions& options,
               std::vector<SceneFlowSample>* samples, LiftingStats* stats);
@@ -109,16 +113,17 @@ struct SceneFlowOptions {
 struct SceneFlowResult {
   std::vector<SceneFlowSample> samples;
   LiftingStats stats;
-  int num_pairs = 0;       // adjacent (in time) frame pairs lifted
+  int num_pairs = 0;       // frame pairs (frame_gap apart in time) lifted
   int num_dry_pairs = 0;   // of those, without water: flow not computed
   bool used_masks = false;
   double render_seconds = 0, flow_seconds = 0, lift_seconds = 0;
 };
 
-// Stage 2's sample collection: for every pair of adjacent frames (i, i + 1)
-// both used for training, renders the static model's expected depth (and,
-// without masks, its dynamic probability) at both frames, computes the flow
-// both ways and lifts it. Throws InputError when masks are asked for but
+// Stage 2's sample collection: for every pair of frames (i, i + gap) both
+// used for training (gap = options.lifting.frame_gap video frames),
+// renders the static model's expected depth (and, without masks, its
+// dynamic probability) at both frames, computes the flow both ways and
+// lifts it. Throws InputError when masks are asked for but
 // missing, or no frame pair is usable.
 SceneFlowResult LiftSceneFlow(const Scene& scene, const GaussianSet& model,
                               const SceneFlowOptions& options);

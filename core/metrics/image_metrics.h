@@ -23,17 +23,9 @@ double L1Loss(const cv::Mat& x, const cv::Mat& y, cv::Mat* d_x = nullptr);
 
 // Mean SSIM over pixels and channels. If d_x is not null it receives
 // d mean_ssim / d x (analytic, exact for the zero-padded convolution).
+// Computed in double by core/metrics/ssim.h, which training uses directly
+// (in float, with the target's statistics kept between iterations).
 double Ssim(const cv::Mat& x, const cv::Mat& y, cv::Mat* d_x = nullptr);
-
-// SSIM's intermediate images, reused between calls of the same size so a
-// training loop does not allocate them every iteration.
-struct SsimWorkspace {
-  cv::Mat xx, yy, xy;                     // products, then blurred gradients
-  cv::Mat mu_x, mu_y, s_xx, s_yy, s_xy;   // local means and (co)variances
-  cv::Mat a, b, c;                        // per-pixel gradient terms
-};
-double Ssim(const cv::Mat& x, const cv::Mat& y, cv::Mat* d_x,
-            SsimWorkspace* workspace);
 
 // Per-pixel, per-channel SSIM map (same size and type as x).
 cv::Mat SsimMap(const cv::Mat& x, const cv::Mat& y);

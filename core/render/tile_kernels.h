@@ -7,19 +7,9 @@
 // so a default (SSE2) build still runs AVX2 / AVX-512 code where it can.
 
 #include "core/render/raster_constants.h"
+#include "core/simd/simd_level.h"
 
 namespace es {
-
-// Instruction sets of the tile kernels; kAuto picks the best supported.
-enum class SimdLevel { kAuto = 0, kSse2, kAvx2, kAvx512 };
-
-const char* SimdLevelName(SimdLevel level);
-bool SimdLevelSupported(SimdLevel level);
-// The best level this CPU supports (never kAuto).
-SimdLevel BestSimdLevel();
-// `level` itself if supported, the best supported one for kAuto, and an
-// error (glog CHECK) for a level the CPU lacks.
-SimdLevel ResolveSimdLevel(SimdLevel level);
 
 // What the tile passes read and write, in the precision S of the inner
 // loops. Per binned Gaussian k (depth order): geom[6k..] mean x, mean y,

@@ -22,15 +22,17 @@ MotionGtMetrics Compare(const std::vector<Eigen::Vector3d>& points,
   MotionGtMetrics m;
   m.num_points = static_cast<int>(points.size());
   if (points.empty()) return m;
-  double error = 0, speed = 0;
+  double error = 0, speed = 0, model_speed = 0;
   for (size_t i = 0; i < points.size(); ++i) {
     const Eigen::Vector3d gt = truth(points[i]);
     error += (velocities[i] - gt).norm();
     speed += gt.norm();
+    model_speed += velocities[i].norm();
   }
   m.epe = error / points.size();
   m.mean_speed = speed / points.size();
   m.rel_epe = m.mean_speed > 0 ? m.epe / m.mean_speed : 0.0;
+  m.speed_ratio = speed > 0 ? model_speed / speed : 0.0;
   return m;
 }
 

@@ -20,6 +20,8 @@ struct MotionGtMetrics {
   double epe = 0;         // mean |V(x) - v_gt(x)| (world units per frame)
   double mean_speed = 0;  // mean |v_gt(x)|
   double rel_epe = 0;     // epe / mean_speed
+  // mean |V(x)| / mean_speed: below 1 the motion is under-estimated.
+  double speed_ratio = 0;
 };
 
 // Endpoint error of the field against the true velocity at `points` (the

@@ -4,10 +4,33 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 
 #include "core/profile/stage_profile.h"
 
 namespace es {
+
+namespace {
+
+// Parameters per chunk of AdamUpdate's zero test.
+constexpr int kAdamChunk = 64;
+
+// Whether a[i], b[i] and c[i] are all zero (+0 or -0) for i < n: one
+// branch-free pass over their bits, sign bits shifted out.
+bool AllZero(const double* a, const double* b, const double* c, int n) {
+  uint64_t bits = 0;
+  for (int i = 0; i < n; ++i) {
+    uint64_t x, y, z;
+    std::memcpy(&x, a + i, sizeof(x));
+    std::memcpy(&y, b + i, sizeof(y));
+    std::memcpy(&z, c + i, sizeof(z));
+    bits |= (x | y | z) << 1;
+  }
+  return bits == 0;
+}
+
+}  // namespace
 
 void AdamUpdate(const AdamOptions& o, int64_t t, double lr, int n,
                 const double* grad, double* m, double* v, double* x) {
@@ -18,12 +41,20 @@ void AdamUpdate(const AdamOptions& o, int64_t t, double lr, int n,
   const double bc2 = 1.0 - std::pow(o.beta2, static_cast<double>(t));
   const double step = lr / bc1;
   const double inv_sqrt_bc2 = 1.0 / std::sqrt(bc2);
+  const int chunks = (n + kAdamChunk - 1) / kAdamChunk;
 #pragma omp parallel for if (n > 65536) schedule(static)
-  for (int i = 0; i < n; ++i) {
-    const double g = grad[i];
-    m[i] = o.beta1 * m[i] + (1.0 - o.beta1) * g;
-    v[i] = o.beta2 * v[i] + (1.0 - o.beta2) * g * g;
-    x[i] -= step * m[i] / (std::sqrt(v[i]) * inv_sqrt_bc2 + o.eps);
+  for (int c = 0; c < chunks; ++c) {
+    const int begin = c * kAdamChunk;
+    const int end = std::min(n, begin + kAdamChunk);
+    // A zero gradient with zero moments leaves m, v and x exactly as they
+    // are: such chunks (field texels no point has reached yet) are skipped.
+    if (AllZero(grad + begin, m + begin, v + begin, end - begin)) continue;
+    for (int i = begin; i < end; ++i) {
+      const double g = grad[i];
+      m[i] = o.beta1 * m[i] + (1.0 - o.beta1) * g;
+      v[i] = o.beta2 * v[i] + (1.0 - o.beta2) * g * g;
+      x[i] -= step * m[i] / (std::sqrt(v[i]) * inv_sqrt_bc2 + o.eps);
+    }
   }
 }
 

@@ -10,10 +10,10 @@
 #include "core/loop/cycle_time.h"
 #include "core/loop/frame_composer.h"
 #include "core/profile/stage_profile.h"
-#include "costs/scalar_loss.h"
 #include "costs/splat_render_cost.h"
 #include "solvers/checkpoint/rng_state.h"
 #include "solvers/optim/lr_schedule.h"
+#include "solvers/train/densify.h"
 #include "solvers/train/water_particles.h"
 
 namespace es {
@@ -67,6 +67,7 @@ JointTrainer::JointTrainer(const std::vector<Frame>* frames,
   model_.gaussians = std::move(initial);
   model_.cycle_length = options_.cycle_length;
   RefreshDynamicSet();
+  initial_dynamic_ = model_.num_dynamic();
   Eigen::Vector3d lo, hi;
   FieldBox(model_.gaussians, model_.dynamic_index, &lo, &hi);
   if (options_.use_motion) {
@@ -97,6 +98,12 @@ JointTrainer::JointTrainer(const std::vector<Frame>* frames,
                 (*frames_)[train_.at(0)].time_index,
                 LoopStructure::Of(model_), Terms(options_, use_masks_),
                 render_options(), &rasterizer_);
+}
+
+void JointTrainer::SetSceneFlowPrior(std::vector<SceneFlowSample> samples) {
+  CHECK(model_.motion) << "a scene-flow prior needs the motion field";
+  flow_prior_.emplace(&*model_.motion, std::move(samples),
+                      options_.flow_prior);
 }
 
 RenderOptions JointTrainer::render_options() const {
@@ -183,12 +190,18 @@ JointIterationStats JointTrainer::Step() {
   std::vector<double*> params = JointBlocks(&model_);
   std::vector<double*> gradients = SplatRenderCost::Blocks(&grad_);
   for (std::vector<double>& g : field_grad_) gradients.push_back(g.data());
-  out.loss =
-      EvaluateScalarLossGradient(*cost_, params.data(), gradients.data());
+  out.loss = cost_->LossGradient(params.data(), gradients.data());
   out.photometric = cost_->last_photometric();
   out.mask = cost_->last_mask();
   out.residual = cost_->last_residual();
   out.euler = cost_->last_euler_stats();
+  if (flow_prior_) {
+    // V's blocks come first among the field gradients.
+    out.flow_prior = flow_prior_->AddLossAndGradient(
+        model_.motion->params(), iteration_, options_.iterations,
+        options_.seed, {field_grad_[0].data(), field_grad_[1].data()});
+    out.loss += out.flow_prior;
+  }
   bool finite = std::isfinite(out.loss) && AllFinite(grad_);
   for (const std::vector<double>& g : field_grad_)
     finite = finite && AllFinite(g);
@@ -216,7 +229,62 @@ JointIterationStats JointTrainer::Step() {
   for (const std::vector<double>* block : blocks)
     params_finite = params_finite && AllFinite(*block);
   guard_.CheckParameters(iteration_, params_finite);
+  const WaterDensifyOptions& d = options_.water_densify;
+  if (d.interval > 0 && iteration_ % d.interval == 0 &&
+      iteration_ <= options_.iterations / 2 && model_.num_dynamic() > 0)
+    out.densified = DensifyWaterNow();
   return out;
+}
+
+WaterDensifyResult JointTrainer::DensifyWaterNow() {
+  ScopedStage timer(Stage::kDensify);
+  const WaterDensifyOptions& d = options_.water_densify;
+  const int budget = static_cast<int>(d.max_growth * initial_dynamic_);
+  if (model_.num_dynamic() >= budget) return {};  // skip the ranking pass
+  const int n = model_.gaussians.size();
+  if (grad_.size() != n || grad_.sh_degree != model_.gaussians.sh_degree)
+    grad_ = ZeroGaussians(n, model_.gaussians.sh_degree);
+  // grad_ and field_grad_ are scratch here: Step refills them.
+  std::vector<double*> params = JointBlocks(&model_);
+  std::vector<double*> gradients = SplatRenderCost::Blocks(&grad_);
+  for (std::vector<double>& g : field_grad_) gradients.push_back(g.data());
+  DensityStats stats;
+  stats.Reset(n);
+  std::vector<int> radii;
+  std::vector<double> mean2d_grads;
+  const int views = std::min<int>(d.views, train_.size());
+  const int offset = static_cast<int>(iteration_ / d.interval);
+  for (int k = 0; k < views; ++k) {
+    const int t = (static_cast<int>(k * train_.size() / views) + offset) %
+                  static_cast<int>(train_.size());
+    const Frame& frame = (*frames_)[train_[t]];
+    cost_->Reset(&frame, frame.time_index, LoopStructure::Of(model_));
+    cost_->LossGradient(params.data(), gradients.data());
+    rasterizer_.Radii(&radii);
+    rasterizer_.Mean2dGradients(&mean2d_grads);
+    stats.AddView(frame.camera.width, frame.camera.height, radii,
+                  mean2d_grads);
+  }
+  std::vector<double> mean_grad;
+  for (int i : model_.dynamic_index) {
+    const double g = stats.MeanGrad(i);
+    mean_grad.push_back(std::isfinite(g) ? g : 0.0);
+  }
+  const std::vector<int> picked =
+      PickWaterToDensify(model_.dynamic_index, mean_grad, d.fraction, budget);
+  if (picked.empty()) return {};
+  const std::vector<double> split_scale = PixelSizeInWorld(
+      model_.gaussians, picked, *frames_, train_, d.split_pixels);
+  std::seed_seq seq{static_cast<uint32_t>(options_.seed),
+                    static_cast<uint32_t>(options_.seed >> 32),
+                    static_cast<uint32_t>(iteration_),
+                    static_cast<uint32_t>(iteration_ >> 32), 0x57u};
+  std::mt19937_64 rng(seq);
+  const WaterDensifyResult result =
+      DensifyWater(picked, split_scale, &rng, &model_.gaussians, &adam_,
+                   &model_.dynamic_index, &model_.start_times);
+  UpdateScaleBounds();
+  return result;
 }
 
 JointCheckpoint JointTrainer::Save() const {

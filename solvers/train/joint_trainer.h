@@ -19,8 +19,10 @@
 #include "solvers/checkpoint/joint_checkpoint.h"
 #include "solvers/optim/adam.h"
 #include "solvers/train/divergence_guard.h"
+#include "solvers/train/flow_prior.h"
 #include "solvers/train/frame_sampler.h"
 #include "solvers/train/splat_training.h"
+#include "solvers/train/water_densify.h"
 
 namespace es {
 
@@ -51,6 +53,10 @@ struct JointTrainerOptions {
   // pixels at their distance from the training cameras), so they stay
   // particles instead of growing back into smooth sheets.
   double max_dynamic_pixels = 0;
+  // The scene-flow prior on V (SetSceneFlowPrior gives it its samples).
+  FlowPriorOptions flow_prior;
+  // Splitting / cloning of water Gaussians in the first half of the run.
+  WaterDensifyOptions water_densify;
   // Shapes of fields made from scratch (a given V keeps its own). D's
   // cycle_length is set to cycle_length and its max_cycles to cover every
   // frame of the video.
@@ -68,9 +74,11 @@ struct JointIterationStats {
   double photometric = 0;
   double mask = 0;
   double residual = 0;
+  double flow_prior = 0;  // weighted; included in loss
   int num_dynamic = 0;
   EulerStats euler;
   bool skipped = false;  // non-finite loss or gradient: no update
+  WaterDensifyResult densified;  // after this step's update
 };
 
 // D's max_cycles for a video of `frames` frames: every cycle number a
@@ -90,6 +98,12 @@ class JointTrainer {
   JointTrainer(const std::vector<Frame>* frames, std::vector<int> train,
                const JointTrainerOptions& options, GaussianSet initial,
                std::optional<MotionField> motion);
+
+  // Keeps Stage 2's lifted samples as a decaying prior on V
+  // (options.flow_prior); needs V, and options.flow_prior.weight > 0 to
+  // have an effect. Not checkpointed: a resumed run passes them again.
+  void SetSceneFlowPrior(std::vector<SceneFlowSample> samples);
+  bool has_flow_prior() const { return flow_prior_.has_value(); }
 
   // One iteration. A non-finite loss or gradient skips the update (counted
   // in skipped_steps()); throws TrainingDiverged after too many in a row or
@@ -114,6 +128,11 @@ class JointTrainer {
 
  private:
   void RefreshDynamicSet();
+  // Ranks the water Gaussians by their mean view-space gradient over
+  // water_densify.views training frames and densifies the top fraction.
+  // Stateless (frames and draws follow from seed and iteration), so a
+  // resumed run densifies as the uninterrupted one.
+  WaterDensifyResult DensifyWaterNow();
   // The per-Gaussian bounds of max_dynamic_pixels, for the current set.
   void UpdateScaleBounds();
   void ClampDynamicScales();
@@ -127,6 +146,7 @@ class JointTrainer {
   double extent_ = 1;
   LoopModel model_;
   std::vector<double> dynamic_max_scale_;  // per dynamic Gaussian
+  int initial_dynamic_ = 0;  // water Gaussians at construction
   GaussianSet grad_;
   GaussianAdam adam_;
   std::vector<std::vector<double>> field_grad_, field_m_, field_v_;
@@ -135,6 +155,7 @@ class JointTrainer {
   std::mt19937_64 rng_;
   Rasterizer rasterizer_;
   std::optional<JointRenderCost> cost_;
+  std::optional<SceneFlowPrior> flow_prior_;
   int64_t iteration_ = 0;
   DivergenceGuard guard_;
 };

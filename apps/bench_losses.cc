@@ -1,0 +1,88 @@
+// Google Benchmark of the photometric loss (L1 + SSIM) with its image
+// gradient, as training calls it once per iteration: a rendering scored
+// against one of a few targets in turn, in float (training) or double
+// (tests), with the targets' SSIM statistics cached or recomputed.
+//
+//   build/bin/bench_losses --benchmark_counters_tabular=true
+//
+// Args: width, height, threads, double, cache (1: statistics kept), simd
+// (0 auto, 1 SSE2, 2 AVX2, 3 AVX-512; levels the CPU lacks are skipped).
+
+#include <omp.h>
+
+#include <random>
+#include <vector>
+
+#include <benchmark/benchmark.h>
+#include <opencv2/core.hpp>
+
+#include "apps/common/benchmark_main.h"
+#include "costs/photometric_loss.h"
+
+namespace es {
+namespace {
+
+constexpr int kTargets = 4;
+
+cv::Mat RandomImage(int width, int height, uint32_t seed) {
+  cv::Mat m(height, width, CV_32FC3);
+  cv::RNG rng(seed);
+  rng.fill(m, cv::RNG::UNIFORM, 0.0, 1.0);
+  return m;
+}
+
+void BM_PhotometricLoss(benchmark::State& state) {
+  const int width = state.range(0), height = state.range(1);
+  omp_set_num_threads(state.range(2));
+  const bool use_double = state.range(3) != 0;
+  const bool cache = state.range(4) != 0;
+  const auto level = static_cast<SimdLevel>(state.range(5));
+  if (!SimdLevelSupported(level)) {
+    state.SkipWithError("the CPU lacks this instruction set");
+    return;
+  }
+  std::vector<cv::Mat> targets;
+  for (int i = 0; i < kTargets; ++i) {
+    cv::Mat y = RandomImage(width, height, 10 + i);
+    if (use_double) y.convertTo(y, CV_64FC3);
+    targets.push_back(y);
+  }
+  cv::Mat rendered;
+  RandomImage(width, height, 1).convertTo(rendered, CV_64FC3);
+  std::vector<double> grad(rendered.total() * 3);
+  PhotometricLoss loss(0.2, use_double, cache ? size_t{1} << 30 : 0, level);
+  for (const cv::Mat& y : targets)  // warm buffers (and the cache)
+    loss.Evaluate(rendered.ptr<double>(), y, 1.0, grad.data());
+  int next = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(loss.Evaluate(
+        rendered.ptr<double>(), targets[next], 1.0, grad.data()));
+    next = (next + 1) % kTargets;
+  }
+  state.counters["values/s"] = benchmark::Counter(
+      static_cast<double>(rendered.total() * 3) * state.iterations(),
+      benchmark::Counter::kIsRate);
+  omp_set_num_threads(omp_get_num_procs());
+}
+
+void Sizes(benchmark::internal::Benchmark* b) {
+  b->ArgNames({"w", "h", "threads", "double", "cache", "simd"});
+  const auto kSse2 = static_cast<int>(SimdLevel::kSse2);
+  const auto kAvx512 = static_cast<int>(SimdLevel::kAvx512);
+  for (int threads : {1, 2}) {
+    for (const auto& size : {std::pair{320, 240}, std::pair{1168, 880}}) {
+      for (int simd = kSse2; simd <= kAvx512; ++simd)
+        b->Args({size.first, size.second, threads, 0, 1, simd});
+      b->Args({size.first, size.second, threads, 0, 0, 0});
+      b->Args({size.first, size.second, threads, 1, 1, 0});
+    }
+  }
+  b->Unit(benchmark::kMillisecond)->UseRealTime()->MeasureProcessCPUTime();
+}
+
+BENCHMARK(BM_PhotometricLoss)->Apply(Sizes);
+
+}  // namespace
+}  // namespace es
+
+int main(int argc, char** argv) { return es::RunBenchmarks(argc, argv); }

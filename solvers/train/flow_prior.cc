@@ -1,0 +1,66 @@
+#include "solvers/train/flow_prior.h"
+
+#include <algorithm>
+#include <random>
+
+#include <glog/logging.h>
+
+#include "solvers/optim/lr_schedule.h"
+
+namespace es {
+
+SceneFlowPrior::SceneFlowPrior(const MotionField* field,
+                               std::vector<SceneFlowSample> samples,
+                               const FlowPriorOptions& options)
+    : field_(field),
+      samples_(std::move(samples)),
+      options_(options),
+      cost_(field, &batch_) {
+  CHECK(field != nullptr);
+  CHECK(!samples_.empty());
+  CHECK_GT(options_.batch_size, 0);
+  double sum = 0;
+  for (const SceneFlowSample& s : samples_) sum += s.v.squaredNorm();
+  const double mean = sum / samples_.size();
+  inverse_mean_square_speed_ = mean > 0 ? 1.0 / mean : 1.0;
+  indices_.resize(std::min<size_t>(options_.batch_size, samples_.size()));
+  grad_triplane_.resize(field->triplane().num_params());
+  grad_mlp_.resize(field->mlp().num_params());
+}
+
+double SceneFlowPrior::Weight(int64_t iteration, int64_t iterations) const {
+  return LogLinearLr(options_.weight, options_.weight * options_.final_factor,
+                     iteration, iterations);
+}
+
+double SceneFlowPrior::AddLossAndGradient(const FieldParams& params,
+                                          int64_t iteration,
+                                          int64_t iterations, uint64_t seed,
+                                          const FieldGradients& grads) {
+  const double scale =
+      Weight(iteration, iterations) * inverse_mean_square_speed_;
+  if (scale <= 0) return 0;
+  std::seed_seq seq{static_cast<uint32_t>(seed),
+                    static_cast<uint32_t>(seed >> 32),
+                    static_cast<uint32_t>(iteration),
+                    static_cast<uint32_t>(iteration >> 32)};
+  std::mt19937 rng(seq);
+  std::uniform_int_distribution<int> pick(0, num_samples() - 1);
+  for (int& i : indices_) i = pick(rng);
+  batch_.Assign(samples_, indices_);
+  std::fill(grad_triplane_.begin(), grad_triplane_.end(), 0.0);
+  std::fill(grad_mlp_.begin(), grad_mlp_.end(), 0.0);
+  const double loss =
+      cost_.Loss(params, {grad_triplane_.data(), grad_mlp_.data()});
+  if (grads.triplane != nullptr) {
+    for (size_t k = 0; k < grad_triplane_.size(); ++k)
+      grads.triplane[k] += scale * grad_triplane_[k];
+  }
+  if (grads.mlp != nullptr) {
+    for (size_t k = 0; k < grad_mlp_.size(); ++k)
+      grads.mlp[k] += scale * grad_mlp_[k];
+  }
+  return scale * loss;
+}
+
+}  // namespace es

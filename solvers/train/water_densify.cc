@@ -1,0 +1,122 @@
+#include "solvers/train/water_densify.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <unordered_map>
+
+#include <Eigen/Geometry>
+#include <glog/logging.h>
+
+namespace es {
+namespace {
+
+// 3DGS: a split child is 1 / (0.8 * 2) the parent's size.
+constexpr double kSplitShrink = 1.6;
+
+double MaxScale(const GaussianSet& g, int i) {
+  return std::exp(std::max({g.log_scales[3 * i], g.log_scales[3 * i + 1],
+                            g.log_scales[3 * i + 2]}));
+}
+
+// Appends a copy of g[i] moved to a point drawn from its normal
+// distribution, with log-scales lowered by log(shrink).
+void AppendChild(const GaussianSet& g, int i, double shrink,
+                 std::mt19937_64* rng, GaussianSet* added) {
+  std::normal_distribution<double> normal(0.0, 1.0);
+  added->AppendFrom(g, i);
+  const int j = added->size() - 1;
+  const Eigen::Quaterniond q(g.quats[4 * i], g.quats[4 * i + 1],
+                             g.quats[4 * i + 2], g.quats[4 * i + 3]);
+  Eigen::Vector3d offset;
+  for (int a = 0; a < 3; ++a)
+    offset[a] = normal(*rng) * std::exp(g.log_scales[3 * i + a]);
+  const Eigen::Vector3d mean = Eigen::Vector3d::Map(&g.means[3 * i]) +
+                               q.normalized().toRotationMatrix() * offset;
+  for (int a = 0; a < 3; ++a) {
+    added->means[3 * j + a] = mean[a];
+    added->log_scales[3 * j + a] -= std::log(shrink);
+  }
+}
+
+}  // namespace
+
+std::vector<int> PickWaterToDensify(const std::vector<int>& dynamic_index,
+                                    const std::vector<double>& mean_grad,
+                                    double fraction, int max_dynamic) {
+  CHECK_EQ(dynamic_index.size(), mean_grad.size());
+  const int n = static_cast<int>(dynamic_index.size());
+  std::vector<int> order;
+  for (int k = 0; k < n; ++k)
+    if (mean_grad[k] > 0) order.push_back(k);
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+    return mean_grad[a] > mean_grad[b];
+  });
+  const int wanted = static_cast<int>(std::ceil(fraction * n));
+  const int count = std::max(
+      0, std::min({wanted, max_dynamic - n, static_cast<int>(order.size())}));
+  std::vector<int> picked(count);
+  for (int k = 0; k < count; ++k) picked[k] = dynamic_index[order[k]];
+  return picked;
+}
+
+WaterDensifyResult DensifyWater(const std::vector<int>& picked,
+                                const std::vector<double>& split_scale,
+                                std::mt19937_64* rng, GaussianSet* g,
+                                GaussianAdam* adam,
+                                std::vector<int>* dynamic_index,
+                                std::vector<int>* start_times) {
+  CHECK_EQ(picked.size(), split_scale.size());
+  CHECK_EQ(dynamic_index->size(), start_times->size());
+  std::unordered_map<int, int> start_of;
+  for (size_t k = 0; k < dynamic_index->size(); ++k)
+    start_of[(*dynamic_index)[k]] = (*start_times)[k];
+
+  WaterDensifyResult result;
+  GaussianSet added;
+  added.sh_degree = g->sh_degree;
+  std::vector<int> added_start;
+  std::vector<bool> keep(g->size(), true);
+  for (size_t k = 0; k < picked.size(); ++k) {
+    const int i = picked[k];
+    CHECK(start_of.count(i)) << "densifying a static Gaussian " << i;
+    const bool split = MaxScale(*g, i) > split_scale[k];
+    const int children = split ? 2 : 1;
+    for (int c = 0; c < children; ++c) {
+      AppendChild(*g, i, split ? kSplitShrink : 1.0, rng, &added);
+      added_start.push_back(start_of[i]);
+    }
+    if (split) {
+      keep[i] = false;
+      ++result.split;
+    } else {
+      ++result.cloned;
+    }
+  }
+
+  // Kept Gaussians keep their order; children follow.
+  std::vector<int> new_index(g->size(), -1);
+  int kept = 0;
+  for (int i = 0; i < g->size(); ++i)
+    if (keep[i]) new_index[i] = kept++;
+  std::vector<int> index, times;
+  for (size_t k = 0; k < dynamic_index->size(); ++k) {
+    const int i = (*dynamic_index)[k];
+    if (!keep[i]) continue;
+    index.push_back(new_index[i]);
+    times.push_back((*start_times)[k]);
+  }
+  for (int j = 0; j < added.size(); ++j) {
+    index.push_back(kept + j);
+    times.push_back(added_start[j]);
+  }
+  g->Filter(keep);
+  adam->Filter(keep);
+  for (int j = 0; j < added.size(); ++j) g->AppendFrom(added, j);
+  adam->AppendZeros(added.size());
+  *dynamic_index = std::move(index);
+  *start_times = std::move(times);
+  return result;
+}
+
+}  // namespace es
