@@ -15,12 +15,30 @@ namespace {
 // A split Gaussian becomes this many, each scaled down by 1 / (0.8 * count).
 constexpr int kSplitCount = 2;
 
+}  // namespace
+
 double MaxScale(const GaussianSet& g, int i) {
   return std::exp(std::max(
       {g.log_scales[3 * i], g.log_scales[3 * i + 1], g.log_scales[3 * i + 2]}));
 }
 
-}  // namespace
+void AppendSampledChild(const GaussianSet& g, int i, double shrink,
+                        std::normal_distribution<double>* normal,
+                        std::mt19937_64* rng, GaussianSet* added) {
+  added->AppendFrom(g, i);
+  const int j = added->size() - 1;
+  const Eigen::Quaterniond q(g.quats[4 * i], g.quats[4 * i + 1],
+                             g.quats[4 * i + 2], g.quats[4 * i + 3]);
+  Eigen::Vector3d offset;
+  for (int a = 0; a < 3; ++a)
+    offset[a] = (*normal)(*rng) * std::exp(g.log_scales[3 * i + a]);
+  const Eigen::Vector3d mean = Eigen::Vector3d::Map(&g.means[3 * i]) +
+                               q.normalized().toRotationMatrix() * offset;
+  for (int a = 0; a < 3; ++a) {
+    added->means[3 * j + a] = mean[a];
+    added->log_scales[3 * j + a] -= std::log(shrink);
+  }
+}
 
 void DensityStats::Reset(int n) {
   grad_sum.assign(n, 0.0);
@@ -93,22 +111,8 @@ DensifyResult DensifyAndPrune(const DensifyOptions& options,
     }
     keep[i] = false;
     ++result.split;
-    const Eigen::Quaterniond q(g->quats[4 * i], g->quats[4 * i + 1],
-                               g->quats[4 * i + 2], g->quats[4 * i + 3]);
-    const Eigen::Matrix3d rot = q.normalized().toRotationMatrix();
-    for (int s = 0; s < kSplitCount; ++s) {
-      added.AppendFrom(*g, i);
-      const int j = added.size() - 1;
-      Eigen::Vector3d offset;
-      for (int a = 0; a < 3; ++a)
-        offset[a] = normal(*rng) * std::exp(g->log_scales[3 * i + a]);
-      const Eigen::Vector3d mean =
-          Eigen::Vector3d::Map(&g->means[3 * i]) + rot * offset;
-      for (int a = 0; a < 3; ++a) {
-        added.means[3 * j + a] = mean[a];
-        added.log_scales[3 * j + a] -= std::log(0.8 * kSplitCount);
-      }
-    }
+    for (int s = 0; s < kSplitCount; ++s)
+      AppendSampledChild(*g, i, 0.8 * kSplitCount, &normal, rng, &added);
   }
 
   g->Filter(keep);

@@ -64,6 +64,16 @@ DensifyResult DensifyAndPrune(const DensifyOptions& options,
                               std::mt19937_64* rng, GaussianSet* g,
                               GaussianAdam* adam, DensityStats* stats);
 
+// Largest of a Gaussian's three scales (world units).
+double MaxScale(const GaussianSet& g, int i);
+
+// Appends to `added` a copy of g[i] moved to a point drawn from g[i]'s own
+// normal distribution (3 draws of `normal`), every scale divided by
+// `shrink`: the child of a 3DGS split (shrink 1.6) or clone (shrink 1).
+void AppendSampledChild(const GaussianSet& g, int i, double shrink,
+                        std::normal_distribution<double>* normal,
+                        std::mt19937_64* rng, GaussianSet* added);
+
 // Caps every opacity at `max_opacity` (3DGS: 0.01) and zeroes the opacity
 // moments, so the optimizer re-learns which Gaussians are needed.
 void ResetOpacity(double max_opacity, GaussianSet* g, GaussianAdam* adam);

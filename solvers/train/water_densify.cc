@@ -5,39 +5,15 @@
 #include <numeric>
 #include <unordered_map>
 
-#include <Eigen/Geometry>
 #include <glog/logging.h>
+
+#include "solvers/train/densify.h"
 
 namespace es {
 namespace {
 
 // 3DGS: a split child is 1 / (0.8 * 2) the parent's size.
 constexpr double kSplitShrink = 1.6;
-
-double MaxScale(const GaussianSet& g, int i) {
-  return std::exp(std::max({g.log_scales[3 * i], g.log_scales[3 * i + 1],
-                            g.log_scales[3 * i + 2]}));
-}
-
-// Appends a copy of g[i] moved to a point drawn from its normal
-// distribution, with log-scales lowered by log(shrink).
-void AppendChild(const GaussianSet& g, int i, double shrink,
-                 std::mt19937_64* rng, GaussianSet* added) {
-  std::normal_distribution<double> normal(0.0, 1.0);
-  added->AppendFrom(g, i);
-  const int j = added->size() - 1;
-  const Eigen::Quaterniond q(g.quats[4 * i], g.quats[4 * i + 1],
-                             g.quats[4 * i + 2], g.quats[4 * i + 3]);
-  Eigen::Vector3d offset;
-  for (int a = 0; a < 3; ++a)
-    offset[a] = normal(*rng) * std::exp(g.log_scales[3 * i + a]);
-  const Eigen::Vector3d mean = Eigen::Vector3d::Map(&g.means[3 * i]) +
-                               q.normalized().toRotationMatrix() * offset;
-  for (int a = 0; a < 3; ++a) {
-    added->means[3 * j + a] = mean[a];
-    added->log_scales[3 * j + a] -= std::log(shrink);
-  }
-}
 
 }  // namespace
 
@@ -83,7 +59,9 @@ WaterDensifyResult DensifyWater(const std::vector<int>& picked,
     const bool split = MaxScale(*g, i) > split_scale[k];
     const int children = split ? 2 : 1;
     for (int c = 0; c < children; ++c) {
-      AppendChild(*g, i, split ? kSplitShrink : 1.0, rng, &added);
+      std::normal_distribution<double> normal(0.0, 1.0);
+      AppendSampledChild(*g, i, split ? kSplitShrink : 1.0, &normal, rng,
+                         &added);
       added_start.push_back(start_of[i]);
     }
     if (split) {
