@@ -147,27 +147,31 @@ inline int CompositeRow(int n, const S* raw, const S* f, int rank, S* t,
   const S min_alpha = static_cast<S>(kMinAlpha);
   const S min_t = static_cast<S>(kMinTransmittance);
   const S f0 = f[0], f1 = f[1], f2 = f[2], f3 = f[3];
-  int stopped = 0;
+  // Plain loads, `&` rather than `&&` (a short-circuit load of done[i]
+  // is a masked load GCC does not vectorize) and a float count keep every
+  // lane's work identical, so the loop vectorizes.
+  S stopped = 0;
 #pragma omp simd reduction(+ : stopped)
   for (int i = 0; i < n; ++i) {
-    const S r = raw[i];
-    const bool live = r >= min_alpha && done[i] == S(0);
+    const S r = raw[i], d = done[i], ti = t[i];
+    const int li = last[i];
+    const bool live = (r >= min_alpha) & (d == S(0));
     const S alpha = live ? (r < max_alpha ? r : max_alpha) : S(0);
-    const S next_t = t[i] * (S(1) - alpha);
-    const bool stop = live && next_t < min_t;
-    const bool use = live && !stop;
-    const S wi = use ? alpha * t[i] : S(0);
+    const S next_t = ti * (S(1) - alpha);
+    const bool stop = live & (next_t < min_t);
+    const bool use = live & !stop;
+    const S wi = use ? alpha * ti : S(0);
     acc0[i] += wi * f0;
     acc1[i] += wi * f1;
     acc2[i] += wi * f2;
     acc3[i] += wi * f3;
     w[i] = wi;
-    t[i] = use ? next_t : t[i];
-    last[i] = use ? rank : last[i];
-    done[i] = stop ? S(1) : done[i];
-    stopped += stop ? 1 : 0;
+    t[i] = use ? next_t : ti;
+    last[i] = use ? rank : li;
+    done[i] = stop ? S(1) : d;
+    stopped += stop ? S(1) : S(0);
   }
-  return stopped;
+  return static_cast<int>(stopped);
 }
 
 // Writes the composited tile (per-pixel arrays t and accum, nf features)
@@ -286,97 +290,118 @@ int LoadTileGradients(const TilePass<S>& p, const TileRect& r,
   return max_last;
 }
 
-// One Gaussian's 2D gradient summed over the pixels of a tile.
+// One Gaussian's 2D gradient over a tile, kept per lane of a row: the row
+// loops add lane by lane (no horizontal sum per row) and Sum() adds the
+// lanes once per Gaussian and tile.
 template <typename S>
-struct FootprintGradient {
-  S mx = 0, my = 0, ca = 0, cb = 0, cc = 0, opacity = 0;
-  S f0 = 0, f1 = 0, f2 = 0, f3 = 0;
+struct LaneGradient {
+  static constexpr int kTerms = kTileGradHead + 4;  // geometry, r, g, b, depth
+  S term[kTerms][kTileSize];
+  S used[kTileSize];
+
+  void Clear() {
+    for (int c = 0; c < kTerms; ++c)
+      for (int i = 0; i < kTileSize; ++i) term[c][i] = S(0);
+    for (int i = 0; i < kTileSize; ++i) used[i] = S(0);
+  }
+  // Sums the lanes into out[kTerms]; returns whether any pixel used the
+  // Gaussian.
+  bool Sum(S* out) const {
+    for (int c = 0; c < kTerms; ++c) {
+      S sum = 0;
+#pragma omp simd reduction(+ : sum)
+      for (int i = 0; i < kTileSize; ++i) sum += term[c][i];
+      out[c] = sum;
+    }
+    S any = 0;
+#pragma omp simd reduction(+ : any)
+    for (int i = 0; i < kTileSize; ++i) any += used[i];
+    return any > S(0);
+  }
 };
 
 // Backward of CompositeRow, back to front, for n pixels of row y starting
 // at pixel x0: recovers T in front of the Gaussian (T / (1 - alpha)),
-// accumulates the Gaussian's gradients into *out and updates the per-pixel
-// suffix (d loss / d everything behind). g0..g3 are the pixels' gradients
-// for r, g, b, depth and g_extra_dot their extra gradients dotted with this
-// Gaussian's extras; w receives the weights for the extra channels.
-// Returns whether any pixel used the Gaussian.
+// adds the Gaussian's gradients lane by lane into *lanes and updates the
+// per-pixel suffix (d loss / d everything behind). g0..g3 are the pixels'
+// gradients for r, g, b, depth and g_extra_dot their extra gradients
+// dotted with this Gaussian's extras; w receives the weights for the extra
+// channels.
 template <typename S>
-inline bool BackwardRow(int n, const S* raw, const Footprint<S>& g,
+inline void BackwardRow(int n, const S* raw, const Footprint<S>& g,
                         const S* f, int rank, int x0, int y, const int* last,
                         S* t, S* suffix, const S* g0, const S* g1,
                         const S* g2, const S* g3, const S* g_extra_dot, S* w,
-                        FootprintGradient<S>* out) {
+                        LaneGradient<S>* lanes) {
   const S max_alpha = static_cast<S>(kMaxAlpha);
   const S min_alpha = static_cast<S>(kMinAlpha);
   const S f0 = f[0], f1 = f[1], f2 = f[2], f3 = f[3];
   const S inv_opacity = S(1) / g.opacity;
   const S dy = static_cast<S>(y) + S(0.5) - g.my;
   const S dx0 = static_cast<S>(x0) + S(0.5) - g.mx;
-  S mx = 0, my = 0, ca = 0, cb = 0, cc = 0, op = 0;
-  S a0 = 0, a1 = 0, a2 = 0, a3 = 0;
-  int used = 0;
-#pragma omp simd reduction(+ : mx, my, ca, cb, cc, op, a0, a1, a2, a3, used)
+  S* mx = lanes->term[0];
+  S* my = lanes->term[1];
+  S* ca = lanes->term[2];
+  S* cb = lanes->term[3];
+  S* cc = lanes->term[4];
+  S* op = lanes->term[5];
+  S* a0 = lanes->term[6];
+  S* a1 = lanes->term[7];
+  S* a2 = lanes->term[8];
+  S* a3 = lanes->term[9];
+  S* used = lanes->used;
+#pragma omp simd
   for (int i = 0; i < n; ++i) {
     const S r = raw[i];
-    const bool live = r >= min_alpha && rank < last[i];
+    const bool live = (r >= min_alpha) & (rank < last[i]);
     const S alpha = live ? (r < max_alpha ? r : max_alpha) : S(0);
-    const S one_minus = S(1) - alpha;
-    const S t_front = t[i] / one_minus;  // T in front of this Gaussian
+    const S inv_one_minus = S(1) / (S(1) - alpha);
+    const S t_front = t[i] * inv_one_minus;  // T in front of this Gaussian
     const S wi = alpha * t_front;
     w[i] = wi;
     // Selects, not products with wi = 0, so a non-finite gradient of a
     // pixel the Gaussian does not reach cannot leak into its sums.
-    a0 += live ? g0[i] * wi : S(0);
-    a1 += live ? g1[i] * wi : S(0);
-    a2 += live ? g2[i] * wi : S(0);
-    a3 += live ? g3[i] * wi : S(0);
+    a0[i] += live ? g0[i] * wi : S(0);
+    a1[i] += live ? g1[i] * wi : S(0);
+    a2[i] += live ? g2[i] * wi : S(0);
+    a3[i] += live ? g3[i] * wi : S(0);
     const S g_dot_f =
         g0[i] * f0 + g1[i] * f1 + g2[i] * f2 + g3[i] * f3 + g_extra_dot[i];
     // out = sum_i f_i a_i T_i + bg T_N: d out / d a_i = f_i T_i -
     // (everything behind i, background and 1 - alpha included) / (1 - a_i).
-    const S g_alpha = g_dot_f * t_front - suffix[i] / one_minus;
+    const S g_alpha = g_dot_f * t_front - suffix[i] * inv_one_minus;
     suffix[i] += live ? g_dot_f * wi : S(0);
     t[i] = t_front;
     // No gradient through the 0.99 clamp.
-    const S g_sigma = live && r <= max_alpha ? -g_alpha * alpha : S(0);
-    op += live && r <= max_alpha ? g_alpha * r * inv_opacity : S(0);
+    const bool unclamped = live & (r <= max_alpha);
+    const S g_sigma = unclamped ? -g_alpha * alpha : S(0);
+    op[i] += unclamped ? g_alpha * r * inv_opacity : S(0);
     const S dx = dx0 + static_cast<S>(i);
-    ca += S(0.5) * dx * dx * g_sigma;
-    cb += dx * dy * g_sigma;
-    cc += S(0.5) * dy * dy * g_sigma;
-    mx -= (g.ca * dx + g.cb * dy) * g_sigma;
-    my -= (g.cb * dx + g.cc * dy) * g_sigma;
-    used += live ? 1 : 0;
+    ca[i] += S(0.5) * dx * dx * g_sigma;
+    cb[i] += dx * dy * g_sigma;
+    cc[i] += S(0.5) * dy * dy * g_sigma;
+    mx[i] -= (g.ca * dx + g.cb * dy) * g_sigma;
+    my[i] -= (g.cb * dx + g.cc * dy) * g_sigma;
+    used[i] += live ? S(1) : S(0);
   }
-  out->mx += mx;
-  out->my += my;
-  out->ca += ca;
-  out->cb += cb;
-  out->cc += cc;
-  out->opacity += op;
-  out->f0 += a0;
-  out->f1 += a1;
-  out->f2 += a2;
-  out->f3 += a3;
-  return used > 0;
 }
 
 // Walks one Gaussian (entry `rank` of the tile's list) back over its span
-// of the tile, accumulating its gradient into *acc and st->acc_extra.
-// Returns whether any pixel used it.
+// of the tile, summing its gradient into grad[LaneGradient::kTerms] and
+// st->acc_extra. Returns whether any pixel used it.
 template <typename S>
 bool BackwardGaussian(const TilePass<S>& p, const TileRect& r, const Span& s,
-                      int k, int rank, BackwardTileState<S>* st,
-                      FootprintGradient<S>* acc) {
+                      int k, int rank, BackwardTileState<S>* st, S* grad) {
   const int nf = p.num_features, num_extra = p.num_extra;
   const Footprint<S> g(&p.geom[static_cast<size_t>(kTileGeomStride) * k]);
   const S* f = &p.feature[static_cast<size_t>(nf) * k];
   const RowRange row = RowOf(r, s);
   const int n = row.n;
   S w[kTileSize], raw[kTileSize], g_extra_dot[kTileSize];
+  LaneGradient<S> lanes;
+  lanes.Clear();
   for (int i = 0; i < kTileSize; ++i) g_extra_dot[i] = S(0);
   for (int c = 0; c < num_extra; ++c) st->acc_extra[c] = S(0);
-  bool touched = false;
   for (int y = s.y0; y < s.y1; ++y) {
     RowAlphas(g, y, row, raw);
     const int q = r.Offset(row.x0, y);
@@ -387,37 +412,33 @@ bool BackwardGaussian(const TilePass<S>& p, const TileRect& r, const Span& s,
       for (int i = 0; i < n; ++i)
         g_extra_dot[i] = (c == 4 ? S(0) : g_extra_dot[i]) + gc[i] * fc;
     }
-    touched |= BackwardRow(n, raw, g, f, rank, row.x0, y, st->last + q,
-                           st->t + q, st->suffix + q, gf, gf + kTilePixels,
-                           gf + 2 * kTilePixels, gf + 3 * kTilePixels,
-                           g_extra_dot, w, acc);
+    BackwardRow(n, raw, g, f, rank, row.x0, y, st->last + q, st->t + q,
+                st->suffix + q, gf, gf + kTilePixels, gf + 2 * kTilePixels,
+                gf + 3 * kTilePixels, g_extra_dot, w, &lanes);
     for (int c = 4; c < nf; ++c) {
       const S* gc = gf + c * kTilePixels;
       S sum = 0;
+#pragma omp simd reduction(+ : sum)
       for (int i = 0; i < n; ++i) sum += w[i] != S(0) ? gc[i] * w[i] : S(0);
       st->acc_extra[c - 4] += sum;
     }
   }
-  return touched;
+  return lanes.Sum(grad);
 }
 
 // Adds one Gaussian's tile gradient to its row of grad2d (tiles run in
 // parallel, hence atomically).
 template <typename S>
-void AddGaussianGradient(const TilePass<S>& p, int k,
-                         const FootprintGradient<S>& acc,
+void AddGaussianGradient(const TilePass<S>& p, int k, const S* grad,
                          const S* acc_extra) {
-  const S local[kTileGradHead + 4] = {acc.mx, acc.my, acc.ca,      acc.cb,
-                                      acc.cc, acc.opacity, acc.f0, acc.f1,
-                                      acc.f2, acc.f3};
   double* out = &p.grad2d[static_cast<size_t>(p.grad_stride) * k];
-  for (int c = 0; c < kTileGradHead + 4; ++c) {
+  for (int c = 0; c < LaneGradient<S>::kTerms; ++c) {
 #pragma omp atomic
-    out[c] += static_cast<double>(local[c]);
+    out[c] += static_cast<double>(grad[c]);
   }
   for (int c = 0; c < p.num_extra; ++c) {
 #pragma omp atomic
-    out[kTileGradHead + 4 + c] += static_cast<double>(acc_extra[c]);
+    out[LaneGradient<S>::kTerms + c] += static_cast<double>(acc_extra[c]);
   }
 }
 
@@ -442,9 +463,9 @@ void BackwardTile(const TilePass<S>& p, int tile, S* scratch) {
     const int k = p.tile_entries[e];
     const Span s = r.Clip(&p.box[4 * static_cast<size_t>(k)]);
     if (s.empty()) continue;
-    FootprintGradient<S> acc;
-    if (BackwardGaussian(p, r, s, k, e - begin, &st, &acc))
-      AddGaussianGradient(p, k, acc, st.acc_extra);
+    S grad[LaneGradient<S>::kTerms];
+    if (BackwardGaussian(p, r, s, k, e - begin, &st, grad))
+      AddGaussianGradient(p, k, grad, st.acc_extra);
   }
 }
 
