@@ -6,7 +6,10 @@ namespace es {
 
 int TileScratchSize(int num_features) {
   constexpr int kTilePixels = kTileSize * kTileSize;
-  return kTilePixels * (num_features + 2) + num_features;
+  // Per pixel: T, suffix, the feature gradients; per lane: the extra
+  // channels' gradients; then one Gaussian's summed gradient.
+  return kTilePixels * (num_features + 2) + kTileSize * num_features +
+         kTileGradHead + num_features;
 }
 
 template <>

@@ -131,6 +131,25 @@ inline void RowAlphas(const Footprint<S>& g, int y, const RowRange& row,
   }
 }
 
+// Whether every pixel of a tile has stopped (done[i] is 0 or 1).
+template <typename S>
+inline bool TileDone(const S* done) {
+  S least = 1;
+#pragma omp simd reduction(min : least)
+  for (int i = 0; i < kTilePixels; ++i) least = done[i] < least ? done[i] : least;
+  return least > S(0);
+}
+
+// The sum of a row's kTileSize lanes, as a tree of vector adds (an
+// omp simd sum reduction ends in one scalar add per lane); a is overwritten.
+template <typename S>
+inline S SumLanes(S* a) {
+  static_assert((kTileSize & (kTileSize - 1)) == 0, "power of two");
+  for (int half = kTileSize / 2; half > 0; half /= 2)
+    for (int i = 0; i < half; ++i) a[i] += a[i + half];
+  return a[0];
+}
+
 // ---------------------------------------------------------------- forward
 
 // Composites one Gaussian (features f: r, g, b, depth) over n pixels of a
@@ -138,9 +157,9 @@ inline void RowAlphas(const Footprint<S>& g, int y, const RowRange& row,
 // alpha at 0.99, stop a pixel before T would fall below 1e-4. Per-pixel
 // arrays start at the row's first pixel; w receives each pixel's weight
 // alpha * T (0 where skipped) for the extra channels. Written without
-// branches so it vectorizes. Returns how many pixels stopped.
+// branches so it vectorizes. Returns 1 if a pixel stopped, else 0.
 template <typename S>
-inline int CompositeRow(int n, const S* raw, const S* f, int rank, S* t,
+inline S CompositeRow(int n, const S* raw, const S* f, int rank, S* t,
                         S* done, int* last, S* acc0, S* acc1, S* acc2,
                         S* acc3, S* w) {
   const S max_alpha = static_cast<S>(kMaxAlpha);
@@ -148,10 +167,11 @@ inline int CompositeRow(int n, const S* raw, const S* f, int rank, S* t,
   const S min_t = static_cast<S>(kMinTransmittance);
   const S f0 = f[0], f1 = f[1], f2 = f[2], f3 = f[3];
   // Plain loads, `&` rather than `&&` (a short-circuit load of done[i]
-  // is a masked load GCC does not vectorize) and a float count keep every
-  // lane's work identical, so the loop vectorizes.
+  // is a masked load GCC does not vectorize) and a max rather than a count
+  // of the stops (a float sum is combined lane by lane in order) keep the
+  // loop vectorized.
   S stopped = 0;
-#pragma omp simd reduction(+ : stopped)
+#pragma omp simd reduction(max : stopped)
   for (int i = 0; i < n; ++i) {
     const S r = raw[i], d = done[i], ti = t[i];
     const int li = last[i];
@@ -169,9 +189,9 @@ inline int CompositeRow(int n, const S* raw, const S* f, int rank, S* t,
     t[i] = use ? next_t : ti;
     last[i] = use ? rank : li;
     done[i] = stop ? S(1) : d;
-    stopped += stop ? S(1) : S(0);
+    stopped = stop ? S(1) : stopped;
   }
-  return static_cast<int>(stopped);
+  return stopped;
 }
 
 // Writes the composited tile (per-pixel arrays t and accum, nf features)
@@ -211,10 +231,13 @@ long long ForwardTile(const TilePass<S>& p, int tile, S* scratch) {
   for (int i = 0; i < kTilePixels; ++i) t[i] = S(1);
   for (int i = 0; i < kTilePixels * (nf + 1); ++i) done[i] = S(0);
   for (int i = 0; i < kTilePixels; ++i) tile_last[i] = 0;
-  int active = (r.x1 - r.x0) * (r.y1 - r.y0);
+  // Pixels past the image's edge count as done for TileDone.
+  for (int y = 0; y < kTileSize; ++y)
+    for (int x = 0; x < kTileSize; ++x)
+      if (r.x0 + x >= r.x1 || r.y0 + y >= r.y1) done[y * kTileSize + x] = 1;
   long long evaluations = 0;
   const int begin = p.tile_offsets[tile], end = p.tile_offsets[tile + 1];
-  for (int e = begin; e < end && active > 0; ++e) {
+  for (int e = begin; e < end; ++e) {
     const int k = p.tile_entries[e];
     const Span s = r.Clip(&p.box[4 * static_cast<size_t>(k)]);
     if (s.empty()) continue;
@@ -223,20 +246,22 @@ long long ForwardTile(const TilePass<S>& p, int tile, S* scratch) {
     const S* f = &p.feature[static_cast<size_t>(nf) * k];
     const RowRange row = RowOf(r, s);
     const int n = row.n;
+    S stopped = 0;
     for (int y = s.y0; y < s.y1; ++y) {
       RowAlphas(g, y, row, raw);
       const int q = r.Offset(row.x0, y);
-      active -= CompositeRow(n, raw, f, e - begin + 1, t + q, done + q,
-                             tile_last + q, accum + q,
-                             accum + kTilePixels + q,
-                             accum + 2 * kTilePixels + q,
-                             accum + 3 * kTilePixels + q, w);
+      stopped += CompositeRow(n, raw, f, e - begin + 1, t + q, done + q,
+                              tile_last + q, accum + q,
+                              accum + kTilePixels + q,
+                              accum + 2 * kTilePixels + q,
+                              accum + 3 * kTilePixels + q, w);
       for (int c = 4; c < nf; ++c) {
         S* acc = accum + c * kTilePixels + q;
         const S fc = f[c];
         for (int i = 0; i < n; ++i) acc[i] += w[i] * fc;
       }
     }
+    if (stopped > S(0) && TileDone(done)) break;
   }
   StoreTile(p, r, t, accum, tile_last);
   return evaluations;
@@ -250,7 +275,8 @@ struct BackwardTileState {
   S* t;          // transmittance, recovered back to front
   S* suffix;     // d loss / d (everything behind), see BackwardRow
   S* g_feat;     // num_features arrays of pixel gradients
-  S* acc_extra;  // one Gaussian's extra-channel gradients
+  S* lane_extra;  // one Gaussian's extra-channel gradients, per lane
+  S* grad;        // one Gaussian's summed gradient (grad_stride terms)
   int last[kTilePixels];
 };
 
@@ -304,19 +330,11 @@ struct LaneGradient {
       for (int i = 0; i < kTileSize; ++i) term[c][i] = S(0);
     for (int i = 0; i < kTileSize; ++i) used[i] = S(0);
   }
-  // Sums the lanes into out[kTerms]; returns whether any pixel used the
-  // Gaussian.
-  bool Sum(S* out) const {
-    for (int c = 0; c < kTerms; ++c) {
-      S sum = 0;
-#pragma omp simd reduction(+ : sum)
-      for (int i = 0; i < kTileSize; ++i) sum += term[c][i];
-      out[c] = sum;
-    }
-    S any = 0;
-#pragma omp simd reduction(+ : any)
-    for (int i = 0; i < kTileSize; ++i) any += used[i];
-    return any > S(0);
+  // Sums the lanes into out[kTerms] (the lanes are overwritten); returns
+  // whether any pixel used the Gaussian.
+  bool Sum(S* out) {
+    for (int c = 0; c < kTerms; ++c) out[c] = SumLanes(term[c]);
+    return SumLanes(used) > S(0);
   }
 };
 
@@ -387,11 +405,11 @@ inline void BackwardRow(int n, const S* raw, const Footprint<S>& g,
 }
 
 // Walks one Gaussian (entry `rank` of the tile's list) back over its span
-// of the tile, summing its gradient into grad[LaneGradient::kTerms] and
-// st->acc_extra. Returns whether any pixel used it.
+// of the tile, summing its gradient into st->grad. Returns whether any
+// pixel used it.
 template <typename S>
 bool BackwardGaussian(const TilePass<S>& p, const TileRect& r, const Span& s,
-                      int k, int rank, BackwardTileState<S>* st, S* grad) {
+                      int k, int rank, BackwardTileState<S>* st) {
   const int nf = p.num_features, num_extra = p.num_extra;
   const Footprint<S> g(&p.geom[static_cast<size_t>(kTileGeomStride) * k]);
   const S* f = &p.feature[static_cast<size_t>(nf) * k];
@@ -401,7 +419,7 @@ bool BackwardGaussian(const TilePass<S>& p, const TileRect& r, const Span& s,
   LaneGradient<S> lanes;
   lanes.Clear();
   for (int i = 0; i < kTileSize; ++i) g_extra_dot[i] = S(0);
-  for (int c = 0; c < num_extra; ++c) st->acc_extra[c] = S(0);
+  for (int i = 0; i < num_extra * kTileSize; ++i) st->lane_extra[i] = S(0);
   for (int y = s.y0; y < s.y1; ++y) {
     RowAlphas(g, y, row, raw);
     const int q = r.Offset(row.x0, y);
@@ -417,28 +435,25 @@ bool BackwardGaussian(const TilePass<S>& p, const TileRect& r, const Span& s,
                 gf + 3 * kTilePixels, g_extra_dot, w, &lanes);
     for (int c = 4; c < nf; ++c) {
       const S* gc = gf + c * kTilePixels;
-      S sum = 0;
-#pragma omp simd reduction(+ : sum)
-      for (int i = 0; i < n; ++i) sum += w[i] != S(0) ? gc[i] * w[i] : S(0);
-      st->acc_extra[c - 4] += sum;
+      S* lane = st->lane_extra + (c - 4) * kTileSize;
+      for (int i = 0; i < n; ++i) lane[i] += w[i] != S(0) ? gc[i] * w[i] : S(0);
     }
   }
-  return lanes.Sum(grad);
+  for (int c = 0; c < num_extra; ++c)
+    st->grad[LaneGradient<S>::kTerms + c] =
+        SumLanes(st->lane_extra + c * kTileSize);
+  return lanes.Sum(st->grad);
 }
 
 // Adds one Gaussian's tile gradient to its row of grad2d (tiles run in
 // parallel, hence atomically).
 template <typename S>
-void AddGaussianGradient(const TilePass<S>& p, int k, const S* grad,
-                         const S* acc_extra) {
+void AddGaussianGradient(const TilePass<S>& p, int k, const S* grad) {
   double* out = &p.grad2d[static_cast<size_t>(p.grad_stride) * k];
-  for (int c = 0; c < LaneGradient<S>::kTerms; ++c) {
+  const int terms = LaneGradient<S>::kTerms + p.num_extra;
+  for (int c = 0; c < terms; ++c) {
 #pragma omp atomic
     out[c] += static_cast<double>(grad[c]);
-  }
-  for (int c = 0; c < p.num_extra; ++c) {
-#pragma omp atomic
-    out[LaneGradient<S>::kTerms + c] += static_cast<double>(acc_extra[c]);
   }
 }
 
@@ -451,7 +466,8 @@ void BackwardTile(const TilePass<S>& p, int tile, S* scratch) {
   st.t = scratch;
   st.suffix = st.t + kTilePixels;
   st.g_feat = st.suffix + kTilePixels;
-  st.acc_extra = st.g_feat + p.num_features * kTilePixels;
+  st.lane_extra = st.g_feat + p.num_features * kTilePixels;
+  st.grad = st.lane_extra + p.num_extra * kTileSize;
   for (int i = 0; i < kTilePixels; ++i) st.last[i] = 0;
   if (kFullRows && r.x1 - r.x0 < kTileSize) {
     // Full rows also run over the pixels past the image's right edge.
@@ -463,9 +479,8 @@ void BackwardTile(const TilePass<S>& p, int tile, S* scratch) {
     const int k = p.tile_entries[e];
     const Span s = r.Clip(&p.box[4 * static_cast<size_t>(k)]);
     if (s.empty()) continue;
-    S grad[LaneGradient<S>::kTerms];
-    if (BackwardGaussian(p, r, s, k, e - begin, &st, grad))
-      AddGaussianGradient(p, k, grad, st.acc_extra);
+    if (BackwardGaussian(p, r, s, k, e - begin, &st))
+      AddGaussianGradient(p, k, st.grad);
   }
 }
 
