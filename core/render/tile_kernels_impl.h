@@ -131,6 +131,14 @@ inline void RowAlphas(const Footprint<S>& g, int y, const RowRange& row,
   }
 }
 
+// The extra channels a pass renders: kExtra when the kernel was compiled
+// for that count (0 and 1, the common cases, so their loops unroll), else
+// the pass's own count (kExtra = -1).
+template <int kExtra, typename S>
+inline int NumExtra(const TilePass<S>& p) {
+  return kExtra >= 0 ? kExtra : p.num_extra;
+}
+
 // Whether every pixel of a tile has stopped (done[i] is 0 or 1).
 template <typename S>
 inline bool TileDone(const S* done) {
@@ -144,10 +152,10 @@ inline bool TileDone(const S* done) {
 // omp simd sum reduction ends in one scalar add per lane); a is overwritten.
 template <typename S>
 inline S SumLanes(S* a) {
-  static_assert((kTileSize & (kTileSize - 1)) == 0, "power of two");
-  for (int half = kTileSize / 2; half > 0; half /= 2)
-    for (int i = 0; i < half; ++i) a[i] += a[i + half];
-  return a[0];
+  static_assert(kTileSize == 16, "the tree below adds 16 lanes");
+  for (int i = 0; i < 8; ++i) a[i] += a[i + 8];
+  for (int i = 0; i < 4; ++i) a[i] += a[i + 4];
+  return (a[0] + a[2]) + (a[1] + a[3]);
 }
 
 // ---------------------------------------------------------------- forward
@@ -218,10 +226,10 @@ void StoreTile(const TilePass<S>& p, const TileRect& r, const S* t,
   }
 }
 
-template <typename S>
+template <typename S, int kExtra>
 long long ForwardTile(const TilePass<S>& p, int tile, S* scratch) {
   const TileRect r(tile, p.tiles_x, p.width, p.height);
-  const int nf = p.num_features;
+  const int nf = 4 + NumExtra<kExtra>(p);
   // Per-pixel state of the tile, one array per quantity.
   S* t = scratch;
   S* done = t + kTilePixels;
@@ -258,6 +266,7 @@ long long ForwardTile(const TilePass<S>& p, int tile, S* scratch) {
       for (int c = 4; c < nf; ++c) {
         S* acc = accum + c * kTilePixels + q;
         const S fc = f[c];
+#pragma omp simd
         for (int i = 0; i < n; ++i) acc[i] += w[i] * fc;
       }
     }
@@ -407,10 +416,10 @@ inline void BackwardRow(int n, const S* raw, const Footprint<S>& g,
 // Walks one Gaussian (entry `rank` of the tile's list) back over its span
 // of the tile, summing its gradient into st->grad. Returns whether any
 // pixel used it.
-template <typename S>
+template <typename S, int kExtra>
 bool BackwardGaussian(const TilePass<S>& p, const TileRect& r, const Span& s,
                       int k, int rank, BackwardTileState<S>* st) {
-  const int nf = p.num_features, num_extra = p.num_extra;
+  const int num_extra = NumExtra<kExtra>(p), nf = 4 + num_extra;
   const Footprint<S> g(&p.geom[static_cast<size_t>(kTileGeomStride) * k]);
   const S* f = &p.feature[static_cast<size_t>(nf) * k];
   const RowRange row = RowOf(r, s);
@@ -427,6 +436,7 @@ bool BackwardGaussian(const TilePass<S>& p, const TileRect& r, const Span& s,
     for (int c = 4; c < nf; ++c) {
       const S* gc = gf + c * kTilePixels;
       const S fc = f[c];
+#pragma omp simd
       for (int i = 0; i < n; ++i)
         g_extra_dot[i] = (c == 4 ? S(0) : g_extra_dot[i]) + gc[i] * fc;
     }
@@ -436,7 +446,9 @@ bool BackwardGaussian(const TilePass<S>& p, const TileRect& r, const Span& s,
     for (int c = 4; c < nf; ++c) {
       const S* gc = gf + c * kTilePixels;
       S* lane = st->lane_extra + (c - 4) * kTileSize;
-      for (int i = 0; i < n; ++i) lane[i] += w[i] != S(0) ? gc[i] * w[i] : S(0);
+#pragma omp simd
+      for (int i = 0; i < n; ++i)
+        lane[i] += w[i] != S(0) ? gc[i] * w[i] : S(0);
     }
   }
   for (int c = 0; c < num_extra; ++c)
@@ -448,17 +460,19 @@ bool BackwardGaussian(const TilePass<S>& p, const TileRect& r, const Span& s,
 // Adds one Gaussian's tile gradient to its row of grad2d (tiles run in
 // parallel, hence atomically).
 template <typename S>
-void AddGaussianGradient(const TilePass<S>& p, int k, const S* grad) {
+void AddGaussianGradient(const TilePass<S>& p, int k, int num_extra,
+                         const S* grad) {
   double* out = &p.grad2d[static_cast<size_t>(p.grad_stride) * k];
-  const int terms = LaneGradient<S>::kTerms + p.num_extra;
+  const int terms = LaneGradient<S>::kTerms + num_extra;
   for (int c = 0; c < terms; ++c) {
 #pragma omp atomic
     out[c] += static_cast<double>(grad[c]);
   }
 }
 
-template <typename S>
+template <typename S, int kExtra>
 void BackwardTile(const TilePass<S>& p, int tile, S* scratch) {
+  const int num_extra = NumExtra<kExtra>(p);
   const int begin = p.tile_offsets[tile], end = p.tile_offsets[tile + 1];
   if (begin == end) return;
   const TileRect r(tile, p.tiles_x, p.width, p.height);
@@ -479,18 +493,35 @@ void BackwardTile(const TilePass<S>& p, int tile, S* scratch) {
     const int k = p.tile_entries[e];
     const Span s = r.Clip(&p.box[4 * static_cast<size_t>(k)]);
     if (s.empty()) continue;
-    if (BackwardGaussian(p, r, s, k, e - begin, &st))
-      AddGaussianGradient(p, k, st.grad);
+    if (BackwardGaussian<S, kExtra>(p, r, s, k, e - begin, &st))
+      AddGaussianGradient(p, k, num_extra, st.grad);
   }
 }
 
+template <typename S, int kExtra>
+const TileKernelSet<S> kKernels = {&ForwardTile<S, kExtra>,
+                                   &BackwardTile<S, kExtra>};
+
 template <typename S>
-const TileKernelSet<S> kKernels = {&ForwardTile<S>, &BackwardTile<S>};
+const TileKernelSet<S>& KernelsFor(int num_extra) {
+  switch (num_extra) {
+    case 0:
+      return kKernels<S, 0>;
+    case 1:
+      return kKernels<S, 1>;
+    default:
+      return kKernels<S, -1>;
+  }
+}
 
 }  // namespace
 
-const TileKernelSet<float>& FloatKernels() { return kKernels<float>; }
-const TileKernelSet<double>& DoubleKernels() { return kKernels<double>; }
+const TileKernelSet<float>& FloatKernels(int num_extra) {
+  return KernelsFor<float>(num_extra);
+}
+const TileKernelSet<double>& DoubleKernels(int num_extra) {
+  return KernelsFor<double>(num_extra);
+}
 
 }  // namespace ES_TILE_ISA
 }  // namespace es
