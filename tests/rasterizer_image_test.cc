@@ -268,7 +268,8 @@ TEST(RasterizerHardCases, CulledGaussiansDoNotChangeTheImage) {
 }
 
 TEST(RasterizerThreads, ImagesDoNotDependOnThreadCount) {
-  const TestScene s = reference::RandomScene(21, 3000, 3, 1, 160, 120);
+  // Enough Gaussians for the parallel binning.
+  const TestScene s = reference::RandomScene(21, 20000, 3, 1, 160, 120);
   Rasterizer r;
   RenderResult one;
   omp_set_num_threads(1);
