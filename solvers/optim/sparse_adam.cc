@@ -20,19 +20,26 @@ constexpr int kMinParallelChunks = 1024;
 int NumChunks(int size) { return (size + kChunk - 1) / kChunk; }
 
 // Whether any of a[0..n) is non-zero (-0 counts as zero) and whether all
-// are finite (exponent bits not all ones), in one branch-free pass over the
-// bits.
+// are finite (x * 0 is 0 for finite x, NaN otherwise), in two branch-free
+// passes that vectorize even for SSE2: an OR of the bits without the sign,
+// and eight lanes of sums.
 void Inspect(const double* a, int n, bool* nonzero, bool* finite) {
-  constexpr uint64_t kExponent = 0x7ff0000000000000ull;
-  uint64_t bits = 0, nonfinite = 0;
+  uint64_t bits = 0;
   for (int i = 0; i < n; ++i) {
     uint64_t x;
     std::memcpy(&x, a + i, sizeof(x));
     bits |= x << 1;
-    nonfinite |= (x & kExponent) == kExponent;
   }
+  double lanes[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+  int i = 0;
+  for (; i + 8 <= n; i += 8) {
+    for (int l = 0; l < 8; ++l) lanes[l] += a[i + l] * 0.0;
+  }
+  double sum = 0.0;
+  for (; i < n; ++i) sum += a[i] * 0.0;
+  for (int l = 0; l < 8; ++l) sum += lanes[l];
   *nonzero = bits != 0;
-  *finite = nonfinite == 0;
+  *finite = sum == 0.0;
 }
 
 }  // namespace
