@@ -98,17 +98,19 @@ void GaussianAdam::Step(const GaussianLearningRates& lr,
   update(lr.dynamic_logits, grad.dynamic_logits, &m_.dynamic_logits,
          &v_.dynamic_logits, &params->dynamic_logits);
   // SH: DC and the higher bands interleave per Gaussian ([n][k][rgb]).
+  // The bias corrections once per step, not once per Gaussian.
   const int width = 3 * params->sh_coeffs();
   const int n = params->size();
+  const AdamStep dc(options_, step_, lr.sh_dc);
+  const AdamStep rest(options_, step_, lr.sh_rest);
+  const double* g = grad.sh.data();
+  double *m = m_.sh.data(), *v = v_.sh.data(), *x = params->sh.data();
 #pragma omp parallel for if (n > 16384) schedule(static)
   for (int i = 0; i < n; ++i) {
     const int o = i * width;
-    if (lr.sh_dc != 0)
-      AdamUpdate(options_, step_, lr.sh_dc, 3, &grad.sh[o], &m_.sh[o],
-                 &v_.sh[o], &params->sh[o]);
+    if (lr.sh_dc != 0) dc.Update(o, o + 3, g, m, v, x);
     if (width > 3 && lr.sh_rest != 0)
-      AdamUpdate(options_, step_, lr.sh_rest, width - 3, &grad.sh[o + 3],
-                 &m_.sh[o + 3], &v_.sh[o + 3], &params->sh[o + 3]);
+      rest.Update(o + 3, o + width, g, m, v, x);
   }
 }
 
