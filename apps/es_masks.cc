@@ -1,9 +1,10 @@
 // Water masks from the video itself (no segmentation network): where a
 // static model fitted without masks cannot explain the frames, by non-rigid
-// optical flow and misfit over time (core/masks/water_masks.h). Writes one
-// PNG per registered frame (same names as the images, .png; white = water)
-// that a person can inspect and edit, a sheet to check them with, and a
-// report; with --truth also the IoU against true masks.
+// optical flow and by how its misfit changes over time
+// (core/masks/water_masks.h). Writes one PNG per registered frame (same
+// names as the images, .png; white = water) that a person can inspect and
+// edit, a sheet to check them with, and a report; with --truth also the IoU
+// against true masks.
 //
 //   es_masks --scene DIR --static static.ply --out MASKS_DIR
 //            [--sheet FILE] [--report FILE] [--truth TRUE_MASKS_DIR]
@@ -37,6 +38,10 @@ DEFINE_double(image_scale, 1.0, "Work at this fraction of the frames' size "
               "(masks are written at full size).");
 DEFINE_int32(window, 2, "Frames on each side for temporal averaging and "
              "voting.");
+DEFINE_int32(change_gap, 4, "Video frames between the frames whose "
+             "residuals against the static model are compared (3 on each "
+             "side: gap, 2 gap, 3 gap); a few frames, so that water has "
+             "changed (raise it for a high frame rate).");
 DEFINE_double(min_score, 2.0, "Evidence (in units of the static region's "
               "level) below which nothing is water.");
 DEFINE_double(min_water_fraction, 0.02, "Mean water fraction below which "
@@ -104,6 +109,8 @@ int Main() {
     throw es::InputError(FLAGS_out + ": exists; masks are only written to a "
                          "new folder (delete it to redo)");
   if (FLAGS_window < 0) throw es::InputError("--window must be >= 0");
+  if (FLAGS_change_gap < 1)
+    throw es::InputError("--change_gap must be >= 1");
   const std::string sheet =
       FLAGS_sheet.empty() ? FLAGS_out + "_sheet.png" : FLAGS_sheet;
   const std::string report =
@@ -116,10 +123,11 @@ int Main() {
   es::WaterMaskOptions options;
   options.window = FLAGS_window;
   options.min_score = FLAGS_min_score;
+  options.change.gap = FLAGS_change_gap;
   options.min_water_fraction = FLAGS_min_water_fraction;
   if (FLAGS_white_background) options.render.background.setOnes();
-  std::printf("[masks] %zu frames at %dx%d: static fit vs frames, optical "
-              "flow vs camera motion\n",
+  std::printf("[masks] %zu frames at %dx%d: residual change over time, "
+              "optical flow vs camera motion\n",
               scene.frames.size(), scene.frames[0].image.cols,
               scene.frames[0].image.rows);
   const es::WaterMaskResult result = es::EstimateWaterMasks(

@@ -9,15 +9,18 @@
 
 #include "core/flow/flow_lifting.h"
 #include "core/flow/optical_flow.h"
+#include "core/masks/camera_flow.h"
+#include "core/masks/residual_change.h"
 #include "core/render/render_maps.h"
 
 namespace es {
 namespace {
 
-// |frame - static render|, mean over channels, and the rendered depth.
+// frame - static render, and the rendered depth.
 struct StaticFit {
-  cv::Mat misfit;  // CV_32FC1
-  cv::Mat depth;   // CV_32FC1, 0 = no surface
+  cv::Mat residual;  // CV_32FC3
+  cv::Mat misfit;    // CV_32FC1, |residual| mean over channels
+  cv::Mat depth;     // CV_32FC1, 0 = no surface or an occluding edge
 };
 
 StaticFit FitFrame(const Frame& frame, const SplatView& splats,
@@ -27,13 +30,13 @@ StaticFit FitFrame(const Frame& frame, const SplatView& splats,
   cv::Mat rgb;
   cv::Mat(render.height, render.width, CV_64FC3, render.rgb.data())
       .convertTo(rgb, CV_32FC3);
-  cv::Mat diff;
-  cv::absdiff(rgb, frame.image, diff);
   StaticFit fit;
-  cv::transform(diff, fit.misfit, cv::Matx13f(1 / 3.f, 1 / 3.f, 1 / 3.f));
+  fit.residual = frame.image - rgb;
+  cv::transform(cv::abs(fit.residual), fit.misfit,
+                cv::Matx13f(1 / 3.f, 1 / 3.f, 1 / 3.f));
   fit.depth = FloatImage(render, ExpectedDepth(render, 0.5));
   // At occluding edges the depth is a blend and the camera's flow there is
-  // wrong: no depth, no flow cue.
+  // wrong: no depth, no flow nor change cue.
   cv::Mat lo, hi;
   cv::erode(fit.depth, lo, cv::Mat());
   cv::dilate(fit.depth, hi, cv::Mat());
@@ -41,27 +44,16 @@ StaticFit FitFrame(const Frame& frame, const SplatView& splats,
   return fit;
 }
 
-// |flow - the flow camera motion induces over `depth`|, per pixel, from
-// frame a to frame b; 0 where there is no depth.
-cv::Mat NonRigidFlow(const cv::Mat& flow, const cv::Mat& depth,
-                     const Camera& a, const Camera& b) {
+// |flow - camera flow| per pixel; 0 where the camera flow is unknown.
+cv::Mat NonRigidFlow(const cv::Mat& flow, const cv::Mat& camera_flow) {
   cv::Mat out(flow.size(), CV_32FC1, cv::Scalar(0.f));
-  const Eigen::Matrix3d r_a = a.R(), r_b = b.R();
-#pragma omp parallel for schedule(static)
-  for (int y = 0; y < flow.rows; ++y) {
+  for (int y = 0; y < flow.rows; ++y)
     for (int x = 0; x < flow.cols; ++x) {
-      const float z = depth.at<float>(y, x);
-      if (z <= 0) continue;
-      const Eigen::Vector3d world =
-          r_a.transpose() * (a.Unproject(x + 0.5, y + 0.5, z) - a.t_cw);
-      const Eigen::Vector3d in_b = r_b * world + b.t_cw;
-      if (in_b.z() <= 1e-6) continue;
-      const Eigen::Vector2d uv = b.Project(in_b);
+      const cv::Vec2f c = camera_flow.at<cv::Vec2f>(y, x);
+      if (std::isnan(c[0])) continue;
       const cv::Vec2f f = flow.at<cv::Vec2f>(y, x);
-      out.at<float>(y, x) = static_cast<float>(
-          std::hypot(f[0] - (uv.x() - x - 0.5), f[1] - (uv.y() - y - 0.5)));
+      out.at<float>(y, x) = std::hypot(f[0] - c[0], f[1] - c[1]);
     }
-  }
   return out;
 }
 
@@ -144,15 +136,18 @@ WaterMaskResult EstimateWaterMasks(
   std::map<int, int> by_time;
   for (int i = 0; i < n; ++i) by_time[frames[i].time_index] = i;
 
-  // Both cues for every frame.
+  // The flow cue for every frame, and what the change cue needs.
   const SplatView splats = SplatView::Of(static_model);
   Rasterizer rasterizer;
   OpticalFlow flow(FlowMethod::kDisMedium);
   std::vector<cv::Mat> misfit(n), nonrigid(n), has_depth(n);
+  std::vector<ResidualFrame> residuals(n);
   for (int i = 0; i < n; ++i) {
     const StaticFit fit =
         FitFrame(frames[i], splats, options.render, &rasterizer);
     misfit[i] = fit.misfit;
+    residuals[i] = {frames[i].camera, fit.residual, fit.depth,
+                    frames[i].time_index};
     cv::threshold(fit.depth, has_depth[i], 0, 1, cv::THRESH_BINARY);
     // The next frame in time, else the previous one.
     int j = -1;
@@ -166,8 +161,8 @@ WaterMaskResult EstimateWaterMasks(
     nonrigid[i] = j < 0 ? cv::Mat(fit.depth.size(), CV_32FC1, cv::Scalar(0.f))
                         : NonRigidFlow(flow.Compute(frames[i].image,
                                                     frames[j].image),
-                                       fit.depth, frames[i].camera,
-                                       frames[j].camera);
+                                       CameraFlow(fit.depth, frames[i].camera,
+                                                  frames[j].camera));
     if (progress) progress(i + 1, n);
   }
 
@@ -176,13 +171,25 @@ WaterMaskResult EstimateWaterMasks(
   // moves must not find water in its noise.
   const double flow_level =
       std::max(Median(nonrigid, &has_depth), options.min_flow_level);
+  const std::vector<cv::Mat> change =
+      ResidualChange(residuals, options.change);
+  std::vector<cv::Mat> has_change(n);
+  for (int i = 0; i < n; ++i)
+    cv::threshold(change[i], has_change[i], -0.5, 1, cv::THRESH_BINARY);
+  const double change_level =
+      std::max(Median(change, &has_change), options.min_misfit_level);
   const double misfit_level =
       std::max(Median(misfit, nullptr), options.min_misfit_level);
   std::vector<cv::Mat> cue(n);
   for (int i = 0; i < n; ++i) {
-    const cv::Mat flow_cue = nonrigid[i] / flow_level;
-    const cv::Mat misfit_cue = misfit[i] / misfit_level;
-    cue[i] = cv::max(flow_cue, misfit_cue);
+    // A misfit alone cannot tell water from scenery the model has not
+    // learned yet, so it counts at a fraction of its weight: only a
+    // surface the model shows nothing like is water by misfit alone.
+    const cv::Mat change_cue = cv::max(change[i], 0.f) / change_level;
+    const cv::Mat misfit_cue =
+        misfit[i] * (options.misfit_weight / misfit_level);
+    cue[i] = cv::max(cv::max(nonrigid[i] / flow_level, change_cue),
+                     misfit_cue);
     cv::GaussianBlur(cue[i], cue[i], cv::Size(0, 0), 1.0);
   }
   const std::vector<std::vector<int>> near =

@@ -7,6 +7,7 @@
 #include <opencv2/core.hpp>
 
 #include "core/io/scene.h"
+#include "core/masks/residual_change.h"
 #include "core/model/gaussians.h"
 #include "core/render/rasterizer.h"
 
@@ -17,11 +18,17 @@ namespace es {
 // stands still; water is what it cannot explain:
 //  - non-rigid motion: the optical flow to the next frame minus the flow the
 //    camera motion induces over the static model's depth,
-//  - misfit: |frame - static render|, where the time-averaged model cannot
-//    fit a surface that changes over time.
+//  - change: how much the residual frame - static render at a surface point
+//    differs from its residual a few frames earlier and later (see
+//    ResidualChange). The residual alone (misfit) also fires on scenery a
+//    short fit has not learned yet, but that misfit stays put over time;
+//    water's changes.
+//  - misfit |frame - static render| itself, at a fraction of its weight:
+//    only a surface the model shows nothing like (a calm pool over known
+//    ground) is water by misfit alone.
 // Each cue is divided by its median over all pixels (the static majority's
-// noise level); a pixel's evidence is the stronger of the two (water shows
-// either, e.g. slow water misfits, fast thin water moves), averaged over a
+// noise level); a pixel's evidence is the strongest of them (water shows
+// either, e.g. slow water changes, fast thin water moves), averaged over a
 // temporal window, thresholded
 // (Otsu on the log, never below min_score), cleaned with morphology, voted
 // over the same window, and small blobs are dropped.
@@ -29,7 +36,9 @@ struct WaterMaskOptions {
   int window = 2;            // frames on each side for averaging and voting
   double min_score = 2.0;    // evidence (x the median) that can be water
   double min_flow_level = 0.35;    // px per frame: optical flow noise
-  double min_misfit_level = 0.02;  // of the [0, 1] range: fit noise
+  double min_misfit_level = 0.02;  // [0, 1] range: fit noise (and change)
+  double misfit_weight = 0.25;     // of the misfit cue, against the others
+  ResidualChangeOptions change;  // which frames the change compares
   double open_radius = 0.006;   // morphology radii, fraction of the width
   double close_radius = 0.015;
   double min_blob = 0.002;   // blobs below this fraction of the frame: gone
@@ -48,7 +57,9 @@ struct WaterMaskResult {
 
 // Masks for every frame of `scene` (at the frames' size), in its order.
 // Consecutive frames are those one video frame apart (Frame::time_index);
-// a frame with no neighbour in time gets only the misfit cue. Calls
+// a frame with no neighbour one video frame away gets no flow cue, a pixel
+// whose change is unknown (too few partner frames see it) no change cue.
+// Calls
 // progress(done, total) per frame.
 WaterMaskResult EstimateWaterMasks(
     const Scene& scene, const GaussianSet& static_model,

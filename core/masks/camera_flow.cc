@@ -1,0 +1,28 @@
+#include "core/masks/camera_flow.h"
+
+#include <limits>
+
+namespace es {
+
+cv::Mat CameraFlow(const cv::Mat& depth, const Camera& a, const Camera& b) {
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  cv::Mat out(depth.size(), CV_32FC2, cv::Scalar(nan, nan));
+  const Eigen::Matrix3d r_a = a.R(), r_b = b.R();
+#pragma omp parallel for schedule(static)
+  for (int y = 0; y < depth.rows; ++y) {
+    for (int x = 0; x < depth.cols; ++x) {
+      const float z = depth.at<float>(y, x);
+      if (z <= 0) continue;
+      const Eigen::Vector3d world =
+          r_a.transpose() * (a.Unproject(x + 0.5, y + 0.5, z) - a.t_cw);
+      const Eigen::Vector3d in_b = r_b * world + b.t_cw;
+      if (in_b.z() <= 1e-6) continue;
+      const Eigen::Vector2d uv = b.Project(in_b);
+      out.at<cv::Vec2f>(y, x) = {static_cast<float>(uv.x() - x - 0.5),
+                                 static_cast<float>(uv.y() - y - 0.5)};
+    }
+  }
+  return out;
+}
+
+}  // namespace es

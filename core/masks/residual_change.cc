@@ -1,0 +1,82 @@
+#include "core/masks/residual_change.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include <glog/logging.h>
+#include <opencv2/imgproc.hpp>
+
+#include "core/masks/camera_flow.h"
+
+namespace es {
+namespace {
+
+// |a - b carried back to a by camera_flow|, mean over channels; -1 where
+// the flow is unknown or leaves b.
+cv::Mat CarriedDifference(const cv::Mat& a, const cv::Mat& b,
+                          const cv::Mat& camera_flow) {
+  cv::Mat map(camera_flow.size(), CV_32FC2);
+  cv::Mat outside(camera_flow.size(), CV_8UC1, cv::Scalar(0));
+  for (int y = 0; y < map.rows; ++y)
+    for (int x = 0; x < map.cols; ++x) {
+      const cv::Vec2f c = camera_flow.at<cv::Vec2f>(y, x);
+      const cv::Vec2f m(x + c[0], y + c[1]);
+      map.at<cv::Vec2f>(y, x) = m;
+      // NaN fails every comparison: it is outside too.
+      if (!(m[0] >= 0 && m[1] >= 0 && m[0] <= b.cols - 1 &&
+            m[1] <= b.rows - 1))
+        outside.at<uchar>(y, x) = 1;
+    }
+  cv::Mat carried, diff, out;
+  cv::remap(b, carried, map, cv::noArray(), cv::INTER_LINEAR,
+            cv::BORDER_REPLICATE);
+  cv::absdiff(a, carried, diff);
+  cv::transform(diff, out, cv::Matx13f(1 / 3.f, 1 / 3.f, 1 / 3.f));
+  out.setTo(-1, outside);
+  return out;
+}
+
+}  // namespace
+
+std::vector<cv::Mat> ResidualChange(const std::vector<ResidualFrame>& frames,
+                                    const ResidualChangeOptions& options) {
+  CHECK_GT(options.gap, 0);
+  CHECK_GT(options.partners, 0);
+  const int n = static_cast<int>(frames.size());
+  std::map<int, int> by_time;
+  for (int i = 0; i < n; ++i) by_time[frames[i].time_index] = i;
+
+  std::vector<cv::Mat> change(n);
+  std::vector<cv::Mat> diffs;
+  std::vector<float> values;
+  for (int i = 0; i < n; ++i) {
+    const ResidualFrame& f = frames[i];
+    diffs.clear();
+    for (int k = 1; k <= options.partners; ++k)
+      for (int side : {-1, 1}) {
+        const auto it = by_time.find(f.time_index + side * k * options.gap);
+        if (it == by_time.end()) continue;
+        const ResidualFrame& other = frames[it->second];
+        diffs.push_back(CarriedDifference(
+            f.residual, other.residual,
+            CameraFlow(f.depth, f.camera, other.camera)));
+      }
+    change[i] = cv::Mat(f.residual.size(), CV_32FC1, cv::Scalar(-1.f));
+    for (int p = 0; p < static_cast<int>(change[i].total()); ++p) {
+      values.clear();
+      for (const cv::Mat& d : diffs) {
+        const float v = d.at<float>(p);
+        if (v >= 0) values.push_back(v);
+      }
+      if (static_cast<int>(values.size()) < options.min_partners) continue;
+      // The lower median: of two comparisons, the smaller.
+      auto mid = values.begin() + (values.size() - 1) / 2;
+      std::nth_element(values.begin(), mid, values.end());
+      change[i].at<float>(p) = *mid;
+    }
+  }
+  return change;
+}
+
+}  // namespace es
