@@ -138,14 +138,14 @@ DEFINE_double(densify_water_split_pixels, 1.0,
 DEFINE_double(motion_energy_weight, 0,
               "> 0: each iteration also renders the sampled frame's "
               "neighbour in the video and matches the local amplitude of "
-              "frame-to-frame change in the water to the input's, with this "
-              "weight (costs/water_energy_loss.h: the L1 loss alone is "
+              "frame-to-frame change in the water, per colour channel, to "
+              "the input's, with this weight (the L1 / SSIM loss alone is "
               "lowest for a still, time-averaged sheet); 0: off. Twice the "
               "rendering per iteration.");
 DEFINE_double(detail_energy_weight, 0,
               "> 0: with the same frame pairs, match the local amplitude "
-              "of the water's fine texture (grey image minus its blur) to "
-              "the input's, with this weight; 0: off.");
+              "of the water's fine texture (each colour channel minus its "
+              "blur) to the input's, with this weight; 0: off.");
 
 namespace es {
 namespace {
