@@ -204,7 +204,7 @@ void Rasterizer::State::ForwardTiles(RenderResult* result) {
   pass.alpha = result->alpha.data();
   pass.depth = result->depth.data();
   pass.extra = result->extra.data();
-  const auto forward = TileKernels<S>(options.simd).forward;
+  const auto forward = TileKernels<S>(options.simd, num_features - 4).forward;
   const int per_thread = TileScratchSize(num_features);
   std::vector<S>& all_scratch = scratch<S>();
   all_scratch.resize(static_cast<size_t>(omp_get_max_threads()) * per_thread);
@@ -232,7 +232,7 @@ void Rasterizer::State::BackwardTiles(const RenderGradients& ig) {
   pass.d_extra = ig.d_extra;
   pass.grad2d = grad2d.data();
   pass.grad_stride = grad_stride;
-  const auto backward = TileKernels<S>(options.simd).backward;
+  const auto backward = TileKernels<S>(options.simd, num_features - 4).backward;
   const int per_thread = TileScratchSize(num_features);
   std::vector<S>& all_scratch = scratch<S>();
   all_scratch.resize(static_cast<size_t>(omp_get_max_threads()) * per_thread);

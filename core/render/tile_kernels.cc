@@ -6,30 +6,35 @@ namespace es {
 
 int TileScratchSize(int num_features) {
   constexpr int kTilePixels = kTileSize * kTileSize;
-  return kTilePixels * (num_features + 2) + num_features;
+  // Per pixel: T, suffix, the feature gradients; per lane: the extra
+  // channels' gradients; then one Gaussian's summed gradient.
+  return kTilePixels * (num_features + 2) + kTileSize * num_features +
+         kTileGradHead + num_features;
 }
 
 template <>
-const TileKernelSet<float>& TileKernels<float>(SimdLevel level) {
+const TileKernelSet<float>& TileKernels<float>(SimdLevel level,
+                                               int num_extra) {
   switch (ResolveSimdLevel(level)) {
     case SimdLevel::kAvx512:
-      return tile_avx512::FloatKernels();
+      return tile_avx512::FloatKernels(num_extra);
     case SimdLevel::kAvx2:
-      return tile_avx2::FloatKernels();
+      return tile_avx2::FloatKernels(num_extra);
     default:
-      return tile_sse2::FloatKernels();
+      return tile_sse2::FloatKernels(num_extra);
   }
 }
 
 template <>
-const TileKernelSet<double>& TileKernels<double>(SimdLevel level) {
+const TileKernelSet<double>& TileKernels<double>(SimdLevel level,
+                                                 int num_extra) {
   switch (ResolveSimdLevel(level)) {
     case SimdLevel::kAvx512:
-      return tile_avx512::DoubleKernels();
+      return tile_avx512::DoubleKernels(num_extra);
     case SimdLevel::kAvx2:
-      return tile_avx2::DoubleKernels();
+      return tile_avx2::DoubleKernels(num_extra);
     default:
-      return tile_sse2::DoubleKernels();
+      return tile_sse2::DoubleKernels(num_extra);
   }
 }
 

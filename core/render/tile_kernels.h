@@ -62,14 +62,15 @@ struct TileKernelSet {
   void (*backward)(const TilePass<S>& pass, int tile, S* scratch);
 };
 
+// The kernels for an instruction set and a number of extra channels.
 template <typename S>
-const TileKernelSet<S>& TileKernels(SimdLevel level);
+const TileKernelSet<S>& TileKernels(SimdLevel level, int num_extra);
 
 // One set per instruction set (internal to the dispatch).
 #define ES_DECLARE_TILE_KERNELS(isa)                 \
   namespace isa {                                    \
-  const TileKernelSet<float>& FloatKernels();        \
-  const TileKernelSet<double>& DoubleKernels();      \
+  const TileKernelSet<float>& FloatKernels(int);     \
+  const TileKernelSet<double>& DoubleKernels(int);   \
   }
 ES_DECLARE_TILE_KERNELS(tile_sse2)
 ES_DECLARE_TILE_KERNELS(tile_avx2)

@@ -131,6 +131,33 @@ inline void RowAlphas(const Footprint<S>& g, int y, const RowRange& row,
   }
 }
 
+// The extra channels a pass renders: kExtra when the kernel was compiled
+// for that count (0 and 1, the common cases, so their loops unroll), else
+// the pass's own count (kExtra = -1).
+template <int kExtra, typename S>
+inline int NumExtra(const TilePass<S>& p) {
+  return kExtra >= 0 ? kExtra : p.num_extra;
+}
+
+// Whether every pixel of a tile has stopped (done[i] is 0 or 1).
+template <typename S>
+inline bool TileDone(const S* done) {
+  S least = 1;
+#pragma omp simd reduction(min : least)
+  for (int i = 0; i < kTilePixels; ++i) least = done[i] < least ? done[i] : least;
+  return least > S(0);
+}
+
+// The sum of a row's kTileSize lanes, as a tree of vector adds (an
+// omp simd sum reduction ends in one scalar add per lane); a is overwritten.
+template <typename S>
+inline S SumLanes(S* a) {
+  static_assert(kTileSize == 16, "the tree below adds 16 lanes");
+  for (int i = 0; i < 8; ++i) a[i] += a[i + 8];
+  for (int i = 0; i < 4; ++i) a[i] += a[i + 4];
+  return (a[0] + a[2]) + (a[1] + a[3]);
+}
+
 // ---------------------------------------------------------------- forward
 
 // Composites one Gaussian (features f: r, g, b, depth) over n pixels of a
@@ -138,34 +165,39 @@ inline void RowAlphas(const Footprint<S>& g, int y, const RowRange& row,
 // alpha at 0.99, stop a pixel before T would fall below 1e-4. Per-pixel
 // arrays start at the row's first pixel; w receives each pixel's weight
 // alpha * T (0 where skipped) for the extra channels. Written without
-// branches so it vectorizes. Returns how many pixels stopped.
+// branches so it vectorizes. Returns 1 if a pixel stopped, else 0.
 template <typename S>
-inline int CompositeRow(int n, const S* raw, const S* f, int rank, S* t,
+inline S CompositeRow(int n, const S* raw, const S* f, int rank, S* t,
                         S* done, int* last, S* acc0, S* acc1, S* acc2,
                         S* acc3, S* w) {
   const S max_alpha = static_cast<S>(kMaxAlpha);
   const S min_alpha = static_cast<S>(kMinAlpha);
   const S min_t = static_cast<S>(kMinTransmittance);
   const S f0 = f[0], f1 = f[1], f2 = f[2], f3 = f[3];
-  int stopped = 0;
-#pragma omp simd reduction(+ : stopped)
+  // Plain loads, `&` rather than `&&` (a short-circuit load of done[i]
+  // is a masked load GCC does not vectorize) and a max rather than a count
+  // of the stops (a float sum is combined lane by lane in order) keep the
+  // loop vectorized.
+  S stopped = 0;
+#pragma omp simd reduction(max : stopped)
   for (int i = 0; i < n; ++i) {
-    const S r = raw[i];
-    const bool live = r >= min_alpha && done[i] == S(0);
+    const S r = raw[i], d = done[i], ti = t[i];
+    const int li = last[i];
+    const bool live = (r >= min_alpha) & (d == S(0));
     const S alpha = live ? (r < max_alpha ? r : max_alpha) : S(0);
-    const S next_t = t[i] * (S(1) - alpha);
-    const bool stop = live && next_t < min_t;
-    const bool use = live && !stop;
-    const S wi = use ? alpha * t[i] : S(0);
+    const S next_t = ti * (S(1) - alpha);
+    const bool stop = live & (next_t < min_t);
+    const bool use = live & !stop;
+    const S wi = use ? alpha * ti : S(0);
     acc0[i] += wi * f0;
     acc1[i] += wi * f1;
     acc2[i] += wi * f2;
     acc3[i] += wi * f3;
     w[i] = wi;
-    t[i] = use ? next_t : t[i];
-    last[i] = use ? rank : last[i];
-    done[i] = stop ? S(1) : done[i];
-    stopped += stop ? 1 : 0;
+    t[i] = use ? next_t : ti;
+    last[i] = use ? rank : li;
+    done[i] = stop ? S(1) : d;
+    stopped = stop ? S(1) : stopped;
   }
   return stopped;
 }
@@ -194,10 +226,10 @@ void StoreTile(const TilePass<S>& p, const TileRect& r, const S* t,
   }
 }
 
-template <typename S>
+template <typename S, int kExtra>
 long long ForwardTile(const TilePass<S>& p, int tile, S* scratch) {
   const TileRect r(tile, p.tiles_x, p.width, p.height);
-  const int nf = p.num_features;
+  const int nf = 4 + NumExtra<kExtra>(p);
   // Per-pixel state of the tile, one array per quantity.
   S* t = scratch;
   S* done = t + kTilePixels;
@@ -207,10 +239,13 @@ long long ForwardTile(const TilePass<S>& p, int tile, S* scratch) {
   for (int i = 0; i < kTilePixels; ++i) t[i] = S(1);
   for (int i = 0; i < kTilePixels * (nf + 1); ++i) done[i] = S(0);
   for (int i = 0; i < kTilePixels; ++i) tile_last[i] = 0;
-  int active = (r.x1 - r.x0) * (r.y1 - r.y0);
+  // Pixels past the image's edge count as done for TileDone.
+  for (int y = 0; y < kTileSize; ++y)
+    for (int x = 0; x < kTileSize; ++x)
+      if (r.x0 + x >= r.x1 || r.y0 + y >= r.y1) done[y * kTileSize + x] = 1;
   long long evaluations = 0;
   const int begin = p.tile_offsets[tile], end = p.tile_offsets[tile + 1];
-  for (int e = begin; e < end && active > 0; ++e) {
+  for (int e = begin; e < end; ++e) {
     const int k = p.tile_entries[e];
     const Span s = r.Clip(&p.box[4 * static_cast<size_t>(k)]);
     if (s.empty()) continue;
@@ -219,20 +254,23 @@ long long ForwardTile(const TilePass<S>& p, int tile, S* scratch) {
     const S* f = &p.feature[static_cast<size_t>(nf) * k];
     const RowRange row = RowOf(r, s);
     const int n = row.n;
+    S stopped = 0;
     for (int y = s.y0; y < s.y1; ++y) {
       RowAlphas(g, y, row, raw);
       const int q = r.Offset(row.x0, y);
-      active -= CompositeRow(n, raw, f, e - begin + 1, t + q, done + q,
-                             tile_last + q, accum + q,
-                             accum + kTilePixels + q,
-                             accum + 2 * kTilePixels + q,
-                             accum + 3 * kTilePixels + q, w);
+      stopped += CompositeRow(n, raw, f, e - begin + 1, t + q, done + q,
+                              tile_last + q, accum + q,
+                              accum + kTilePixels + q,
+                              accum + 2 * kTilePixels + q,
+                              accum + 3 * kTilePixels + q, w);
       for (int c = 4; c < nf; ++c) {
         S* acc = accum + c * kTilePixels + q;
         const S fc = f[c];
+#pragma omp simd
         for (int i = 0; i < n; ++i) acc[i] += w[i] * fc;
       }
     }
+    if (stopped > S(0) && TileDone(done)) break;
   }
   StoreTile(p, r, t, accum, tile_last);
   return evaluations;
@@ -246,7 +284,8 @@ struct BackwardTileState {
   S* t;          // transmittance, recovered back to front
   S* suffix;     // d loss / d (everything behind), see BackwardRow
   S* g_feat;     // num_features arrays of pixel gradients
-  S* acc_extra;  // one Gaussian's extra-channel gradients
+  S* lane_extra;  // one Gaussian's extra-channel gradients, per lane
+  S* grad;        // one Gaussian's summed gradient (grad_stride terms)
   int last[kTilePixels];
 };
 
@@ -286,97 +325,110 @@ int LoadTileGradients(const TilePass<S>& p, const TileRect& r,
   return max_last;
 }
 
-// One Gaussian's 2D gradient summed over the pixels of a tile.
+// One Gaussian's 2D gradient over a tile, kept per lane of a row: the row
+// loops add lane by lane (no horizontal sum per row) and Sum() adds the
+// lanes once per Gaussian and tile.
 template <typename S>
-struct FootprintGradient {
-  S mx = 0, my = 0, ca = 0, cb = 0, cc = 0, opacity = 0;
-  S f0 = 0, f1 = 0, f2 = 0, f3 = 0;
+struct LaneGradient {
+  static constexpr int kTerms = kTileGradHead + 4;  // geometry, r, g, b, depth
+  S term[kTerms][kTileSize];
+  S used[kTileSize];
+
+  void Clear() {
+    for (int c = 0; c < kTerms; ++c)
+      for (int i = 0; i < kTileSize; ++i) term[c][i] = S(0);
+    for (int i = 0; i < kTileSize; ++i) used[i] = S(0);
+  }
+  // Sums the lanes into out[kTerms] (the lanes are overwritten); returns
+  // whether any pixel used the Gaussian.
+  bool Sum(S* out) {
+    for (int c = 0; c < kTerms; ++c) out[c] = SumLanes(term[c]);
+    return SumLanes(used) > S(0);
+  }
 };
 
 // Backward of CompositeRow, back to front, for n pixels of row y starting
 // at pixel x0: recovers T in front of the Gaussian (T / (1 - alpha)),
-// accumulates the Gaussian's gradients into *out and updates the per-pixel
-// suffix (d loss / d everything behind). g0..g3 are the pixels' gradients
-// for r, g, b, depth and g_extra_dot their extra gradients dotted with this
-// Gaussian's extras; w receives the weights for the extra channels.
-// Returns whether any pixel used the Gaussian.
+// adds the Gaussian's gradients lane by lane into *lanes and updates the
+// per-pixel suffix (d loss / d everything behind). g0..g3 are the pixels'
+// gradients for r, g, b, depth and g_extra_dot their extra gradients
+// dotted with this Gaussian's extras; w receives the weights for the extra
+// channels.
 template <typename S>
-inline bool BackwardRow(int n, const S* raw, const Footprint<S>& g,
+inline void BackwardRow(int n, const S* raw, const Footprint<S>& g,
                         const S* f, int rank, int x0, int y, const int* last,
                         S* t, S* suffix, const S* g0, const S* g1,
                         const S* g2, const S* g3, const S* g_extra_dot, S* w,
-                        FootprintGradient<S>* out) {
+                        LaneGradient<S>* lanes) {
   const S max_alpha = static_cast<S>(kMaxAlpha);
   const S min_alpha = static_cast<S>(kMinAlpha);
   const S f0 = f[0], f1 = f[1], f2 = f[2], f3 = f[3];
   const S inv_opacity = S(1) / g.opacity;
   const S dy = static_cast<S>(y) + S(0.5) - g.my;
   const S dx0 = static_cast<S>(x0) + S(0.5) - g.mx;
-  S mx = 0, my = 0, ca = 0, cb = 0, cc = 0, op = 0;
-  S a0 = 0, a1 = 0, a2 = 0, a3 = 0;
-  int used = 0;
-#pragma omp simd reduction(+ : mx, my, ca, cb, cc, op, a0, a1, a2, a3, used)
+  S* mx = lanes->term[0];
+  S* my = lanes->term[1];
+  S* ca = lanes->term[2];
+  S* cb = lanes->term[3];
+  S* cc = lanes->term[4];
+  S* op = lanes->term[5];
+  S* a0 = lanes->term[6];
+  S* a1 = lanes->term[7];
+  S* a2 = lanes->term[8];
+  S* a3 = lanes->term[9];
+  S* used = lanes->used;
+#pragma omp simd
   for (int i = 0; i < n; ++i) {
     const S r = raw[i];
-    const bool live = r >= min_alpha && rank < last[i];
+    const bool live = (r >= min_alpha) & (rank < last[i]);
     const S alpha = live ? (r < max_alpha ? r : max_alpha) : S(0);
-    const S one_minus = S(1) - alpha;
-    const S t_front = t[i] / one_minus;  // T in front of this Gaussian
+    const S inv_one_minus = S(1) / (S(1) - alpha);
+    const S t_front = t[i] * inv_one_minus;  // T in front of this Gaussian
     const S wi = alpha * t_front;
     w[i] = wi;
     // Selects, not products with wi = 0, so a non-finite gradient of a
     // pixel the Gaussian does not reach cannot leak into its sums.
-    a0 += live ? g0[i] * wi : S(0);
-    a1 += live ? g1[i] * wi : S(0);
-    a2 += live ? g2[i] * wi : S(0);
-    a3 += live ? g3[i] * wi : S(0);
+    a0[i] += live ? g0[i] * wi : S(0);
+    a1[i] += live ? g1[i] * wi : S(0);
+    a2[i] += live ? g2[i] * wi : S(0);
+    a3[i] += live ? g3[i] * wi : S(0);
     const S g_dot_f =
         g0[i] * f0 + g1[i] * f1 + g2[i] * f2 + g3[i] * f3 + g_extra_dot[i];
     // out = sum_i f_i a_i T_i + bg T_N: d out / d a_i = f_i T_i -
     // (everything behind i, background and 1 - alpha included) / (1 - a_i).
-    const S g_alpha = g_dot_f * t_front - suffix[i] / one_minus;
+    const S g_alpha = g_dot_f * t_front - suffix[i] * inv_one_minus;
     suffix[i] += live ? g_dot_f * wi : S(0);
     t[i] = t_front;
     // No gradient through the 0.99 clamp.
-    const S g_sigma = live && r <= max_alpha ? -g_alpha * alpha : S(0);
-    op += live && r <= max_alpha ? g_alpha * r * inv_opacity : S(0);
+    const bool unclamped = live & (r <= max_alpha);
+    const S g_sigma = unclamped ? -g_alpha * alpha : S(0);
+    op[i] += unclamped ? g_alpha * r * inv_opacity : S(0);
     const S dx = dx0 + static_cast<S>(i);
-    ca += S(0.5) * dx * dx * g_sigma;
-    cb += dx * dy * g_sigma;
-    cc += S(0.5) * dy * dy * g_sigma;
-    mx -= (g.ca * dx + g.cb * dy) * g_sigma;
-    my -= (g.cb * dx + g.cc * dy) * g_sigma;
-    used += live ? 1 : 0;
+    ca[i] += S(0.5) * dx * dx * g_sigma;
+    cb[i] += dx * dy * g_sigma;
+    cc[i] += S(0.5) * dy * dy * g_sigma;
+    mx[i] -= (g.ca * dx + g.cb * dy) * g_sigma;
+    my[i] -= (g.cb * dx + g.cc * dy) * g_sigma;
+    used[i] += live ? S(1) : S(0);
   }
-  out->mx += mx;
-  out->my += my;
-  out->ca += ca;
-  out->cb += cb;
-  out->cc += cc;
-  out->opacity += op;
-  out->f0 += a0;
-  out->f1 += a1;
-  out->f2 += a2;
-  out->f3 += a3;
-  return used > 0;
 }
 
 // Walks one Gaussian (entry `rank` of the tile's list) back over its span
-// of the tile, accumulating its gradient into *acc and st->acc_extra.
-// Returns whether any pixel used it.
-template <typename S>
+// of the tile, summing its gradient into st->grad. Returns whether any
+// pixel used it.
+template <typename S, int kExtra>
 bool BackwardGaussian(const TilePass<S>& p, const TileRect& r, const Span& s,
-                      int k, int rank, BackwardTileState<S>* st,
-                      FootprintGradient<S>* acc) {
-  const int nf = p.num_features, num_extra = p.num_extra;
+                      int k, int rank, BackwardTileState<S>* st) {
+  const int num_extra = NumExtra<kExtra>(p), nf = 4 + num_extra;
   const Footprint<S> g(&p.geom[static_cast<size_t>(kTileGeomStride) * k]);
   const S* f = &p.feature[static_cast<size_t>(nf) * k];
   const RowRange row = RowOf(r, s);
   const int n = row.n;
   S w[kTileSize], raw[kTileSize], g_extra_dot[kTileSize];
+  LaneGradient<S> lanes;
+  lanes.Clear();
   for (int i = 0; i < kTileSize; ++i) g_extra_dot[i] = S(0);
-  for (int c = 0; c < num_extra; ++c) st->acc_extra[c] = S(0);
-  bool touched = false;
+  for (int i = 0; i < num_extra * kTileSize; ++i) st->lane_extra[i] = S(0);
   for (int y = s.y0; y < s.y1; ++y) {
     RowAlphas(g, y, row, raw);
     const int q = r.Offset(row.x0, y);
@@ -384,45 +436,43 @@ bool BackwardGaussian(const TilePass<S>& p, const TileRect& r, const Span& s,
     for (int c = 4; c < nf; ++c) {
       const S* gc = gf + c * kTilePixels;
       const S fc = f[c];
+#pragma omp simd
       for (int i = 0; i < n; ++i)
         g_extra_dot[i] = (c == 4 ? S(0) : g_extra_dot[i]) + gc[i] * fc;
     }
-    touched |= BackwardRow(n, raw, g, f, rank, row.x0, y, st->last + q,
-                           st->t + q, st->suffix + q, gf, gf + kTilePixels,
-                           gf + 2 * kTilePixels, gf + 3 * kTilePixels,
-                           g_extra_dot, w, acc);
+    BackwardRow(n, raw, g, f, rank, row.x0, y, st->last + q, st->t + q,
+                st->suffix + q, gf, gf + kTilePixels, gf + 2 * kTilePixels,
+                gf + 3 * kTilePixels, g_extra_dot, w, &lanes);
     for (int c = 4; c < nf; ++c) {
       const S* gc = gf + c * kTilePixels;
-      S sum = 0;
-      for (int i = 0; i < n; ++i) sum += w[i] != S(0) ? gc[i] * w[i] : S(0);
-      st->acc_extra[c - 4] += sum;
+      S* lane = st->lane_extra + (c - 4) * kTileSize;
+#pragma omp simd
+      for (int i = 0; i < n; ++i)
+        lane[i] += w[i] != S(0) ? gc[i] * w[i] : S(0);
     }
   }
-  return touched;
+  for (int c = 0; c < num_extra; ++c)
+    st->grad[LaneGradient<S>::kTerms + c] =
+        SumLanes(st->lane_extra + c * kTileSize);
+  return lanes.Sum(st->grad);
 }
 
 // Adds one Gaussian's tile gradient to its row of grad2d (tiles run in
 // parallel, hence atomically).
 template <typename S>
-void AddGaussianGradient(const TilePass<S>& p, int k,
-                         const FootprintGradient<S>& acc,
-                         const S* acc_extra) {
-  const S local[kTileGradHead + 4] = {acc.mx, acc.my, acc.ca,      acc.cb,
-                                      acc.cc, acc.opacity, acc.f0, acc.f1,
-                                      acc.f2, acc.f3};
+void AddGaussianGradient(const TilePass<S>& p, int k, int num_extra,
+                         const S* grad) {
   double* out = &p.grad2d[static_cast<size_t>(p.grad_stride) * k];
-  for (int c = 0; c < kTileGradHead + 4; ++c) {
+  const int terms = LaneGradient<S>::kTerms + num_extra;
+  for (int c = 0; c < terms; ++c) {
 #pragma omp atomic
-    out[c] += static_cast<double>(local[c]);
-  }
-  for (int c = 0; c < p.num_extra; ++c) {
-#pragma omp atomic
-    out[kTileGradHead + 4 + c] += static_cast<double>(acc_extra[c]);
+    out[c] += static_cast<double>(grad[c]);
   }
 }
 
-template <typename S>
+template <typename S, int kExtra>
 void BackwardTile(const TilePass<S>& p, int tile, S* scratch) {
+  const int num_extra = NumExtra<kExtra>(p);
   const int begin = p.tile_offsets[tile], end = p.tile_offsets[tile + 1];
   if (begin == end) return;
   const TileRect r(tile, p.tiles_x, p.width, p.height);
@@ -430,7 +480,8 @@ void BackwardTile(const TilePass<S>& p, int tile, S* scratch) {
   st.t = scratch;
   st.suffix = st.t + kTilePixels;
   st.g_feat = st.suffix + kTilePixels;
-  st.acc_extra = st.g_feat + p.num_features * kTilePixels;
+  st.lane_extra = st.g_feat + p.num_features * kTilePixels;
+  st.grad = st.lane_extra + p.num_extra * kTileSize;
   for (int i = 0; i < kTilePixels; ++i) st.last[i] = 0;
   if (kFullRows && r.x1 - r.x0 < kTileSize) {
     // Full rows also run over the pixels past the image's right edge.
@@ -442,19 +493,35 @@ void BackwardTile(const TilePass<S>& p, int tile, S* scratch) {
     const int k = p.tile_entries[e];
     const Span s = r.Clip(&p.box[4 * static_cast<size_t>(k)]);
     if (s.empty()) continue;
-    FootprintGradient<S> acc;
-    if (BackwardGaussian(p, r, s, k, e - begin, &st, &acc))
-      AddGaussianGradient(p, k, acc, st.acc_extra);
+    if (BackwardGaussian<S, kExtra>(p, r, s, k, e - begin, &st))
+      AddGaussianGradient(p, k, num_extra, st.grad);
   }
 }
 
+template <typename S, int kExtra>
+const TileKernelSet<S> kKernels = {&ForwardTile<S, kExtra>,
+                                   &BackwardTile<S, kExtra>};
+
 template <typename S>
-const TileKernelSet<S> kKernels = {&ForwardTile<S>, &BackwardTile<S>};
+const TileKernelSet<S>& KernelsFor(int num_extra) {
+  switch (num_extra) {
+    case 0:
+      return kKernels<S, 0>;
+    case 1:
+      return kKernels<S, 1>;
+    default:
+      return kKernels<S, -1>;
+  }
+}
 
 }  // namespace
 
-const TileKernelSet<float>& FloatKernels() { return kKernels<float>; }
-const TileKernelSet<double>& DoubleKernels() { return kKernels<double>; }
+const TileKernelSet<float>& FloatKernels(int num_extra) {
+  return KernelsFor<float>(num_extra);
+}
+const TileKernelSet<double>& DoubleKernels(int num_extra) {
+  return KernelsFor<double>(num_extra);
+}
 
 }  // namespace ES_TILE_ISA
 }  // namespace es
