@@ -7,9 +7,20 @@
 // Args: width, height, Gaussians, threads, use_double, simd (0 auto, 1
 // SSE2, 2 AVX2, 3 AVX-512; levels the CPU lacks are skipped). Counters:
 // visible Gaussians and Gaussian-pixel pairs evaluated per second (pairs/s).
+//
+// BM_TileSplit simulates the tile passes on more threads than the machine
+// has: each tile's cost is the Gaussian-pixel pairs the forward pass
+// evaluates in it (recomputed from the projection, early stop included),
+// handed out as the rasterizer's schedule(dynamic, 1) hands out tiles
+// (core/profile/schedule_simulation.h). Counters: speedup (one thread's
+// work over the simulated makespan, an upper bound: no scheduling overhead
+// or memory contention), largest_tile (the costliest tile's share of the
+// work; 1 / largest_tile bounds any speedup) and pairs_model (the modelled
+// pairs over those the forward pass counted, 1 when the model is exact).
 
 #include <omp.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -20,6 +31,9 @@
 #include "apps/common/benchmark_main.h"
 #include "core/model/camera.h"
 #include "core/model/gaussians.h"
+#include "core/profile/schedule_simulation.h"
+#include "core/render/raster_constants.h"
+#include "core/render/raster_project.h"
 #include "core/render/rasterizer.h"
 
 namespace es {
@@ -142,8 +156,111 @@ void Sizes(benchmark::internal::Benchmark* b) {
   b->Unit(benchmark::kMillisecond)->UseRealTime()->MeasureProcessCPUTime();
 }
 
+// Per tile (row-major), the Gaussian-pixel pairs the forward pass
+// evaluates there: each binned Gaussian's pixel box within the tile, in
+// depth order, until every pixel of the tile has stopped (its transmittance
+// would fall below kMinTransmittance), as the tile pass composites (here
+// in double, so a pixel on the edge of a threshold may stop one Gaussian
+// apart: pairs_model checks the total).
+std::vector<double> TilePairs(const Camera& camera, const SplatView& view) {
+  const ProjectionCamera cam(camera);
+  std::vector<ProjectedSplat> splats;
+  std::vector<int> index;
+  for (int i = 0; i < view.count; ++i) {
+    ProjectedSplat p;
+    if (!ProjectSplat(cam, view, i, &p)) continue;
+    splats.push_back(p);
+    index.push_back(static_cast<int>(index.size()));
+  }
+  std::sort(index.begin(), index.end(), [&splats](int a, int b) {
+    const double da = splats[a].depth, db = splats[b].depth;
+    return da < db || (da == db && a < b);
+  });
+  const int tiles = cam.tiles_x * cam.tiles_y;
+  std::vector<std::vector<int>> lists(tiles);
+  for (int k : index) {
+    const ProjectedSplat& p = splats[k];
+    for (int ty = p.tile_y0; ty < p.tile_y1; ++ty) {
+      for (int tx = p.tile_x0; tx < p.tile_x1; ++tx)
+        lists[ty * cam.tiles_x + tx].push_back(k);
+    }
+  }
+  std::vector<double> pairs(tiles, 0.0);
+  for (int tile = 0; tile < tiles; ++tile) {
+    const int x0 = (tile % cam.tiles_x) * kTileSize;
+    const int y0 = (tile / cam.tiles_x) * kTileSize;
+    const int x1 = std::min(x0 + kTileSize, cam.width);
+    const int y1 = std::min(y0 + kTileSize, cam.height);
+    double t[kTileSize * kTileSize];
+    bool done[kTileSize * kTileSize] = {};
+    std::fill(t, t + kTileSize * kTileSize, 1.0);
+    int active = (x1 - x0) * (y1 - y0);
+    for (size_t e = 0; e < lists[tile].size() && active > 0; ++e) {
+      const ProjectedSplat& p = splats[lists[tile][e]];
+      const int bx0 = std::max(x0, p.px0), bx1 = std::min(x1, p.px1);
+      const int by0 = std::max(y0, p.py0), by1 = std::min(y1, p.py1);
+      if (bx1 <= bx0 || by1 <= by0) continue;
+      pairs[tile] += double(bx1 - bx0) * (by1 - by0);
+      for (int y = by0; y < by1; ++y) {
+        for (int x = bx0; x < bx1; ++x) {
+          const int q = (y - y0) * kTileSize + (x - x0);
+          if (done[q]) continue;
+          const double dx = x + 0.5 - p.mean2d[0], dy = y + 0.5 - p.mean2d[1];
+          const double sigma =
+              0.5 * (p.conic[0] * dx * dx + p.conic[2] * dy * dy) +
+              p.conic[1] * dx * dy;
+          const double alpha =
+              std::min(kMaxAlpha, p.opacity * std::exp(-sigma));
+          if (sigma < 0 || alpha < kMinAlpha) continue;
+          const double next = t[q] * (1 - alpha);
+          if (next < kMinTransmittance) {
+            done[q] = true;
+            --active;
+          } else {
+            t[q] = next;
+          }
+        }
+      }
+    }
+  }
+  return pairs;
+}
+
+void BM_TileSplit(benchmark::State& state) {
+  const int width = state.range(0), height = state.range(1);
+  const BenchScene scene = MakeScene(width, height, state.range(2));
+  const int threads = state.range(3);
+  const SplatView view = scene.View();
+  Rasterizer rasterizer;
+  RenderResult result;
+  rasterizer.Forward(scene.camera, view, RenderOptions(), &result);
+  const std::vector<double> pairs = TilePairs(scene.camera, view);
+  double total = 0, largest = 0;
+  for (double p : pairs) {
+    total += p;
+    largest = std::max(largest, p);
+  }
+  double makespan = 0;
+  for (auto _ : state) {
+    makespan = DynamicScheduleMakespan(pairs, threads, 1);
+    benchmark::DoNotOptimize(makespan);
+  }
+  state.counters["tiles"] = static_cast<double>(pairs.size());
+  state.counters["speedup"] = total / makespan;
+  state.counters["largest_tile"] = largest / total;
+  state.counters["pairs_model"] =
+      total / static_cast<double>(rasterizer.num_pair_evaluations());
+}
+
 BENCHMARK(BM_Forward)->Apply(Sizes);
 BENCHMARK(BM_ForwardBackward)->Apply(Sizes);
+BENCHMARK(BM_TileSplit)->Apply([](benchmark::internal::Benchmark* b) {
+  b->ArgNames({"w", "h", "n", "threads"});
+  for (int threads : {1, 2, 4, 8, 16}) {
+    b->Args({320, 240, 10000, threads});
+    b->Args({1168, 880, 300000, threads});
+  }
+});
 
 }  // namespace
 }  // namespace es

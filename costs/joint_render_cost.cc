@@ -122,6 +122,16 @@ double JointRenderCost::LossGradient(double const* const* parameters,
   return 0.5 * r * r;
 }
 
+double JointRenderCost::AddLossGradient(double const* const* parameters,
+                                        double** gradients) const {
+  LoopModelView model = View(parameters);
+  image_loss_.AttachDynamicChannel(parameters[kDynamicBlock],
+                                   &model.canonical);
+  const double r = ScalarLossResidual(Forward(model, true));
+  Backward(model, gradients, /*accumulate=*/true);
+  return 0.5 * r * r;
+}
+
 double JointRenderCost::RenderForGradient(
     double const* const* parameters) const {
   LoopModelView model = View(parameters);
@@ -138,7 +148,7 @@ void JointRenderCost::BackwardWithImageGradient(
   image_loss_.AttachDynamicChannel(parameters[kDynamicBlock],
                                    &model.canonical);
   if (extra_d_rgb) image_loss_.AddRgbGradient(extra_d_rgb);
-  Backward(model, gradients);
+  Backward(model, gradients, /*accumulate=*/false);
 }
 
 double JointRenderCost::Forward(const LoopModelView& model,
@@ -158,10 +168,10 @@ double JointRenderCost::Forward(const LoopModelView& model,
 }
 
 void JointRenderCost::Backward(const LoopModelView& model,
-                               double** jacobians) const {
+                               double** jacobians, bool accumulate) const {
   // Gradients accumulate into the rows.
   const std::vector<int32_t>& sizes = layout_.sizes();
-  for (int b = 0; b < layout_.num_blocks(); ++b)
+  for (int b = 0; !accumulate && b < layout_.num_blocks(); ++b)
     if (jacobians[b]) std::fill(jacobians[b], jacobians[b] + sizes[b], 0.0);
 
   rasterizer_->Backward(image_loss_.ImageGradients(), &grads_);
@@ -183,8 +193,16 @@ void JointRenderCost::Backward(const LoopModelView& model,
   composer_.Backward(model, grads_,
                      residual_on() ? d_residuals_.data() : nullptr, out);
   // The extra channel is the canonical probability (D does not touch it).
-  if (double* jac = jacobians[kDynamicBlock])
+  double* jac = jacobians[kDynamicBlock];
+  if (jac == nullptr) return;
+  if (!accumulate) {
     image_loss_.DynamicLogitGradient(grads_, structure_.count, 1.0, jac);
+    return;
+  }
+  dynamic_logit_grad_.resize(structure_.count);
+  image_loss_.DynamicLogitGradient(grads_, structure_.count, 1.0,
+                                   dynamic_logit_grad_.data());
+  for (int i = 0; i < structure_.count; ++i) jac[i] += dynamic_logit_grad_[i];
 }
 
 ceres::CostFunction* CreateJointPhotometricCost(

@@ -75,6 +75,11 @@ class JointRenderCost : public ceres::CostFunction {
   // EvaluateScalarLossGradient.
   double LossGradient(double const* const* parameters,
                       double** gradients) const;
+  // LossGradient that adds (+=) d loss / d block to the rows instead, so a
+  // caller that keeps them zero between calls (the trainer, whose field
+  // gradients touch few texels) need not clear whole field-sized rows.
+  double AddLossGradient(double const* const* parameters,
+                         double** gradients) const;
 
   // LossGradient in two halves, for a loss across frames between them:
   // RenderForGradient composes, renders and scores the frame (returning
@@ -106,8 +111,10 @@ class JointRenderCost : public ceres::CostFunction {
   // Composes, renders and scores the frame; returns the weighted loss and
   // keeps what Backward needs when want_grad.
   double Forward(const LoopModelView& model, bool want_grad) const;
-  // Writes d loss / d block into every non-null gradient row.
-  void Backward(const LoopModelView& model, double** gradients) const;
+  // Writes (or, with accumulate, adds) d loss / d block into every
+  // non-null gradient row.
+  void Backward(const LoopModelView& model, double** gradients,
+                bool accumulate = false) const;
 
   const Frame* frame_ = nullptr;
   int frame_index_ = 0;
@@ -123,6 +130,7 @@ class JointRenderCost : public ceres::CostFunction {
   mutable std::vector<double> d_residuals_;
   mutable RenderResult render_;
   mutable SplatGradients grads_;
+  mutable std::vector<double> dynamic_logit_grad_;
   mutable double last_residual_ = 0;
 };
 

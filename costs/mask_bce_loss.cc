@@ -21,7 +21,14 @@ double Bce(const double* probability, const T* target, int n, double scale,
     const double p = std::min(std::max(raw, kMaskProbabilityMargin),
                               1.0 - kMaskProbabilityMargin);
     const double t = target[i];
-    sum -= t * std::log(p) + (1 - t) * std::log(1 - p);
+    // Masks are mostly exactly 0 or 1: one logarithm then, not two.
+    if (t == 0) {
+      sum -= std::log(1 - p);
+    } else if (t == 1) {
+      sum -= std::log(p);
+    } else {
+      sum -= t * std::log(p) + (1 - t) * std::log(1 - p);
+    }
     if (d_probability) {
       d_probability[i] =
           p == raw ? scale * inv_n * ((1 - t) / (1 - p) - t / p) : 0.0;

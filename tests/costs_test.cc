@@ -195,5 +195,13 @@ TEST(CostsTest, MaskBceValueGradientAndClamp) {
   EXPECT_EQ(d[2], 0.0);
 }
 
+TEST(CostsTest, MaskBceSoftTargetUsesBothTerms) {
+  const cv::Mat mask = (cv::Mat_<double>(1, 2) << 0.25, 1.0);
+  const double p[2] = {0.6, 0.9};
+  const double l = MaskBceLoss(p, mask, 1.0, nullptr);
+  const double soft = -(0.25 * std::log(0.6) + 0.75 * std::log(0.4));
+  EXPECT_NEAR(l, (soft - std::log(0.9)) / 2, 1e-12);
+}
+
 }  // namespace
 }  // namespace es

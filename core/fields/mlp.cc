@@ -10,10 +10,6 @@
 namespace es {
 namespace {
 
-using ConstMap = Eigen::Map<const RowMatrix>;
-using Map = Eigen::Map<RowMatrix>;
-using ConstVecMap = Eigen::Map<const Eigen::VectorXd>;
-
 // Rows per chunk: a chunk's activations of all layers stay in L2 cache.
 constexpr int kChunkRows = 512;
 
@@ -23,7 +19,8 @@ Mlp::Mlp(int input_dim, int width, int depth, int output_dim)
     : input_dim_(input_dim),
       width_(width),
       depth_(depth),
-      output_dim_(output_dim) {
+      output_dim_(output_dim),
+      kernels_(&MlpKernels(SimdLevel::kAuto)) {
   CHECK_GE(input_dim, 1);
   CHECK_GE(output_dim, 1);
   CHECK_GE(depth, 0);
@@ -53,7 +50,20 @@ void Mlp::Forward(const double* params, int n, const double* input, double* out,
   ws->batch = n;
   ws->input = input;
   ws->hidden.resize(depth_);
-  for (RowMatrix& h : ws->hidden) h.resize(n, width_);
+  const size_t hidden_size = static_cast<size_t>(n) * width_;
+  for (std::vector<double>& h : ws->hidden) {
+    if (h.size() < hidden_size) h.resize(hidden_size);
+  }
+  // The products run over W_l^T (in_l x out_l), so their rows are outputs.
+  ws->transposed.resize(num_params());
+  for (int l = 0; l <= depth_; ++l) {
+    const int in = layer_in(l), o = layer_out(l);
+    const double* w = params + offsets_[l];
+    double* wt = ws->transposed.data() + offsets_[l];
+    for (int j = 0; j < o; ++j) {
+      for (int i = 0; i < in; ++i) wt[i * o + j] = w[j * in + i];
+    }
+  }
   const int chunks = (n + kChunkRows - 1) / kChunkRows;
 #pragma omp parallel for schedule(static) if (chunks > 1)
   for (int c = 0; c < chunks; ++c) {
@@ -67,18 +77,17 @@ void Mlp::ForwardRows(const double* params, int r0, int rows,
                       MlpWorkspace* ws) const {
   for (int l = 0; l <= depth_; ++l) {
     const int in = layer_in(l), o = layer_out(l);
-    ConstMap w(params + offsets_[l], o, in);
-    ConstVecMap b(params + offsets_[l] + o * in, o);
-    ConstMap a(
+    const double* a =
         l == 0 ? input + static_cast<size_t>(r0) * in
-               : ws->hidden[l - 1].data() + static_cast<size_t>(r0) * width_,
-        rows, in);
-    Map y(l == depth_ ? out + static_cast<size_t>(r0) * o
-                      : ws->hidden[l].data() + static_cast<size_t>(r0) * o,
-          rows, o);
-    y.noalias() = a * w.transpose();
-    y.rowwise() += b.transpose();
-    if (l < depth_) y = y.cwiseMax(0.0);
+               : ws->hidden[l - 1].data() + static_cast<size_t>(r0) * width_;
+    double* y = l == depth_ ? out + static_cast<size_t>(r0) * o
+                            : ws->hidden[l].data() + static_cast<size_t>(r0) * o;
+    kernels_->multiply(rows, in, o, a, ws->transposed.data() + offsets_[l],
+                       params + offsets_[l] + o * in, /*accumulate=*/false, y);
+    if (l < depth_) {
+      const size_t size = static_cast<size_t>(rows) * o;
+      for (size_t i = 0; i < size; ++i) y[i] = std::max(y[i], 0.0);
+    }
   }
 }
 
@@ -87,8 +96,9 @@ void Mlp::Backward(const double* params, const double* d_out, double* d_params,
   const int n = ws->batch;
   CHECK(ws->input != nullptr) << "Mlp::Backward before Forward";
   if (depth_ > 0) {
-    ws->grad.resize(n, width_);
-    ws->grad_prev.resize(n, width_);
+    const size_t size = static_cast<size_t>(n) * width_;
+    if (ws->grad.size() < size) ws->grad.resize(size);
+    if (ws->grad_prev.size() < size) ws->grad_prev.resize(size);
   }
   const int chunks = (n + kChunkRows - 1) / kChunkRows;
   const int threads = chunks > 1 ? omp_get_max_threads() : 1;
@@ -112,10 +122,9 @@ void Mlp::Backward(const double* params, const double* d_out, double* d_params,
     }
   }
   if (d_params == nullptr) return;
-  Eigen::Map<Eigen::VectorXd> total(d_params, num_params());
   for (int t = 0; t + 1 < threads; ++t) {
-    total += Eigen::Map<const Eigen::VectorXd>(ws->thread_grads[t].data(),
-                                               num_params());
+    const double* g = ws->thread_grads[t].data();
+    for (int i = 0; i < num_params(); ++i) d_params[i] += g[i];
   }
 }
 
@@ -124,35 +133,37 @@ void Mlp::BackwardRows(const double* params, int r0, int rows,
                        MlpWorkspace* ws) const {
   // Layer by layer from the output; `g` is dL/d(layer output), written into
   // grad and grad_prev alternately.
-  const double* g_data = d_out + static_cast<size_t>(r0) * output_dim_;
-  RowMatrix* buffers[2] = {&ws->grad, &ws->grad_prev};
+  const double* g = d_out + static_cast<size_t>(r0) * output_dim_;
+  std::vector<double>* buffers[2] = {&ws->grad, &ws->grad_prev};
   for (int l = depth_; l >= 0; --l) {
     const int in = layer_in(l), o = layer_out(l);
-    ConstMap g(g_data, rows, o);
-    ConstMap w(params + offsets_[l], o, in);
-    ConstMap a(
+    const double* w = params + offsets_[l];
+    const double* a =
         l == 0 ? ws->input + static_cast<size_t>(r0) * in
-               : ws->hidden[l - 1].data() + static_cast<size_t>(r0) * width_,
-        rows, in);
+               : ws->hidden[l - 1].data() + static_cast<size_t>(r0) * width_;
     if (d_params != nullptr) {
-      Map dw(d_params + offsets_[l], o, in);
-      dw.noalias() += g.transpose() * a;
-      Eigen::Map<Eigen::VectorXd> db(d_params + offsets_[l] + o * in, o);
-      db += g.colwise().sum().transpose();
+      double* dw = d_params + offsets_[l];
+      kernels_->multiply_transposed(rows, o, in, g, a, dw);
+      double* db = dw + o * in;
+      for (int r = 0; r < rows; ++r) {
+        for (int j = 0; j < o; ++j) db[j] += g[r * o + j];
+      }
     }
     if (l == 0) {
       if (d_input != nullptr) {
-        Map(d_input + static_cast<size_t>(r0) * in, rows, in).noalias() +=
-            g * w;
+        kernels_->multiply(rows, o, in, g, w, nullptr, /*accumulate=*/true,
+                           d_input + static_cast<size_t>(r0) * in);
       }
       break;
     }
     // Through the ReLU of the previous layer: zero where it was inactive.
     double* next = buffers[l % 2]->data() + static_cast<size_t>(r0) * in;
-    Map g_prev(next, rows, in);
-    g_prev.noalias() = g * w;
-    g_prev = (a.array() > 0.0).select(g_prev, 0.0);
-    g_data = next;
+    kernels_->multiply(rows, o, in, g, w, nullptr, /*accumulate=*/false, next);
+    const size_t size = static_cast<size_t>(rows) * in;
+    for (size_t i = 0; i < size; ++i) {
+      if (!(a[i] > 0.0)) next[i] = 0.0;
+    }
+    g = next;
   }
 }
 

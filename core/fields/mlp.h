@@ -6,19 +6,25 @@
 
 #include <Eigen/Core>
 
+#include "core/fields/mlp_kernels.h"
+
 namespace es {
 
 using RowMatrix =
     Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
 // Activations kept by Mlp::Forward for Mlp::Backward, and the backward
-// scratch. Reused across calls: no allocation after the first call at a
-// given batch size.
+// scratch, as row-major arrays. Buffers only grow: no allocation after the
+// first call at the largest batch size.
 struct MlpWorkspace {
   int batch = 0;
   const double* input = nullptr;  // not owned; must outlive Backward
-  std::vector<RowMatrix> hidden;  // post-ReLU activations, one per layer
-  RowMatrix grad, grad_prev;      // dL/d(layer output), alternating layers
+  // Post-ReLU activations, one batch x width array per layer.
+  std::vector<std::vector<double>> hidden;
+  // dL/d(layer output), alternating layers (batch x width each).
+  std::vector<double> grad, grad_prev;
+  // Every layer's W_l^T (in_l x out_l) at W_l's offset, for Forward.
+  std::vector<double> transposed;
   // Parameter gradients of threads other than the first, summed at the end.
   std::vector<std::vector<double>> thread_grads;
 };
@@ -26,7 +32,8 @@ struct MlpWorkspace {
 // Fully connected network: `depth` hidden layers of `width` ReLU units and a
 // linear output layer. Batched over rows (batch x features, row-major): the
 // batch is cut into chunks of rows that go through all layers while they
-// sit in cache, chunks in parallel (OpenMP), each layer an Eigen product.
+// sit in cache, chunks in parallel (OpenMP), each layer one product of
+// core/fields/mlp_kernels.h for the best instruction set the CPU has.
 //
 // Weights are ONE contiguous double array (a Ceres parameter block). Layer
 // l = 0 .. depth maps in_l -> out_l (in_0 = input_dim, out_depth =
@@ -41,6 +48,9 @@ class Mlp {
   int width() const { return width_; }
   int depth() const { return depth_; }
   int num_params() const { return offsets_.back(); }
+  // The kernels' instruction set (kAuto: the best the CPU supports; tests
+  // and benchmarks compare them).
+  void set_simd_level(SimdLevel level) { kernels_ = &MlpKernels(level); }
 
   // Kaiming-uniform weights (bound sqrt(6 / in), seeded), zero biases; the
   // output layer's weights are multiplied by last_layer_scale so a new
@@ -69,6 +79,7 @@ class Mlp {
 
   int input_dim_, width_, depth_, output_dim_;
   std::vector<int> offsets_;  // start of W_l; offsets_.back() = total size
+  const MlpKernelSet* kernels_;
 };
 
 }  // namespace es

@@ -1,10 +1,16 @@
 #include "core/fields/motion_field.h"
 
+#include <algorithm>
+
 #include <glog/logging.h>
 
 #include "core/profile/stage_profile.h"
 
 namespace es {
+
+void Grow(size_t size, std::vector<double>* buffer) {
+  if (buffer->size() < size) buffer->resize(size);
+}
 
 MotionField::MotionField(const MotionFieldOptions& options)
     : options_(options),
@@ -41,10 +47,11 @@ void MotionField::Evaluate(const FieldParams& p, int n, const double* x,
   ScopedStage timer(Stage::kFieldsForward);
   ws->batch = n;
   ws->x = x;
-  ws->features.resize(n, triplane_.output_dim());
+  Grow(static_cast<size_t>(n) * triplane_.output_dim(), &ws->features);
   triplane_.Sample(p.triplane, n, x, ws->features.data());
   mlp_.Forward(p.mlp, n, ws->features.data(), v, &ws->mlp);
-  Eigen::Map<RowMatrix>(v, n, 3) *= output_scale();
+  const double scale = output_scale();
+  for (int i = 0; i < 3 * n; ++i) v[i] *= scale;
 }
 
 void MotionField::Backward(const FieldParams& p, const double* d_v,
@@ -53,10 +60,14 @@ void MotionField::Backward(const FieldParams& p, const double* d_v,
   ScopedStage timer(Stage::kFieldsBackward);
   const int n = ws->batch;
   CHECK(ws->x != nullptr) << "MotionField::Backward before Evaluate";
-  ws->d_mlp_out = Eigen::Map<const RowMatrix>(d_v, n, 3) * output_scale();
+  Grow(3 * static_cast<size_t>(n), &ws->d_mlp_out);
+  const double scale = output_scale();
+  for (int i = 0; i < 3 * n; ++i) ws->d_mlp_out[i] = d_v[i] * scale;
   const bool need_features = grads.triplane != nullptr || d_x != nullptr;
   if (need_features) {
-    ws->d_features.setZero(n, triplane_.output_dim());
+    const size_t size = static_cast<size_t>(n) * triplane_.output_dim();
+    Grow(size, &ws->d_features);
+    std::fill(ws->d_features.begin(), ws->d_features.begin() + size, 0.0);
   }
   mlp_.Backward(p.mlp, ws->d_mlp_out.data(), grads.mlp,
                 need_features ? ws->d_features.data() : nullptr, &ws->mlp);

@@ -37,15 +37,19 @@ struct FieldGradients {
   double* mlp = nullptr;
 };
 
-// State of one Evaluate kept for Backward; reused without reallocation.
+// State of one Evaluate kept for Backward, row-major arrays; buffers only
+// grow, so no allocation after the first call at the largest batch.
 struct FieldWorkspace {
   int batch = 0;
-  const double* x = nullptr;  // not owned; must outlive Backward
-  RowMatrix features;         // triplane output, batch x feature dim
-  RowMatrix d_features;
-  RowMatrix d_mlp_out;
+  const double* x = nullptr;     // not owned; must outlive Backward
+  std::vector<double> features;  // MLP input, batch x its input dim
+  std::vector<double> d_features;
+  std::vector<double> d_mlp_out;
   MlpWorkspace mlp;
 };
+
+// Resizes *buffer to at least `size` values, never shrinking it.
+void Grow(size_t size, std::vector<double>* buffer);
 
 // The static Eulerian velocity field V: R^3 -> R^3, V(x) = output_scale() *
 // MLP(triplane(x)), displacement per frame in world units.

@@ -1,5 +1,7 @@
 #include "core/fields/residual_field.h"
 
+#include <algorithm>
+
 #include <glog/logging.h>
 
 #include "core/fields/positional_encoding.h"
@@ -50,7 +52,7 @@ void ResidualField::Evaluate(const FieldParams& params, int n, const double* x0,
   const int in_dim = mlp_.input_dim();
   ws->batch = n;
   ws->x = x0;
-  ws->features.resize(n, in_dim);
+  Grow(static_cast<size_t>(n) * in_dim, &ws->features);
   triplane_.Sample(params.triplane, n, x0, ws->features.data(), in_dim);
   const double p_period = 2.0 * options_.max_cycles;
   for (int i = 0; i < n; ++i) {
@@ -60,8 +62,10 @@ void ResidualField::Evaluate(const FieldParams& params, int n, const double* x0,
                      row + 2 * options_.t_frequencies);
   }
   mlp_.Forward(params.mlp, n, ws->features.data(), out, &ws->mlp);
-  Eigen::Map<RowMatrix> y(out, n, kResidualDim);
-  y.array().rowwise() *= output_scale_.transpose().array();
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < kResidualDim; ++j)
+      out[i * kResidualDim + j] *= output_scale_[j];
+  }
 }
 
 void ResidualField::Backward(const FieldParams& params, const double* d_out,
@@ -70,11 +74,20 @@ void ResidualField::Backward(const FieldParams& params, const double* d_out,
   ScopedStage timer(Stage::kFieldsBackward);
   const int n = ws->batch;
   CHECK(ws->x != nullptr) << "ResidualField::Backward before Evaluate";
-  ws->d_mlp_out = Eigen::Map<const RowMatrix>(d_out, n, kResidualDim);
-  ws->d_mlp_out.array().rowwise() *= output_scale_.transpose().array();
+  Grow(static_cast<size_t>(n) * kResidualDim, &ws->d_mlp_out);
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < kResidualDim; ++j) {
+      ws->d_mlp_out[i * kResidualDim + j] =
+          d_out[i * kResidualDim + j] * output_scale_[j];
+    }
+  }
   const bool need_features = grads.triplane != nullptr || d_x0 != nullptr;
   // d_features spans the whole MLP input; the encodings' part is unused.
-  if (need_features) ws->d_features.setZero(n, mlp_.input_dim());
+  if (need_features) {
+    const size_t size = static_cast<size_t>(n) * mlp_.input_dim();
+    Grow(size, &ws->d_features);
+    std::fill(ws->d_features.begin(), ws->d_features.begin() + size, 0.0);
+  }
   mlp_.Backward(params.mlp, ws->d_mlp_out.data(), grads.mlp,
                 need_features ? ws->d_features.data() : nullptr, &ws->mlp);
   if (!need_features) return;

@@ -107,6 +107,22 @@ void EulerChain::Forward(const FieldParams& params, int n, const double* x0,
     offset_[s + 1] = offset_[s] + 3 * static_cast<size_t>(active_[s]);
   }
   trajectory_.resize(offset_[max_steps]);
+  velocities_.resize(offset_[max_steps]);
+  // What one evaluation keeps in its workspace, forward and backward: the
+  // features and their gradient, three width-sized rows per hidden layer,
+  // the output gradient.
+  const Mlp& mlp = field_->mlp();
+  const size_t bytes_per_point =
+      sizeof(double) * (2 * static_cast<size_t>(mlp.input_dim()) +
+                        3 * static_cast<size_t>(mlp.depth()) * mlp.width() +
+                        mlp.output_dim());
+  kept_steps_ = 0;
+  for (size_t bytes = 0; kept_steps_ < max_steps; ++kept_steps_) {
+    bytes += bytes_per_point * active_[kept_steps_];
+    if (bytes > options_.max_kept_activation_bytes) break;
+  }
+  if (static_cast<int>(step_workspaces_.size()) < kept_steps_)
+    step_workspaces_.resize(kept_steps_);
 
   const int first = max_steps > 0 ? active_[0] : 0;
   for (int k = 0; k < n; ++k) {
@@ -119,12 +135,13 @@ void EulerChain::Forward(const FieldParams& params, int n, const double* x0,
     const int m = active_[s];
     const int m_next = s + 1 < max_steps ? active_[s + 1] : 0;
     const double* xs = &trajectory_[offset_[s]];
-    velocity_.resize(3 * static_cast<size_t>(m));
-    field_->Evaluate(params, m, xs, velocity_.data(), &workspace_);
+    double* velocity = &velocities_[offset_[s]];
+    field_->Evaluate(params, m, xs, velocity,
+                     s < kept_steps_ ? &step_workspaces_[s] : &workspace_);
     stats_.velocity_evaluations += m;
     for (int k = 0; k < m; ++k) {
       double step[3];
-      Count(SafeStep(&velocity_[3 * k], limit, step), &stats_);
+      Count(SafeStep(&velocity[3 * k], limit, step), &stats_);
       double* dst = k < m_next ? &trajectory_[offset_[s + 1] + 3 * k]
                                : x_out + 3 * order_[k];
       for (int j = 0; j < 3; ++j) dst[j] = xs[3 * k + j] + step[j];
@@ -145,16 +162,21 @@ void EulerChain::Backward(const FieldParams& params, const double* d_x_out,
   for (int s = static_cast<int>(active_.size()) - 1; s >= 0; --s) {
     const int m = active_[s];
     const double* xs = &trajectory_[offset_[s]];
-    velocity_.resize(3 * static_cast<size_t>(m));
-    field_->Evaluate(params, m, xs, velocity_.data(), &workspace_);
+    const double* velocity = &velocities_[offset_[s]];
+    FieldWorkspace* ws =
+        s < kept_steps_ ? &step_workspaces_[s] : &workspace_;
+    if (s >= kept_steps_) {
+      // Dropped for memory: evaluate again for the activations.
+      velocity_.resize(3 * static_cast<size_t>(m));
+      field_->Evaluate(params, m, xs, velocity_.data(), ws);
+    }
     step_gradient_.resize(3 * static_cast<size_t>(m));
     for (int k = 0; k < m; ++k) {
-      SafeStepBackward(&velocity_[3 * k], limit, &gradient_[3 * k],
+      SafeStepBackward(&velocity[3 * k], limit, &gradient_[3 * k],
                        &step_gradient_[3 * k]);
     }
     d_x_.assign(3 * static_cast<size_t>(m), 0.0);
-    field_->Backward(params, step_gradient_.data(), grads, d_x_.data(),
-                     &workspace_);
+    field_->Backward(params, step_gradient_.data(), grads, d_x_.data(), ws);
     for (int i = 0; i < 3 * m; ++i) gradient_[i] += d_x_[i];
   }
   if (d_x0 == nullptr) return;

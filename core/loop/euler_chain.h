@@ -1,6 +1,7 @@
 #ifndef EULERSPLAT_CORE_LOOP_EULER_CHAIN_H_
 #define EULERSPLAT_CORE_LOOP_EULER_CHAIN_H_
 
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -19,6 +20,8 @@ namespace es {
 struct EulerOptions {
   // max_step = max_step_fraction * the motion field's box diagonal.
   double max_step_fraction = 0.25;
+  // Memory EulerChain may spend on keeping V's activations for Backward.
+  size_t max_kept_activation_bytes = size_t{256} << 20;
 };
 
 struct EulerStats {
@@ -30,10 +33,12 @@ struct EulerStats {
 // Alg. 1: advects canonical positions x0 by forward Euler, X <- X + V(X),
 // steps[k] times for point k. All points move in lockstep in one batch per
 // step; points whose count is reached drop out (they are kept sorted by
-// step count so the active ones are a prefix). The trajectory is stored so
-// Backward can run reverse mode through the chain; V is re-evaluated there
-// rather than storing its activations (memory O(sum of steps) doubles).
-// Only the points given (the dynamic Gaussians) are processed.
+// step count so the active ones are a prefix). The trajectory, velocities
+// and V's activations of every step are kept so Backward can run reverse
+// mode through the chain without evaluating V again; past
+// EulerOptions::max_kept_activation_bytes of activations the later steps'
+// are dropped and recomputed in Backward instead (same values). Only the points given (the
+// dynamic Gaussians) are processed.
 // Adds to x the step that the stress rule above takes for velocity v, and
 // counts a clamped or non-finite step in stats.
 void TakeSafeStep(const double* v, double max_step, double* x,
@@ -41,6 +46,7 @@ void TakeSafeStep(const double* v, double max_step, double* x,
 
 class EulerChain {
  public:
+
   EulerChain(const MotionField* field, const EulerOptions& options);
 
   // x_out (n x 3) = x0 (n x 3) advected steps[k] >= 0 times. Keeps the
@@ -66,8 +72,11 @@ class EulerChain {
   std::vector<int> active_;     // active_[s] = points with more than s steps
   std::vector<size_t> offset_;  // trajectory_ offset of step s positions
   std::vector<double> trajectory_;  // x_s of the active points, s = 0 ..
+  std::vector<double> velocities_;  // V(x_s), laid out as trajectory_
+  int kept_steps_ = 0;  // steps whose activations step_workspaces_ keep
+  std::vector<FieldWorkspace> step_workspaces_;  // only grows
   std::vector<double> velocity_, gradient_, step_gradient_, d_x_;
-  FieldWorkspace workspace_;
+  FieldWorkspace workspace_;  // the steps past kept_steps_
 };
 
 }  // namespace es

@@ -139,13 +139,13 @@ inline int NumExtra(const TilePass<S>& p) {
   return kExtra >= 0 ? kExtra : p.num_extra;
 }
 
-// Whether every pixel of a tile has stopped (done[i] is 0 or 1).
+// Whether a pixel of a tile row has not stopped yet (done[i] is 0 or 1).
 template <typename S>
-inline bool TileDone(const S* done) {
+inline bool RowLive(const S* done) {
   S least = 1;
 #pragma omp simd reduction(min : least)
-  for (int i = 0; i < kTilePixels; ++i) least = done[i] < least ? done[i] : least;
-  return least > S(0);
+  for (int i = 0; i < kTileSize; ++i) least = done[i] < least ? done[i] : least;
+  return least == S(0);
 }
 
 // The sum of a row's kTileSize lanes, as a tree of vector adds (an
@@ -239,13 +239,21 @@ long long ForwardTile(const TilePass<S>& p, int tile, S* scratch) {
   for (int i = 0; i < kTilePixels; ++i) t[i] = S(1);
   for (int i = 0; i < kTilePixels * (nf + 1); ++i) done[i] = S(0);
   for (int i = 0; i < kTilePixels; ++i) tile_last[i] = 0;
-  // Pixels past the image's edge count as done for TileDone.
+  // Pixels past the image's edge count as done; rows where every pixel
+  // is done are skipped (exactly: a done pixel takes no part), and the
+  // tile ends when no row is live.
   for (int y = 0; y < kTileSize; ++y)
     for (int x = 0; x < kTileSize; ++x)
       if (r.x0 + x >= r.x1 || r.y0 + y >= r.y1) done[y * kTileSize + x] = 1;
+  bool row_live[kTileSize];
+  int live_rows = 0;
+  for (int y = 0; y < kTileSize; ++y) {
+    row_live[y] = RowLive(done + y * kTileSize);
+    live_rows += row_live[y];
+  }
   long long evaluations = 0;
   const int begin = p.tile_offsets[tile], end = p.tile_offsets[tile + 1];
-  for (int e = begin; e < end; ++e) {
+  for (int e = begin; e < end && live_rows > 0; ++e) {
     const int k = p.tile_entries[e];
     const Span s = r.Clip(&p.box[4 * static_cast<size_t>(k)]);
     if (s.empty()) continue;
@@ -256,6 +264,7 @@ long long ForwardTile(const TilePass<S>& p, int tile, S* scratch) {
     const int n = row.n;
     S stopped = 0;
     for (int y = s.y0; y < s.y1; ++y) {
+      if (!row_live[y - r.y0]) continue;
       RowAlphas(g, y, row, raw);
       const int q = r.Offset(row.x0, y);
       stopped += CompositeRow(n, raw, f, e - begin + 1, t + q, done + q,
@@ -270,7 +279,14 @@ long long ForwardTile(const TilePass<S>& p, int tile, S* scratch) {
         for (int i = 0; i < n; ++i) acc[i] += w[i] * fc;
       }
     }
-    if (stopped > S(0) && TileDone(done)) break;
+    if (stopped == S(0)) continue;
+    for (int y = s.y0; y < s.y1; ++y) {
+      bool& live = row_live[y - r.y0];
+      if (live && !RowLive(done + (y - r.y0) * kTileSize)) {
+        live = false;
+        --live_rows;
+      }
+    }
   }
   StoreTile(p, r, t, accum, tile_last);
   return evaluations;
@@ -287,6 +303,7 @@ struct BackwardTileState {
   S* lane_extra;  // one Gaussian's extra-channel gradients, per lane
   S* grad;        // one Gaussian's summed gradient (grad_stride terms)
   int last[kTilePixels];
+  int row_last[kTileSize];  // the largest last[] of each row
 };
 
 // Loads the pixel gradients and the forward's final state; returns the
@@ -297,6 +314,7 @@ int LoadTileGradients(const TilePass<S>& p, const TileRect& r,
   const double* bg = p.background;
   const int num_extra = p.num_extra;
   int max_last = 0;
+  for (int i = 0; i < kTileSize; ++i) st->row_last[i] = 0;
   for (int y = r.y0; y < r.y1; ++y) {
     for (int x = r.x0; x < r.x1; ++x) {
       const int q = r.Offset(x, y);
@@ -320,6 +338,7 @@ int LoadTileGradients(const TilePass<S>& p, const TileRect& r,
       st->suffix[q] = static_cast<S>((g_bg - g_alpha) * tf);
       st->last[q] = p.last[pix];
       max_last = MaxInt(max_last, p.last[pix]);
+      st->row_last[y - r.y0] = MaxInt(st->row_last[y - r.y0], p.last[pix]);
     }
   }
   return max_last;
@@ -430,6 +449,8 @@ bool BackwardGaussian(const TilePass<S>& p, const TileRect& r, const Span& s,
   for (int i = 0; i < kTileSize; ++i) g_extra_dot[i] = S(0);
   for (int i = 0; i < num_extra * kTileSize; ++i) st->lane_extra[i] = S(0);
   for (int y = s.y0; y < s.y1; ++y) {
+    // No pixel of the row used this Gaussian: T and suffix stay as they are.
+    if (rank >= st->row_last[y - r.y0]) continue;
     RowAlphas(g, y, row, raw);
     const int q = r.Offset(row.x0, y);
     const S* gf = st->g_feat + q;

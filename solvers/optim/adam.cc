@@ -32,15 +32,20 @@ bool AllZero(const double* a, const double* b, const double* c, int n) {
 
 }  // namespace
 
+AdamStep::AdamStep(const AdamOptions& o, int64_t t, double lr)
+    : beta1(o.beta1), beta2(o.beta2), eps(o.eps) {
+  CHECK_GE(t, 1);
+  const double bc1 = 1.0 - std::pow(o.beta1, static_cast<double>(t));
+  const double bc2 = 1.0 - std::pow(o.beta2, static_cast<double>(t));
+  step = lr / bc1;
+  inv_sqrt_bc2 = 1.0 / std::sqrt(bc2);
+}
+
 void AdamUpdate(const AdamOptions& o, int64_t t, double lr, int n,
                 const double* grad, double* m, double* v, double* x) {
   // Per-Gaussian SH updates are timed by GaussianAdam::Step as a whole.
   ScopedStage timer(Stage::kAdam, n >= 1024);
-  CHECK_GE(t, 1);
-  const double bc1 = 1.0 - std::pow(o.beta1, static_cast<double>(t));
-  const double bc2 = 1.0 - std::pow(o.beta2, static_cast<double>(t));
-  const double step = lr / bc1;
-  const double inv_sqrt_bc2 = 1.0 / std::sqrt(bc2);
+  const AdamStep adam(o, t, lr);
   const int chunks = (n + kAdamChunk - 1) / kAdamChunk;
 #pragma omp parallel for if (n > 65536) schedule(static)
   for (int c = 0; c < chunks; ++c) {
@@ -49,12 +54,7 @@ void AdamUpdate(const AdamOptions& o, int64_t t, double lr, int n,
     // A zero gradient with zero moments leaves m, v and x exactly as they
     // are: such chunks (field texels no point has reached yet) are skipped.
     if (AllZero(grad + begin, m + begin, v + begin, end - begin)) continue;
-    for (int i = begin; i < end; ++i) {
-      const double g = grad[i];
-      m[i] = o.beta1 * m[i] + (1.0 - o.beta1) * g;
-      v[i] = o.beta2 * v[i] + (1.0 - o.beta2) * g * g;
-      x[i] -= step * m[i] / (std::sqrt(v[i]) * inv_sqrt_bc2 + o.eps);
-    }
+    adam.Update(begin, end, grad, m, v, x);
   }
 }
 
@@ -98,17 +98,19 @@ void GaussianAdam::Step(const GaussianLearningRates& lr,
   update(lr.dynamic_logits, grad.dynamic_logits, &m_.dynamic_logits,
          &v_.dynamic_logits, &params->dynamic_logits);
   // SH: DC and the higher bands interleave per Gaussian ([n][k][rgb]).
+  // The bias corrections once per step, not once per Gaussian.
   const int width = 3 * params->sh_coeffs();
   const int n = params->size();
+  const AdamStep dc(options_, step_, lr.sh_dc);
+  const AdamStep rest(options_, step_, lr.sh_rest);
+  const double* g = grad.sh.data();
+  double *m = m_.sh.data(), *v = v_.sh.data(), *x = params->sh.data();
 #pragma omp parallel for if (n > 16384) schedule(static)
   for (int i = 0; i < n; ++i) {
     const int o = i * width;
-    if (lr.sh_dc != 0)
-      AdamUpdate(options_, step_, lr.sh_dc, 3, &grad.sh[o], &m_.sh[o],
-                 &v_.sh[o], &params->sh[o]);
+    if (lr.sh_dc != 0) dc.Update(o, o + 3, g, m, v, x);
     if (width > 3 && lr.sh_rest != 0)
-      AdamUpdate(options_, step_, lr.sh_rest, width - 3, &grad.sh[o + 3],
-                 &m_.sh[o + 3], &v_.sh[o + 3], &params->sh[o + 3]);
+      rest.Update(o + 3, o + width, g, m, v, x);
   }
 }
 

@@ -1,6 +1,7 @@
 #ifndef EULERSPLAT_SOLVERS_OPTIM_ADAM_H_
 #define EULERSPLAT_SOLVERS_OPTIM_ADAM_H_
 
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -18,6 +19,22 @@ struct AdamOptions {
 // block of n values at step t >= 1: m, v are the block's moments.
 void AdamUpdate(const AdamOptions& options, int64_t t, double lr, int n,
                 const double* grad, double* m, double* v, double* x);
+
+// AdamUpdate in pieces: the constants of step t, then the update of values
+// [begin, end), the same arithmetic value by value.
+struct AdamStep {
+  AdamStep(const AdamOptions& options, int64_t t, double lr);
+  void Update(int begin, int end, const double* grad, double* m, double* v,
+              double* x) const {
+    for (int i = begin; i < end; ++i) {
+      const double g = grad[i];
+      m[i] = beta1 * m[i] + (1.0 - beta1) * g;
+      v[i] = beta2 * v[i] + (1.0 - beta2) * g * g;
+      x[i] -= step * m[i] / (std::sqrt(v[i]) * inv_sqrt_bc2 + eps);
+    }
+  }
+  double beta1, beta2, eps, step, inv_sqrt_bc2;
+};
 
 // Learning rates of the six GaussianSet parameter blocks; the SH block has
 // one rate for its DC coefficients and one for the higher bands.

@@ -111,8 +111,7 @@ JointTrainer::JointTrainer(const std::vector<Frame>* frames,
   }
   adam_.Reset(model_.gaussians);
   for (std::vector<double>* block : FieldBlocks()) {
-    field_m_.emplace_back(block->size(), 0.0);
-    field_v_.emplace_back(block->size(), 0.0);
+    field_adam_.emplace_back(static_cast<int>(block->size()));
     field_grad_.emplace_back(block->size(), 0.0);
   }
   cost_.emplace(&(*frames_)[train_.at(0)],
@@ -225,8 +224,13 @@ JointIterationStats JointTrainer::Step() {
   } else {
     std::vector<double*> params = JointBlocks(&model_);
     std::vector<double*> gradients = SplatRenderCost::Blocks(&grad_);
+    // AddLossGradient adds: the splats' rows are cleared here, the
+    // fields' are zero already.
+    const std::vector<int32_t>& sizes = cost_->layout().sizes();
+    for (size_t b = 0; b < gradients.size(); ++b)
+      std::fill(gradients[b], gradients[b] + sizes[b], 0.0);
     for (std::vector<double>& g : field_grad_) gradients.push_back(g.data());
-    out.loss = cost_->LossGradient(params.data(), gradients.data());
+    out.loss = cost_->AddLossGradient(params.data(), gradients.data());
     out.photometric = cost_->last_photometric();
     out.mask = cost_->last_mask();
     out.residual = cost_->last_residual();
@@ -240,9 +244,11 @@ JointIterationStats JointTrainer::Step() {
     out.loss += out.flow_prior;
   }
   bool finite = std::isfinite(out.loss) && AllFinite(grad_);
-  for (const std::vector<double>& g : field_grad_)
-    finite = finite && AllFinite(g);
+  for (size_t b = 0; b < field_grad_.size(); ++b)
+    finite = field_adam_[b].ScanGradient(field_grad_[b].data()) && finite;
   if (!guard_.Accept(iteration_ + 1, finite)) {
+    for (size_t b = 0; b < field_grad_.size(); ++b)
+      field_adam_[b].ClearGradient(field_grad_[b].data());
     out.skipped = true;
     ++iteration_;
     return out;
@@ -255,16 +261,19 @@ JointIterationStats JointTrainer::Step() {
   ++field_step_;
   const std::vector<double> lr = FieldLearningRates();
   std::vector<std::vector<double>*> blocks = FieldBlocks();
-  const AdamOptions adam_options;
+  bool params_finite = AllFinite(model_.gaussians);
   for (size_t b = 0; b < blocks.size(); ++b) {
-    AdamUpdate(adam_options, field_step_, lr[b],
-               static_cast<int>(blocks[b]->size()), field_grad_[b].data(),
-               field_m_[b].data(), field_v_[b].data(), blocks[b]->data());
+    params_finite = field_adam_[b].Step(field_step_, lr[b],
+                                        field_grad_[b].data(),
+                                        blocks[b]->data()) &&
+                    params_finite;
+  }
+  if (!fields_checked_) {
+    for (const std::vector<double>* block : blocks)
+      params_finite = params_finite && AllFinite(*block);
+    fields_checked_ = true;
   }
   ++iteration_;
-  bool params_finite = AllFinite(model_.gaussians);
-  for (const std::vector<double>* block : blocks)
-    params_finite = params_finite && AllFinite(*block);
   guard_.CheckParameters(iteration_, params_finite);
   const WaterDensifyOptions& d = options_.water_densify;
   if (d.interval > 0 && iteration_ % d.interval == 0 &&
@@ -357,6 +366,8 @@ WaterDensifyResult JointTrainer::DensifyWaterNow() {
     stats.AddView(frame.camera.width, frame.camera.height, radii,
                   mean2d_grads);
   }
+  // Step expects the field gradients zero.
+  for (std::vector<double>& g : field_grad_) std::fill(g.begin(), g.end(), 0.0);
   std::vector<double> mean_grad;
   for (int i : model_.dynamic_index) {
     const double g = stats.MeanGrad(i);
@@ -398,8 +409,10 @@ JointCheckpoint JointTrainer::Save() const {
     append(model_.residual->params(), model_.residual->triplane(),
            model_.residual->mlp());
   }
-  c.field_m = field_m_;
-  c.field_v = field_v_;
+  for (const SparseAdam& adam : field_adam_) {
+    c.field_m.push_back(adam.m());
+    c.field_v.push_back(adam.v());
+  }
   if (model_.motion) AppendBox(model_.motion->triplane(), &c.field_boxes);
   if (model_.residual) AppendBox(model_.residual->triplane(), &c.field_boxes);
   c.field_step = field_step_;
@@ -413,8 +426,13 @@ void JointTrainer::Restore(const JointCheckpoint& c,
   std::vector<std::vector<double>*> blocks = FieldBlocks();
   bool match = c.field_params.size() == blocks.size() &&
                c.gaussians.sh_degree == model_.gaussians.sh_degree;
-  for (size_t b = 0; match && b < blocks.size(); ++b)
-    match = c.field_params[b].size() == blocks[b]->size();
+  match = match && c.field_m.size() == blocks.size() &&
+          c.field_v.size() == blocks.size();
+  for (size_t b = 0; match && b < blocks.size(); ++b) {
+    match = c.field_params[b].size() == blocks[b]->size() &&
+            c.field_m[b].size() == blocks[b]->size() &&
+            c.field_v[b].size() == blocks[b]->size();
+  }
   if (!match)
     throw InputError(source +
                      ": checkpoint fields or SH degree do not match the "
@@ -426,8 +444,11 @@ void JointTrainer::Restore(const JointCheckpoint& c,
   model_.start_times = c.start_times;
   UpdateScaleBounds();
   for (size_t b = 0; b < blocks.size(); ++b) *blocks[b] = c.field_params[b];
-  field_m_ = c.field_m;
-  field_v_ = c.field_v;
+  for (size_t b = 0; b < blocks.size(); ++b) {
+    field_adam_[b].Restore(c.field_m[b], c.field_v[b]);
+    std::fill(field_grad_[b].begin(), field_grad_[b].end(), 0.0);
+  }
+  fields_checked_ = false;
   auto box = [&c](int field, Eigen::Vector3d* lo, Eigen::Vector3d* hi) {
     *lo = Eigen::Vector3d(&c.field_boxes[6 * field]);
     *hi = Eigen::Vector3d(&c.field_boxes[6 * field + 3]);

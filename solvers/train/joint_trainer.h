@@ -19,6 +19,7 @@
 #include "costs/water_energy_loss.h"
 #include "solvers/checkpoint/joint_checkpoint.h"
 #include "solvers/optim/adam.h"
+#include "solvers/optim/sparse_adam.h"
 #include "solvers/train/divergence_guard.h"
 #include "solvers/train/flow_prior.h"
 #include "solvers/train/frame_sampler.h"
@@ -175,7 +176,13 @@ class JointTrainer {
   int initial_dynamic_ = 0;  // water Gaussians at construction
   GaussianSet grad_;
   GaussianAdam adam_;
-  std::vector<std::vector<double>> field_grad_, field_m_, field_v_;
+  // Per field block (V's triplane and MLP, then D's): the gradient buffer,
+  // all zero between steps (SparseAdam hands it back cleared), and Adam.
+  std::vector<std::vector<double>> field_grad_;
+  std::vector<SparseAdam> field_adam_;
+  // Whether the field parameters were checked finite as a whole since
+  // construction or Restore; later steps check only the values they change.
+  bool fields_checked_ = false;
   int64_t field_step_ = 0;
   FrameSampler sampler_;
   std::mt19937_64 rng_;
