@@ -11,6 +11,7 @@
 #include <chrono>
 #include <cstdio>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <gflags/gflags.h>
@@ -42,6 +43,13 @@ DEFINE_int32(timing_frames, 0, "Frames timed for Alg. 1 vs Alg. 2; 0: 2 L.");
 DEFINE_int32(compare_frames, 4, "Frames of the realism video written to "
              "OUT/compare/ (rendered left, input right) to look at; 0: "
              "none.");
+DEFINE_bool(realism_breakdown, false, "Also measure realism on three "
+            "variants of the model, to find where motion and detail are "
+            "lost: 'training' (Alg. 1 at each frame's true time and cycle "
+            "number: what training fits), 'loop_without_residual' (the "
+            "loop moved by V alone) and 'canonical' (no V, no D: the "
+            "splats as they are). Written to eval.json's "
+            "realism_breakdown; costs three more renders of the video.");
 DEFINE_int32(realism_patches, 4096, "Random patches per region for the "
              "realism distribution distances (more: less sampling noise).");
 
@@ -54,6 +62,8 @@ struct Evaluation {
   bool has_motion_gt = false;
   es::MotionGtMetrics motion;
   es::RealismMetrics realism;
+  // --realism_breakdown: (name, figures) per model variant.
+  std::vector<std::pair<std::string, es::RealismMetrics>> breakdown;
   es::LoopSeamScore seam;
   es::AnimationTiming timing;
 };
@@ -128,6 +138,26 @@ Evaluation Evaluate(const es::LoopModel& model, const es::Scene& scene,
     es::WriteComparisonFrames(rendered, scene.frames, FLAGS_compare_frames,
                               FLAGS_out + "/compare");
   }
+  if (FLAGS_realism_breakdown) {
+    e.breakdown.emplace_back(
+        "training",
+        es::EvaluateRealism(
+            es::RenderTrainingComposition(model, scene.frames, options),
+            scene.frames, realism));
+    es::LoopModel variant = model;
+    variant.residual.reset();
+    e.breakdown.emplace_back(
+        "loop_without_residual",
+        es::EvaluateRealism(
+            es::RenderAtInputCameras(variant, scene.frames, options),
+            scene.frames, realism));
+    variant.motion.reset();
+    e.breakdown.emplace_back(
+        "canonical",
+        es::EvaluateRealism(
+            es::RenderAtInputCameras(variant, scene.frames, options),
+            scene.frames, realism));
+  }
   Step(3, "loop seam", start);
   e.seam = es::EvaluateLoopSeam(model, anchor, FLAGS_seam_cycles, options);
   Step(4, "Alg. 1 vs Alg. 2 timing", start);
@@ -183,6 +213,15 @@ nlohmann::ordered_json EvalJson(const es::LoopModel& model,
         {"alg2_frame", e.timing.alg2_frame_ms()},
         {"alg1_alg2_max_position_difference",
          e.timing.max_position_difference}}}};
+  if (!e.breakdown.empty()) {
+    nlohmann::ordered_json breakdown;
+    for (const auto& [name, r] : e.breakdown) {
+      breakdown[name] = {{"water", RealismJson(r.water)},
+                         {"static", RealismJson(r.static_region)},
+                         {"frame", RealismJson(r.frame)}};
+    }
+    json["realism_breakdown"] = breakdown;
+  }
   if (e.has_motion_gt) {
     json["motion_gt"] = {{"points", e.motion.num_points},
                          {"epe", e.motion.epe},
@@ -228,6 +267,9 @@ void PrintSummary(const es::LoopModel& model, const es::Scene& scene,
   PrintRealism("  water", e.realism.water);
   PrintRealism("  static (control)", e.realism.static_region);
   PrintRealism("  whole frame", e.realism.frame);
+  for (const auto& [name, r] : e.breakdown) {
+    PrintRealism(("  water, " + name).c_str(), r.water);
+  }
   std::printf("  loop seam             %.3f (boundary %.4g / within %.4g; "
               "~1 = seamless)\n",
               e.seam.score, e.seam.boundary_change, e.seam.within_change);

@@ -135,6 +135,17 @@ DEFINE_int32(densify_water_views, 8,
 DEFINE_double(densify_water_split_pixels, 1.0,
               "Water Gaussians larger than this on screen (std dev, px) are "
               "split in two smaller ones, smaller ones cloned.");
+DEFINE_double(motion_energy_weight, 0,
+              "> 0: each iteration also renders the sampled frame's "
+              "neighbour in the video and matches the local amplitude of "
+              "frame-to-frame change in the water, per colour channel, to "
+              "the input's, with this weight (the L1 / SSIM loss alone is "
+              "lowest for a still, time-averaged sheet); 0: off. Twice the "
+              "rendering per iteration.");
+DEFINE_double(detail_energy_weight, 0,
+              "> 0: with the same frame pairs, match the local amplitude "
+              "of the water's fine texture (each colour channel minus its "
+              "blur) to the input's, with this weight; 0: off.");
 
 namespace es {
 namespace {
@@ -176,6 +187,8 @@ JointTrainerOptions OptionsFromFlags() {
   RequireAtLeast("max_particle_children", FLAGS_max_particle_children, 1);
   RequireAtLeast("max_particles", FLAGS_max_particles, 1);
   RequireNonNegative("flow_prior_weight", FLAGS_flow_prior_weight);
+  RequireNonNegative("motion_energy_weight", FLAGS_motion_energy_weight);
+  RequireNonNegative("detail_energy_weight", FLAGS_detail_energy_weight);
   RequireInRange("flow_prior_final_factor", FLAGS_flow_prior_final_factor, 0,
                  1);
   RequireAtLeast("flow_prior_batch", FLAGS_flow_prior_batch, 1);
@@ -220,6 +233,8 @@ JointTrainerOptions OptionsFromFlags() {
   o.water_densify.max_growth = FLAGS_densify_water_growth;
   o.water_densify.views = FLAGS_densify_water_views;
   o.water_densify.split_pixels = FLAGS_densify_water_split_pixels;
+  o.water_energy.motion_weight = FLAGS_motion_energy_weight;
+  o.water_energy.detail_weight = FLAGS_detail_energy_weight;
   o.motion.triplane.resolution = FLAGS_motion_resolution;
   o.motion.triplane.channels = FLAGS_motion_channels;
   o.motion.mlp_width = FLAGS_motion_width;
@@ -345,7 +360,8 @@ TrainingOutcome Train(const JointTrainerOptions& options, const Scene& scene,
   };
   const int64_t first = trainer->iteration();
   int64_t last_row = first;
-  double sums[4] = {0, 0, 0, 0};  // loss, photometric, mask, residual
+  // loss, photometric, mask, residual, motion and detail energy
+  double sums[6] = {0, 0, 0, 0, 0, 0};
   int64_t counted = 0;             // steps in the sums
   TrainingOutcome outcome;
   StageProfile::Get().Start(FLAGS_profile);
@@ -356,6 +372,8 @@ TrainingOutcome Train(const JointTrainerOptions& options, const Scene& scene,
       sums[1] += s.photometric;
       sums[2] += s.mask;
       sums[3] += s.residual;
+      sums[4] += s.energy.motion;
+      sums[5] += s.energy.detail;
       ++counted;
     }
     const int64_t it = trainer->iteration();
@@ -405,6 +423,11 @@ TrainingOutcome Train(const JointTrainerOptions& options, const Scene& scene,
           static_cast<long long>(it), options.iterations, outcome.final_loss,
           sums[1] / window, sums[2] / window, sums[3] / window,
           s.num_dynamic, rate, (options.iterations - it) / rate);
+      if (options.water_energy.motion_weight > 0 ||
+          options.water_energy.detail_weight > 0) {
+        std::printf("  energy motion %.4f detail %.4f", sums[4] / window,
+                    sums[5] / window);
+      }
       if (eval) std::printf("  held-out PSNR %.2f dB", held_out.psnr);
       std::printf("\n");
       std::fflush(stdout);

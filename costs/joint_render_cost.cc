@@ -132,6 +132,25 @@ double JointRenderCost::AddLossGradient(double const* const* parameters,
   return 0.5 * r * r;
 }
 
+double JointRenderCost::RenderForGradient(
+    double const* const* parameters) const {
+  LoopModelView model = View(parameters);
+  image_loss_.AttachDynamicChannel(parameters[kDynamicBlock],
+                                   &model.canonical);
+  const double r = ScalarLossResidual(Forward(model, true));
+  return 0.5 * r * r;
+}
+
+void JointRenderCost::BackwardWithImageGradient(
+    double const* const* parameters, const double* extra_d_rgb,
+    double** gradients) const {
+  LoopModelView model = View(parameters);
+  image_loss_.AttachDynamicChannel(parameters[kDynamicBlock],
+                                   &model.canonical);
+  if (extra_d_rgb) image_loss_.AddRgbGradient(extra_d_rgb);
+  Backward(model, gradients, /*accumulate=*/false);
+}
+
 double JointRenderCost::Forward(const LoopModelView& model,
                                 bool want_grad) const {
   const SplatView& view = composer_.Compose(model, frame_index_);

@@ -81,6 +81,19 @@ class JointRenderCost : public ceres::CostFunction {
   double AddLossGradient(double const* const* parameters,
                          double** gradients) const;
 
+  // LossGradient in two halves, for a loss across frames between them:
+  // RenderForGradient composes, renders and scores the frame (returning
+  // the loss as LossGradient does) and keeps what the backward pass needs;
+  // render() is the image; BackwardWithImageGradient adds `extra_d_rgb`
+  // (nullable, H x W x 3: the other loss's d / d image) to this cost's
+  // image gradient and writes d loss / d block into `gradients`. The
+  // photometric term must be on when extra_d_rgb is given.
+  double RenderForGradient(double const* const* parameters) const;
+  const RenderResult& render() const { return render_; }
+  void BackwardWithImageGradient(double const* const* parameters,
+                                 const double* extra_d_rgb,
+                                 double** gradients) const;
+
   const JointBlockLayout& layout() const { return layout_; }
   // Unweighted terms of the last Evaluate (0 for a disabled term).
   double last_photometric() const { return image_loss_.last_photometric(); }

@@ -55,6 +55,12 @@ double RenderedFrameLoss::Score(const RenderResult& render, const Frame& frame,
   return loss;
 }
 
+void RenderedFrameLoss::AddRgbGradient(const double* extra) {
+  CHECK(terms_.photometric_weight != 0)
+      << "an image gradient needs the photometric term on";
+  for (size_t i = 0; i < d_rgb_.size(); ++i) d_rgb_[i] += extra[i];
+}
+
 RenderGradients RenderedFrameLoss::ImageGradients() const {
   RenderGradients g;
   g.d_rgb = terms_.photometric_weight != 0 ? d_rgb_.data() : nullptr;

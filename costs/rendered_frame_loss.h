@@ -48,6 +48,11 @@ class RenderedFrameLoss {
   double Score(const RenderResult& render, const Frame& frame,
                bool want_grad);
 
+  // Adds `extra` (H x W x 3, the last Score's frame size) to the kept
+  // d loss / d image: a loss on the render that this class does not know
+  // (e.g. one across frames). Needs the photometric term on.
+  void AddRgbGradient(const double* extra);
+
   // Rasterizer::Backward's input for the last Score(want_grad = true).
   RenderGradients ImageGradients() const;
 

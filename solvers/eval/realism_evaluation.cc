@@ -11,6 +11,7 @@
 
 #include "core/io/atomic_file.h"
 
+#include "core/loop/frame_composer.h"
 #include "core/loop/loop_renderer.h"
 
 namespace es {
@@ -33,6 +34,23 @@ std::vector<cv::Mat> RenderAtInputCameras(const LoopModel& model,
     out.push_back(cv::Mat(r.height, r.width, CV_64FC3,
                           const_cast<double*>(r.rgb.data()))
                       .clone());
+  }
+  return out;
+}
+
+std::vector<cv::Mat> RenderTrainingComposition(
+    const LoopModel& model, const std::vector<Frame>& frames,
+    const RenderOptions& options) {
+  const LoopModelView view = LoopModelView::Of(model);
+  FrameComposer composer;
+  Rasterizer rasterizer;
+  RenderResult r;
+  std::vector<cv::Mat> out;
+  for (const Frame& f : frames) {
+    rasterizer.Forward(f.camera, composer.Compose(view, f.time_index),
+                       options, &r);
+    out.push_back(
+        cv::Mat(r.height, r.width, CV_64FC3, r.rgb.data()).clone());
   }
   return out;
 }

@@ -20,6 +20,13 @@ std::vector<cv::Mat> RenderAtInputCameras(const LoopModel& model,
                                           const std::vector<Frame>& frames,
                                           const RenderOptions& options);
 
+// What training optimizes at the same cameras: Alg. 1 at each frame's
+// true place in the video, D with its true cycle number (the loop above
+// plays every cycle with p = 0).
+std::vector<cv::Mat> RenderTrainingComposition(
+    const LoopModel& model, const std::vector<Frame>& frames,
+    const RenderOptions& options);
+
 // core/metrics/realism.h of that video against the input frames, inside
 // the input's water masks (when the scene has them), the static rest and
 // the whole frame.

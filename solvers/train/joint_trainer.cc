@@ -34,6 +34,27 @@ RenderOptions MakeRenderOptions(const JointTrainerOptions& o) {
   return r;
 }
 
+// For every training frame (by frame index), the training frame next to
+// it in the video: the next one, else the previous one; -1 for none.
+std::vector<int> TrainingNeighbours(const std::vector<Frame>& frames,
+                                    const std::vector<int>& train) {
+  std::vector<int> by_time;
+  for (int f : train) {
+    const int t = frames[f].time_index;
+    if (t >= static_cast<int>(by_time.size())) by_time.resize(t + 1, -1);
+    by_time[t] = f;
+  }
+  auto at = [&by_time](int t) {
+    return t >= 0 && t < static_cast<int>(by_time.size()) ? by_time[t] : -1;
+  };
+  std::vector<int> partner(frames.size(), -1);
+  for (int f : train) {
+    const int t = frames[f].time_index;
+    partner[f] = at(t + 1) >= 0 ? at(t + 1) : at(t - 1);
+  }
+  return partner;
+}
+
 void AppendBox(const Triplane& t, std::vector<double>* boxes) {
   for (int i = 0; i < 3; ++i) boxes->push_back(t.box_min()[i]);
   for (int i = 0; i < 3; ++i) boxes->push_back(t.box_max()[i]);
@@ -97,6 +118,17 @@ JointTrainer::JointTrainer(const std::vector<Frame>* frames,
                 (*frames_)[train_.at(0)].time_index,
                 LoopStructure::Of(model_), Terms(options_, use_masks_),
                 render_options(), &rasterizer_);
+  if (energy_on()) {
+    partner_ = TrainingNeighbours(*frames_, train_);
+    energy_masks_ = AllHaveMasks(*frames_, train_);
+    energy_.emplace(options_.water_energy);
+    // Its own rasterizer: both renders are kept until both backward passes.
+    pair_cost_.emplace(&(*frames_)[train_.at(0)],
+                       (*frames_)[train_.at(0)].time_index,
+                       LoopStructure::Of(model_), Terms(options_, use_masks_),
+                       render_options());
+    pair_field_grad_ = field_grad_;
+  }
 }
 
 void JointTrainer::SetSceneFlowPrior(std::vector<SceneFlowSample> samples) {
@@ -186,18 +218,23 @@ JointIterationStats JointTrainer::Step() {
     grad_ = ZeroGaussians(n, model_.gaussians.sh_degree);
   const Frame& frame = (*frames_)[out.frame];
   cost_->Reset(&frame, frame.time_index, LoopStructure::Of(model_));
-  std::vector<double*> params = JointBlocks(&model_);
-  std::vector<double*> gradients = SplatRenderCost::Blocks(&grad_);
-  // AddLossGradient adds: the splats' rows are cleared here, the fields'
-  // are zero already.
-  const std::vector<int32_t>& sizes = cost_->layout().sizes();
-  for (size_t b = 0; b < gradients.size(); ++b)
-    std::fill(gradients[b], gradients[b] + sizes[b], 0.0);
-  for (std::vector<double>& g : field_grad_) gradients.push_back(g.data());
-  out.loss = cost_->AddLossGradient(params.data(), gradients.data());
-  out.photometric = cost_->last_photometric();
-  out.mask = cost_->last_mask();
-  out.residual = cost_->last_residual();
+  const int partner = energy_on() ? partner_[out.frame] : -1;
+  if (partner >= 0) {
+    out.loss = PairLossGradient(frame, partner, &out);
+  } else {
+    std::vector<double*> params = JointBlocks(&model_);
+    std::vector<double*> gradients = SplatRenderCost::Blocks(&grad_);
+    // AddLossGradient adds: the splats' rows are cleared here, the
+    // fields' are zero already.
+    const std::vector<int32_t>& sizes = cost_->layout().sizes();
+    for (size_t b = 0; b < gradients.size(); ++b)
+      std::fill(gradients[b], gradients[b] + sizes[b], 0.0);
+    for (std::vector<double>& g : field_grad_) gradients.push_back(g.data());
+    out.loss = cost_->AddLossGradient(params.data(), gradients.data());
+    out.photometric = cost_->last_photometric();
+    out.mask = cost_->last_mask();
+    out.residual = cost_->last_residual();
+  }
   out.euler = cost_->last_euler_stats();
   if (flow_prior_) {
     // V's blocks come first among the field gradients.
@@ -243,6 +280,61 @@ JointIterationStats JointTrainer::Step() {
       iteration_ <= options_.iterations / 2 && model_.num_dynamic() > 0)
     out.densified = DensifyWaterNow();
   return out;
+}
+
+double JointTrainer::PairLossGradient(const Frame& frame, int partner,
+                                      JointIterationStats* out) {
+  const Frame& other = (*frames_)[partner];
+  out->pair_frame = partner;
+  pair_cost_->Reset(&other, other.time_index, LoopStructure::Of(model_));
+  const int n = model_.gaussians.size();
+  if (pair_grad_.size() != n ||
+      pair_grad_.sh_degree != model_.gaussians.sh_degree)
+    pair_grad_ = ZeroGaussians(n, model_.gaussians.sh_degree);
+  std::vector<double*> params = JointBlocks(&model_);
+  std::vector<double*> gradients = SplatRenderCost::Blocks(&grad_);
+  std::vector<double*> pair_gradients = SplatRenderCost::Blocks(&pair_grad_);
+  for (size_t b = 0; b < field_grad_.size(); ++b) {
+    gradients.push_back(field_grad_[b].data());
+    pair_gradients.push_back(pair_field_grad_[b].data());
+  }
+  const double loss = cost_->RenderForGradient(params.data());
+  out->photometric = cost_->last_photometric();
+  out->mask = cost_->last_mask();
+  out->residual = cost_->last_residual();
+  const double pair_loss = pair_cost_->RenderForGradient(params.data());
+  out->photometric = 0.5 * (out->photometric + pair_cost_->last_photometric());
+  out->mask = 0.5 * (out->mask + pair_cost_->last_mask());
+  out->residual = 0.5 * (out->residual + pair_cost_->last_residual());
+
+  // The step follows 0.5 (loss + pair_loss + 2 energy): the energy's
+  // gradient enters both backward passes at twice its weight and the sum
+  // is halved below.
+  const bool frame_first = frame.time_index < other.time_index;
+  const JointRenderCost& first = frame_first ? *cost_ : *pair_cost_;
+  const JointRenderCost& second = frame_first ? *pair_cost_ : *cost_;
+  const Frame& a = frame_first ? frame : other;
+  const Frame& b = frame_first ? other : frame;
+  energy_grad_a_.assign(first.render().rgb.size(), 0.0);
+  energy_grad_b_.assign(second.render().rgb.size(), 0.0);
+  const double energy = energy_->Evaluate(
+      first.render().rgb.data(), second.render().rgb.data(), a.image,
+      b.image, energy_masks_ ? a.mask : cv::Mat(),
+      energy_masks_ ? b.mask : cv::Mat(), 2.0, energy_grad_a_.data(),
+      energy_grad_b_.data(), &out->energy);
+  cost_->BackwardWithImageGradient(
+      params.data(),
+      frame_first ? energy_grad_a_.data() : energy_grad_b_.data(),
+      gradients.data());
+  pair_cost_->BackwardWithImageGradient(
+      params.data(),
+      frame_first ? energy_grad_b_.data() : energy_grad_a_.data(),
+      pair_gradients.data());
+  const std::vector<int32_t>& sizes = cost_->layout().sizes();
+  for (size_t k = 0; k < sizes.size(); ++k)
+    for (int i = 0; i < sizes[k]; ++i)
+      gradients[k][i] = 0.5 * (gradients[k][i] + pair_gradients[k][i]);
+  return 0.5 * (loss + pair_loss + energy);
 }
 
 WaterDensifyResult JointTrainer::DensifyWaterNow() {

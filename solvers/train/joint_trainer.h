@@ -16,6 +16,7 @@
 #include "core/model/loop_model.h"
 #include "core/render/rasterizer.h"
 #include "costs/joint_render_cost.h"
+#include "costs/water_energy_loss.h"
 #include "solvers/checkpoint/joint_checkpoint.h"
 #include "solvers/optim/adam.h"
 #include "solvers/optim/sparse_adam.h"
@@ -26,6 +27,14 @@
 #include "solvers/train/water_densify.h"
 
 namespace es {
+
+// WaterEnergyOptions with both weights 0 (the term off).
+inline WaterEnergyOptions NoWaterEnergy() {
+  WaterEnergyOptions o;
+  o.motion_weight = 0;
+  o.detail_weight = 0;
+  return o;
+}
 
 // Stage 3 knobs. Splat learning rates follow 3DGS (position rate times the
 // scene extent, decaying log-linearly); field rates decay log-linearly to
@@ -58,6 +67,13 @@ struct JointTrainerOptions {
   FlowPriorOptions flow_prior;
   // Splitting / cloning of water Gaussians in the first half of the run.
   WaterDensifyOptions water_densify;
+  // Either weight > 0: every iteration also renders the sampled frame's
+  // neighbour in the video (the next training frame, else the previous)
+  // and the step follows the pair's mean loss plus WaterEnergyLoss across
+  // the two (costs/water_energy_loss.h): local frame-to-frame change and
+  // texture energy matched to the input's in the water. Twice the
+  // rendering per iteration. Off by default here; es_train sets its own.
+  WaterEnergyOptions water_energy = NoWaterEnergy();
   // Shapes of fields made from scratch (a given V keeps its own). D's
   // cycle_length is set to cycle_length and its max_cycles to cover every
   // frame of the video.
@@ -76,6 +92,8 @@ struct JointIterationStats {
   double mask = 0;
   double residual = 0;
   double flow_prior = 0;  // weighted; included in loss
+  int pair_frame = -1;    // the neighbour rendered for the energy term
+  WaterEnergyTerms energy;  // unweighted; weighted into loss
   int num_dynamic = 0;
   EulerStats euler;
   bool skipped = false;  // non-finite loss or gradient: no update
@@ -129,6 +147,14 @@ class JointTrainer {
 
  private:
   void RefreshDynamicSet();
+  bool energy_on() const {
+    return options_.water_energy.motion_weight > 0 ||
+           options_.water_energy.detail_weight > 0;
+  }
+  // Step's loss and gradient (into grad_ and field_grad_) with the energy
+  // term: the pair's mean loss plus the weighted WaterEnergyLoss.
+  double PairLossGradient(const Frame& frame, int partner,
+                          JointIterationStats* out);
   // Ranks the water Gaussians by their mean view-space gradient over
   // water_densify.views training frames and densifies the top fraction.
   // Stateless (frames and draws follow from seed and iteration), so a
@@ -163,6 +189,15 @@ class JointTrainer {
   Rasterizer rasterizer_;
   std::optional<JointRenderCost> cost_;
   std::optional<SceneFlowPrior> flow_prior_;
+  // The energy term: each training frame's neighbour (a frame index; -1:
+  // none), a second cost (its own rasterizer) and its gradient buffers.
+  std::vector<int> partner_;
+  bool energy_masks_ = false;
+  std::optional<WaterEnergyLoss> energy_;
+  std::optional<JointRenderCost> pair_cost_;
+  GaussianSet pair_grad_;
+  std::vector<std::vector<double>> pair_field_grad_;
+  std::vector<double> energy_grad_a_, energy_grad_b_;
   int64_t iteration_ = 0;
   DivergenceGuard guard_;
 };

@@ -1,0 +1,80 @@
+#ifndef EULERSPLAT_COSTS_WATER_ENERGY_LOSS_H_
+#define EULERSPLAT_COSTS_WATER_ENERGY_LOSS_H_
+
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+namespace es {
+
+// A loss on the statistics of water rather than its pixels. The L1 / SSIM
+// loss of one frame is lowest at the temporal mean of stochastic water (a
+// smooth, slow sheet), since no model can predict where each streak is.
+// This loss compares local energies instead, which do not depend on the
+// streaks' exact places: on each colour channel y of two consecutive
+// frames A and B (rendered) against the input frames,
+//   motion: e = W * (y_B - y_A)^2           (frame-to-frame change)
+//   detail: e = W * (y - G * y)^2, per frame (high-frequency texture)
+// where G is a Gaussian blur of detail_sigma pixels and W a Gaussian
+// window of window_sigma pixels (both with clamped borders). Each term is
+// the mean over the water pixels of |sqrt(e_rendered + eps) -
+// sqrt(e_input + eps)|: the local amplitude of change / texture, rendered
+// against input, averaged over the channels (on grey alone, training
+// met the motion target with a coloured flicker). The motion term uses the
+// pixels that are water in A or B; the detail term each frame's own;
+// without masks, every pixel.
+struct WaterEnergyOptions {
+  double motion_weight = 1.0;
+  double detail_weight = 1.0;
+  double detail_sigma = 1.0;  // pixels: what G keeps is "texture"
+  double window_sigma = 2.0;  // pixels: the neighbourhood an energy covers
+  // Floor of the energies (an amplitude of 1e-3 of the 0..1 range): keeps
+  // the gradient finite where a render is perfectly flat.
+  double eps = 1e-6;
+};
+
+// The loss's terms, unweighted.
+struct WaterEnergyTerms {
+  double motion = 0;
+  double detail = 0;  // mean of the two frames'
+};
+
+// Evaluates the loss for one pair; reuses its buffers between calls, so
+// not thread-safe.
+class WaterEnergyLoss {
+ public:
+  explicit WaterEnergyLoss(const WaterEnergyOptions& options = {});
+
+  const WaterEnergyOptions& options() const { return options_; }
+
+  // rendered_a / rendered_b: H x W x 3 row-major RGB doubles (frames A and
+  // B = A's next frame in the video); input_a / input_b: CV_32FC3 or
+  // CV_64FC3 RGB in [0, 1] of the same size; mask_a / mask_b: both empty
+  // or CV_32FC1 / CV_64FC1 in [0, 1] (> 0.5 = water). Returns
+  // motion_weight * motion + detail_weight * detail, times `scale`; if
+  // d_a / d_b are not null, `scale` * d loss / d rendered is added to them
+  // (+=, H x W x 3). `terms` (nullable) receives the unweighted terms.
+  double Evaluate(const double* rendered_a, const double* rendered_b,
+                  const cv::Mat& input_a, const cv::Mat& input_b,
+                  const cv::Mat& mask_a, const cv::Mat& mask_b, double scale,
+                  double* d_a, double* d_b, WaterEnergyTerms* terms = nullptr);
+
+ private:
+  // sum_p m_p |sqrt(e_r + eps) - sqrt(e_i + eps)| / sum_p m_p and, into
+  // d_energy, its derivative by e_r (times `scale`).
+  double AmplitudeL1(const std::vector<double>& e_rendered,
+                     const std::vector<double>& e_input,
+                     const std::vector<double>& mask, double scale,
+                     std::vector<double>* d_energy) const;
+
+  WaterEnergyOptions options_;
+  std::vector<double> detail_kernel_, window_kernel_;
+  // Per-frame scratch, reused.
+  cv::Mat input_a_, input_b_;  // CV_64FC3
+  std::vector<double> ya_, yb_, ia_, ib_, dya_, dyb_, mask_, diff_, e_r_,
+      e_i_, d_e_, g_, tmp_, high_, mask_a_, mask_b_;
+};
+
+}  // namespace es
+
+#endif  // EULERSPLAT_COSTS_WATER_ENERGY_LOSS_H_
