@@ -144,19 +144,17 @@ Evaluation Evaluate(const es::LoopModel& model, const es::Scene& scene,
         es::EvaluateRealism(
             es::RenderTrainingComposition(model, scene.frames, options),
             scene.frames, realism));
+    const auto add_loop = [&](const char* name, const es::LoopModel& m) {
+      e.breakdown.emplace_back(
+          name, es::EvaluateRealism(
+                    es::RenderAtInputCameras(m, scene.frames, options),
+                    scene.frames, realism));
+    };
     es::LoopModel variant = model;
     variant.residual.reset();
-    e.breakdown.emplace_back(
-        "loop_without_residual",
-        es::EvaluateRealism(
-            es::RenderAtInputCameras(variant, scene.frames, options),
-            scene.frames, realism));
+    add_loop("loop_without_residual", variant);
     variant.motion.reset();
-    e.breakdown.emplace_back(
-        "canonical",
-        es::EvaluateRealism(
-            es::RenderAtInputCameras(variant, scene.frames, options),
-            scene.frames, realism));
+    add_loop("canonical", variant);
   }
   Step(3, "loop seam", start);
   e.seam = es::EvaluateLoopSeam(model, anchor, FLAGS_seam_cycles, options);
