@@ -6,7 +6,9 @@
 #   2. a static (Stage 1) and a joint (Stage 3) iteration at the same
 #      Gaussian count (--profile's ms per iteration) on a 320x240, 120-frame
 #      es_synth waterfall: es_static, then es_train from its model with the
-#      fields (joint) and with --static_only (same Gaussians, no fields);
+#      fields (joint) and with --static_only (same Gaussians, no fields),
+#      one frame per iteration (the water energy loss, on by default, trains
+#      on frame pairs and does about three times the work per iteration);
 #   3. the README's default run (scripts/run_default.sh's scene and
 #      command) end to end, animation included;
 #   4. the quick preset end to end on the 320x240, 120-frame scene.
@@ -91,6 +93,7 @@ if ! skipped iterations; then
     "$bin/es_train" --scene "$scene" --init "$s1" --out "$work/stage3_$mode" \
         --iterations "$joint_its" --no_flow_init --checkpoint_interval 0 \
         --eval_interval 0 --log_interval 0 --profile "${extra[@]}" \
+        --motion_energy_weight 0 --detail_energy_weight 0 \
         > "$work/es_train_$mode.log" 2>&1 || { tail -5 "$work/es_train_$mode.log"; exit 1; }
     echo "  es_train $mode: $(profile_ms "$work/es_train_$mode.log") ms/iteration (load $l)"
   done
