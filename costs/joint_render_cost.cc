@@ -91,11 +91,22 @@ LoopModelView JointRenderCost::View(double const* const* parameters) const {
   return v;
 }
 
-bool JointRenderCost::Evaluate(double const* const* parameters,
-                               double* residuals, double** jacobians) const {
+LoopModelView JointRenderCost::AttachedView(
+    double const* const* parameters) const {
   LoopModelView model = View(parameters);
   image_loss_.AttachDynamicChannel(parameters[kDynamicBlock],
                                    &model.canonical);
+  return model;
+}
+
+double JointRenderCost::HalfSquaredLoss(const LoopModelView& model) const {
+  const double r = ScalarLossResidual(Forward(model, true));
+  return 0.5 * r * r;
+}
+
+bool JointRenderCost::Evaluate(double const* const* parameters,
+                               double* residuals, double** jacobians) const {
+  const LoopModelView model = AttachedView(parameters);
   const double r = ScalarLossResidual(Forward(model, jacobians != nullptr));
   residuals[0] = r;
   if (jacobians == nullptr) return true;
@@ -114,39 +125,29 @@ bool JointRenderCost::Evaluate(double const* const* parameters,
 
 double JointRenderCost::LossGradient(double const* const* parameters,
                                      double** gradients) const {
-  LoopModelView model = View(parameters);
-  image_loss_.AttachDynamicChannel(parameters[kDynamicBlock],
-                                   &model.canonical);
-  const double r = ScalarLossResidual(Forward(model, true));
+  const LoopModelView model = AttachedView(parameters);
+  const double loss = HalfSquaredLoss(model);
   Backward(model, gradients);
-  return 0.5 * r * r;
+  return loss;
 }
 
 double JointRenderCost::AddLossGradient(double const* const* parameters,
                                         double** gradients) const {
-  LoopModelView model = View(parameters);
-  image_loss_.AttachDynamicChannel(parameters[kDynamicBlock],
-                                   &model.canonical);
-  const double r = ScalarLossResidual(Forward(model, true));
+  const LoopModelView model = AttachedView(parameters);
+  const double loss = HalfSquaredLoss(model);
   Backward(model, gradients, /*accumulate=*/true);
-  return 0.5 * r * r;
+  return loss;
 }
 
 double JointRenderCost::RenderForGradient(
     double const* const* parameters) const {
-  LoopModelView model = View(parameters);
-  image_loss_.AttachDynamicChannel(parameters[kDynamicBlock],
-                                   &model.canonical);
-  const double r = ScalarLossResidual(Forward(model, true));
-  return 0.5 * r * r;
+  return HalfSquaredLoss(AttachedView(parameters));
 }
 
 void JointRenderCost::BackwardWithImageGradient(
     double const* const* parameters, const double* extra_d_rgb,
     double** gradients) const {
-  LoopModelView model = View(parameters);
-  image_loss_.AttachDynamicChannel(parameters[kDynamicBlock],
-                                   &model.canonical);
+  const LoopModelView model = AttachedView(parameters);
   if (extra_d_rgb) image_loss_.AddRgbGradient(extra_d_rgb);
   Backward(model, gradients, /*accumulate=*/false);
 }

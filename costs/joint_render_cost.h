@@ -105,6 +105,10 @@ class JointRenderCost : public ceres::CostFunction {
 
  private:
   LoopModelView View(double const* const* parameters) const;
+  // View with the dynamic-probability channel attached for the mask loss.
+  LoopModelView AttachedView(double const* const* parameters) const;
+  // 0.5 r^2 of the frame's residual r, rendered keeping what Backward needs.
+  double HalfSquaredLoss(const LoopModelView& model) const;
   bool residual_on() const {
     return residual_weight_ != 0 && structure_.residual != nullptr;
   }
