@@ -1,7 +1,8 @@
-// Water masks from the video itself (no segmentation network): where a
-// static model fitted without masks cannot explain the frames, by non-rigid
-// optical flow and by how its misfit changes over time
-// (core/masks/water_masks.h). Writes one PNG per registered frame (same
+// Water masks from the video itself (no segmentation network): regions
+// where a static model fitted without masks cannot explain the frames, by
+// non-rigid optical flow and by how its misfit changes over time, then
+// within them per pixel, where the water's share of the colour passes one
+// half (core/masks/water_masks.h, water_matting.h). Writes one PNG per registered frame (same
 // names as the images, .png; white = water) that a person can inspect and
 // edit, a sheet to check them with, and a report; with --truth also the IoU
 // against true masks.
@@ -127,13 +128,15 @@ int Main() {
   options.min_water_fraction = FLAGS_min_water_fraction;
   if (FLAGS_white_background) options.render.background.setOnes();
   std::printf("[masks] %zu frames at %dx%d: residual change over time, "
-              "optical flow vs camera motion\n",
+              "optical flow vs camera motion, then the water's share of "
+              "each pixel\n",
               scene.frames.size(), scene.frames[0].image.cols,
               scene.frames[0].image.rows);
   const es::WaterMaskResult result = es::EstimateWaterMasks(
       scene, model, options, [](int done, int total) {
         if (done % 10 == 0 || done == total) {
-          std::printf("[masks] frame %d / %d\n", done, total);
+          std::printf("[masks] step %d / %d (cues, then matting, per "
+                      "frame)\n", done, total);
           std::fflush(stdout);
         }
       });

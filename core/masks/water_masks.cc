@@ -11,6 +11,7 @@
 #include "core/flow/optical_flow.h"
 #include "core/masks/camera_flow.h"
 #include "core/masks/residual_change.h"
+#include "core/masks/water_matting.h"
 #include "core/render/render_maps.h"
 
 namespace es {
@@ -163,7 +164,7 @@ WaterMaskResult EstimateWaterMasks(
                                                     frames[j].image),
                                        CameraFlow(fit.depth, frames[i].camera,
                                                   frames[j].camera));
-    if (progress) progress(i + 1, n);
+    if (progress) progress(i + 1, 2 * n);
   }
 
   // Each cue in units of the static majority's level.
@@ -232,8 +233,25 @@ WaterMaskResult EstimateWaterMasks(
     fraction += cv::countNonZero(result.masks[i]) /
                 static_cast<double>(result.masks[i].total());
   }
+  // Whether there is water at all is the regions' call; within them, the
+  // matting finds it per pixel.
   result.water_fraction = fraction / n;
   result.has_water = result.water_fraction >= options.min_water_fraction;
+  if (result.has_water && options.matting) {
+    std::vector<cv::Mat> images(n);
+    for (int i = 0; i < n; ++i) images[i] = frames[i].image;
+    result.regions = result.masks;
+    result.masks = MatWater(residuals, images, result.regions,
+                            options.matting_options, [&](int done) {
+                              if (progress) progress(n + done, 2 * n);
+                            });
+    fraction = 0;
+    for (const cv::Mat& m : result.masks)
+      fraction += cv::countNonZero(m) / static_cast<double>(m.total());
+    result.water_fraction = fraction / n;
+  } else if (progress) {
+    progress(2 * n, 2 * n);
+  }
   return result;
 }
 

@@ -8,6 +8,7 @@
 
 #include "core/io/scene.h"
 #include "core/masks/residual_change.h"
+#include "core/masks/water_matting.h"
 #include "core/model/gaussians.h"
 #include "core/render/rasterizer.h"
 
@@ -29,9 +30,10 @@ namespace es {
 // Each cue is divided by its median over all pixels (the static majority's
 // noise level); a pixel's evidence is the strongest of them (water shows
 // either, e.g. slow water changes, fast thin water moves), averaged over a
-// temporal window, thresholded
-// (Otsu on the log, never below min_score), cleaned with morphology, voted
-// over the same window, and small blobs are dropped.
+// temporal window, thresholded (Otsu on the log, never below min_score),
+// cleaned with morphology, voted over the same window, and small blobs are
+// dropped. These regions are smooth; the masks within them are per pixel:
+// where the water's share of the colour passes one half (MatWater).
 struct WaterMaskOptions {
   int window = 2;            // frames on each side for averaging and voting
   double min_score = 2.0;    // evidence (x the median) that can be water
@@ -45,14 +47,21 @@ struct WaterMaskOptions {
   // Below this mean water fraction the scene is called static.
   double min_water_fraction = 0.02;
   RenderOptions render;      // the static model's background
+  // Then, within those regions, water per pixel by its share of the
+  // colour (MatWater): a curtain of spray is droplets, not a sheet.
+  bool matting = true;
+  WaterMattingOptions matting_options;
 };
 
 struct WaterMaskResult {
   std::vector<cv::Mat> masks;     // per frame, CV_8UC1, 255 = water
+  std::vector<cv::Mat> regions;   // before the matting (empty without)
   std::vector<cv::Mat> evidence;  // per frame, CV_32FC1, x the median
   double threshold = 0;           // on the evidence
-  double water_fraction = 0;      // mean over frames
-  bool has_water = false;         // water_fraction >= min_water_fraction
+  double water_fraction = 0;      // of the masks, mean over frames
+  // The regions' water fraction >= min_water_fraction (the matting only
+  // looks inside them).
+  bool has_water = false;
 };
 
 // Masks for every frame of `scene` (at the frames' size), in its order.
@@ -60,7 +69,7 @@ struct WaterMaskResult {
 // a frame with no neighbour one video frame away gets no flow cue, a pixel
 // whose change is unknown (too few partner frames see it) no change cue.
 // Calls
-// progress(done, total) per frame.
+// progress(done, total) twice per frame (the cues, then the matting).
 WaterMaskResult EstimateWaterMasks(
     const Scene& scene, const GaussianSet& static_model,
     const WaterMaskOptions& options,

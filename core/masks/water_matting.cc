@@ -1,0 +1,126 @@
+#include "core/masks/water_matting.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <glog/logging.h>
+#include <opencv2/imgproc.hpp>
+
+#include "core/masks/camera_flow.h"
+
+namespace es {
+namespace {
+
+// image carried from its frame to the frame of camera_flow (which maps that
+// frame's pixels into image's); `known` is 0 where the flow is unknown or
+// leaves the image.
+void Carry(const cv::Mat& image, const cv::Mat& camera_flow, cv::Mat* out,
+           cv::Mat* known) {
+  cv::Mat map(camera_flow.size(), CV_32FC2);
+  *known = cv::Mat(camera_flow.size(), CV_8UC1, cv::Scalar(1));
+  for (int y = 0; y < map.rows; ++y)
+    for (int x = 0; x < map.cols; ++x) {
+      const cv::Vec2f c = camera_flow.at<cv::Vec2f>(y, x);
+      const cv::Vec2f m(x + c[0], y + c[1]);
+      map.at<cv::Vec2f>(y, x) = m;
+      // NaN fails every comparison: unknown too.
+      if (!(m[0] >= 0 && m[1] >= 0 && m[0] <= image.cols - 1 &&
+            m[1] <= image.rows - 1))
+        known->at<uchar>(y, x) = 0;
+    }
+  cv::remap(image, *out, map, cv::noArray(), cv::INTER_LINEAR,
+            cv::BORDER_REPLICATE);
+}
+
+float L1(const cv::Vec3f& a, const cv::Vec3f& b) {
+  return std::abs(a[0] - b[0]) + std::abs(a[1] - b[1]) + std::abs(a[2] - b[2]);
+}
+
+cv::Mat Disk(int radius) {
+  radius = std::max(radius, 1);
+  return cv::getStructuringElement(cv::MORPH_ELLIPSE,
+                                   cv::Size(2 * radius + 1, 2 * radius + 1));
+}
+
+}  // namespace
+
+std::vector<cv::Mat> MatWater(const std::vector<ResidualFrame>& frames,
+                              const std::vector<cv::Mat>& images,
+                              const std::vector<cv::Mat>& regions,
+                              const WaterMattingOptions& options,
+                              const std::function<void(int)>& progress) {
+  CHECK_GT(options.stride, 0);
+  const int n = static_cast<int>(frames.size());
+  CHECK_EQ(static_cast<int>(images.size()), n);
+  CHECK_EQ(static_cast<int>(regions.size()), n);
+  std::vector<cv::Mat> masks(n);
+  if (n == 0) return masks;
+  const int width = images[0].cols;
+  const WaterColourModel colours(
+      images, regions, std::lround(options.inner * width),
+      std::lround(options.outer * width));
+  const cv::Vec3f water = colours.mean_water();
+  const cv::Mat grow = Disk(std::lround(options.grow * width));
+
+  std::vector<cv::Mat> samples, known;
+  for (int i = 0; i < n; ++i) {
+    const ResidualFrame& f = frames[i];
+    samples.clear();
+    known.clear();
+    for (int j = i % options.stride; j < n; j += options.stride) {
+      samples.emplace_back();
+      known.emplace_back();
+      Carry(images[j], CameraFlow(f.depth, f.camera, frames[j].camera),
+            &samples.back(), &known.back());
+    }
+    const cv::Mat& image = images[i];
+    cv::Mat ratio = colours.LogRatio(image);
+    cv::GaussianBlur(ratio, ratio, cv::Size(0, 0), 1.0);
+    cv::Mat share(image.size(), CV_32FC1, cv::Scalar(0.f));
+    cv::Mat seen(image.size(), CV_8UC1, cv::Scalar(0));
+    const int m = static_cast<int>(samples.size());
+    for (int p = 0; p < static_cast<int>(image.total()); ++p) {
+      const cv::Vec3f colour = image.at<cv::Vec3f>(p);
+      // The scenery: the sample least like water (the frame's own colour
+      // among them).
+      cv::Vec3f scenery = colour;
+      float far = L1(colour, water);
+      for (int k = 0; k < m; ++k) {
+        if (!known[k].at<uchar>(p)) continue;
+        const cv::Vec3f s = samples[k].at<cv::Vec3f>(p);
+        const float d = L1(s, water);
+        if (d > far) far = d, scenery = s;
+      }
+      if (colours.LogRatio(scenery) < 0) seen.at<uchar>(p) = 255;
+      // The water: the sample most unlike that scenery, as a palette colour.
+      cv::Vec3f wettest = colour;
+      float apart = L1(colour, scenery);
+      for (int k = 0; k < m; ++k) {
+        if (!known[k].at<uchar>(p)) continue;
+        const cv::Vec3f s = samples[k].at<cv::Vec3f>(p);
+        const float d = L1(s, scenery);
+        if (d > apart) apart = d, wettest = s;
+      }
+      cv::Vec3f pure = water;
+      float nearest = std::numeric_limits<float>::max();
+      for (const cv::Vec3f& c : colours.palette()) {
+        const cv::Vec3f e = c - wettest;
+        if (e.dot(e) < nearest) nearest = e.dot(e), pure = c;
+      }
+      const cv::Vec3f axis = pure - scenery;
+      share.at<float>(p) =
+          (colour - scenery).dot(axis) / std::max(axis.dot(axis), 1e-6f);
+    }
+    cv::GaussianBlur(share, share, cv::Size(0, 0), 0.5);
+    cv::Mat by_share, by_colour, region;
+    cv::compare(share, 0.5, by_share, cv::CMP_GT);
+    cv::compare(ratio, 0, by_colour, cv::CMP_GT);
+    cv::dilate(regions[i], region, grow);
+    masks[i] = ((by_share & seen) | (by_colour & ~seen)) & region;
+    if (progress) progress(i + 1);
+  }
+  return masks;
+}
+
+}  // namespace es

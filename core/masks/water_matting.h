@@ -1,0 +1,44 @@
+#ifndef EULERSPLAT_CORE_MASKS_WATER_MATTING_H_
+#define EULERSPLAT_CORE_MASKS_WATER_MATTING_H_
+
+#include <functional>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "core/masks/colour_model.h"
+#include "core/masks/residual_change.h"
+
+namespace es {
+
+struct WaterMattingOptions {
+  int stride = 2;        // every stride-th frame is a sample of each pixel
+  double grow = 0.05;    // the region grows by this fraction of the width
+  double inner = 0.01;   // colour model: water this far inside a region,
+  double outer = 0.025;  // scenery this far outside (fractions of width)
+};
+
+// Per-frame water masks at the resolution of single droplets, inside
+// regions found by motion and change (which are smooth over space and time
+// and so cover a whole curtain of spray, droplets and the gaps between
+// them alike). A pixel is water where the water's share of its colour
+// passes one half: colour = share * water + (1 - share) * scenery behind.
+//  - The scenery behind: of the pixel's surface point seen in every
+//    stride-th frame (carried by the camera's motion over the static
+//    depth), the colour least like water. Where water hides the scenery in
+//    every frame, that colour is still water's (the colour model says so):
+//    the pixel's own colour decides, water-like or not.
+//  - The water: the palette colour nearest to the sample most unlike the
+//    scenery (a pool's blue, a spray's white).
+// frames: the residual frames' cameras, depth and time (residual unused);
+// images: CV_32FC3 in [0, 1]; regions: CV_8UC1, 255 = water. Returns
+// CV_8UC1 masks, 255 = water. Calls progress(frames done) per frame.
+std::vector<cv::Mat> MatWater(
+    const std::vector<ResidualFrame>& frames,
+    const std::vector<cv::Mat>& images, const std::vector<cv::Mat>& regions,
+    const WaterMattingOptions& options,
+    const std::function<void(int)>& progress = nullptr);
+
+}  // namespace es
+
+#endif  // EULERSPLAT_CORE_MASKS_WATER_MATTING_H_
