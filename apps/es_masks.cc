@@ -47,6 +47,9 @@ DEFINE_double(min_score, 2.0, "Evidence (in units of the static region's "
               "level) below which nothing is water.");
 DEFINE_double(min_water_fraction, 0.02, "Mean water fraction below which "
               "the scene is called static (no masks written).");
+DEFINE_bool(matting, true, "Within the water regions, keep only the "
+            "pixels whose colour is more water than the scenery seen there "
+            "at other times (false: the smooth regions are the masks).");
 DEFINE_bool(white_background, false, "The static model was trained on "
             "white.");
 
@@ -126,6 +129,7 @@ int Main() {
   options.min_score = FLAGS_min_score;
   options.change.gap = FLAGS_change_gap;
   options.min_water_fraction = FLAGS_min_water_fraction;
+  options.matting = FLAGS_matting;
   if (FLAGS_white_background) options.render.background.setOnes();
   std::printf("[masks] %zu frames at %dx%d: residual change over time, "
               "optical flow vs camera motion, then the water's share of "

@@ -6,6 +6,8 @@
 #include <glog/logging.h>
 #include <opencv2/imgproc.hpp>
 
+#include "core/masks/disk.h"
+
 namespace es {
 namespace {
 
@@ -14,12 +16,6 @@ constexpr int kPaletteSize = 4;
 constexpr double kPaletteQuantile = 0.75;
 // Histogram pixels: every kStride-th (enough for 4096 bins, and fast).
 constexpr int kStride = 3;
-
-cv::Mat Disk(int radius) {
-  radius = std::max(radius, 1);
-  return cv::getStructuringElement(cv::MORPH_ELLIPSE,
-                                   cv::Size(2 * radius + 1, 2 * radius + 1));
-}
 
 }  // namespace
 

@@ -10,6 +10,7 @@
 #include "core/flow/flow_lifting.h"
 #include "core/flow/optical_flow.h"
 #include "core/masks/camera_flow.h"
+#include "core/masks/disk.h"
 #include "core/masks/residual_change.h"
 #include "core/masks/water_matting.h"
 #include "core/render/render_maps.h"
@@ -91,12 +92,6 @@ double OtsuThreshold(const std::vector<cv::Mat>& evidence) {
   const double t = cv::threshold(row, unused, 0, 255,
                                  cv::THRESH_BINARY | cv::THRESH_OTSU);
   return std::exp(lo + t / 255.0 * (hi - lo));
-}
-
-cv::Mat Disk(int radius) {
-  radius = std::max(radius, 1);
-  return cv::getStructuringElement(cv::MORPH_ELLIPSE,
-                                   cv::Size(2 * radius + 1, 2 * radius + 1));
 }
 
 // Removes connected blobs smaller than min_area pixels.
@@ -288,8 +283,12 @@ cv::Mat WaterMaskSheet(const Scene& scene, const WaterMaskResult& result,
     cv::Mat tinted = bgr.clone();
     tinted.setTo(cv::Scalar(255, 160, 0), result.masks[i]);
     cv::addWeighted(bgr, 0.55, tinted, 0.45, 0, bgr);
+    // The outline of the region (per-pixel masks would outline every
+    // droplet).
+    const cv::Mat& outline =
+        result.regions.empty() ? result.masks[i] : result.regions[i];
     std::vector<std::vector<cv::Point>> contours;
-    cv::findContours(result.masks[i].clone(), contours, cv::RETR_EXTERNAL,
+    cv::findContours(outline.clone(), contours, cv::RETR_EXTERNAL,
                      cv::CHAIN_APPROX_SIMPLE);
     cv::drawContours(bgr, contours, -1, cv::Scalar(0, 255, 255), 1);
     // Evidence on a log scale: 1 (static level) dark, 64 bright.

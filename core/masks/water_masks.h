@@ -80,8 +80,8 @@ WaterMaskResult EstimateWaterMasks(
 double MaskIou(const cv::Mat& a, const cv::Mat& b);
 
 // A sheet a person can check masks with: `count` frames evenly spaced,
-// each as the frame with its water tinted and outlined, beside the
-// evidence map; labelled with the frame names. BGR 8-bit.
+// each as the frame with its water tinted and its region outlined, beside
+// the evidence map; labelled with the frame names. BGR 8-bit.
 cv::Mat WaterMaskSheet(const Scene& scene, const WaterMaskResult& result,
                        int count);
 

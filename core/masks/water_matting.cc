@@ -8,6 +8,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "core/masks/camera_flow.h"
+#include "core/masks/disk.h"
 
 namespace es {
 namespace {
@@ -37,12 +38,6 @@ float L1(const cv::Vec3f& a, const cv::Vec3f& b) {
   return std::abs(a[0] - b[0]) + std::abs(a[1] - b[1]) + std::abs(a[2] - b[2]);
 }
 
-cv::Mat Disk(int radius) {
-  radius = std::max(radius, 1);
-  return cv::getStructuringElement(cv::MORPH_ELLIPSE,
-                                   cv::Size(2 * radius + 1, 2 * radius + 1));
-}
-
 }  // namespace
 
 std::vector<cv::Mat> MatWater(const std::vector<ResidualFrame>& frames,
@@ -51,7 +46,10 @@ std::vector<cv::Mat> MatWater(const std::vector<ResidualFrame>& frames,
                               const WaterMattingOptions& options,
                               const std::function<void(int)>& progress) {
   CHECK_GT(options.stride, 0);
+  CHECK_GT(options.max_samples, 0);
   const int n = static_cast<int>(frames.size());
+  const int stride = std::max(
+      options.stride, (n + options.max_samples - 1) / options.max_samples);
   CHECK_EQ(static_cast<int>(images.size()), n);
   CHECK_EQ(static_cast<int>(regions.size()), n);
   std::vector<cv::Mat> masks(n);
@@ -68,7 +66,7 @@ std::vector<cv::Mat> MatWater(const std::vector<ResidualFrame>& frames,
     const ResidualFrame& f = frames[i];
     samples.clear();
     known.clear();
-    for (int j = i % options.stride; j < n; j += options.stride) {
+    for (int j = i % stride; j < n; j += stride) {
       samples.emplace_back();
       known.emplace_back();
       Carry(images[j], CameraFlow(f.depth, f.camera, frames[j].camera),

@@ -13,6 +13,8 @@ namespace es {
 
 struct WaterMattingOptions {
   int stride = 2;        // every stride-th frame is a sample of each pixel
+  int max_samples = 60;  // more frames: a longer stride (the cost is
+                         // frames x samples)
   double grow = 0.05;    // the region grows by this fraction of the width
   double inner = 0.01;   // colour model: water this far inside a region,
   double outer = 0.025;  // scenery this far outside (fractions of width)
