@@ -8,6 +8,8 @@
 #include <glog/logging.h>
 #include <omp.h>
 
+#include "core/fields/gradient_chunks.h"
+
 namespace es {
 namespace {
 
@@ -189,15 +191,35 @@ void Triplane::BackwardPoint(const double* params, const double* x,
   }
 }
 
+void Triplane::FlagPoint(const double* x, char* touched_chunks) const {
+  const int r = options_.resolution;
+  const int c = options_.channels;
+  for (int p = 0; p < 3; ++p) {
+    const AxisSample a = SampleAxis(x[kPlaneAxes[p][0]], kPlaneAxes[p][0]);
+    const AxisSample b = SampleAxis(x[kPlaneAxes[p][1]], kPlaneAxes[p][1]);
+    // Texels (i0, j0) and (i0 + 1, j0), then the same one row down.
+    const size_t t00 = (static_cast<size_t>(p * r + b.i0) * r + a.i0) * c;
+    const size_t t10 = t00 + static_cast<size_t>(r) * c;
+    FlagGradientChunks(t00, t00 + 2 * c, touched_chunks);
+    FlagGradientChunks(t10, t10 + 2 * c, touched_chunks);
+  }
+}
+
 void Triplane::Backward(const double* params, int n, const double* x,
                         const double* d_out, double* d_params, double* d_x,
-                        int d_out_stride) const {
+                        int d_out_stride, char* touched_chunks) const {
   const int d = d_out_stride > 0 ? d_out_stride : output_dim();
   if (d_params == nullptr && d_x == nullptr) return;
+  if (d_params != nullptr && touched_chunks != nullptr) {
+    for (int i = 0; i < n; ++i) FlagPoint(x + 3 * i, touched_chunks);
+  }
   // Texels are shared between points: every thread but the first
   // accumulates parameter gradients into its own dense buffer, and the
-  // buffers are summed at the end.
-  const int threads = n >= kMinParallelPoints ? omp_get_max_threads() : 1;
+  // buffers are summed at the end. Inside a parallel region (e.g. one
+  // share of FrameComposer's) this runs on the calling thread alone.
+  const int threads = n >= kMinParallelPoints && !omp_in_parallel()
+                          ? omp_get_max_threads()
+                          : 1;
   const int extra = d_params != nullptr ? threads - 1 : 0;
   const int r = options_.resolution;
   const int rows = 3 * r;  // (plane, row) blocks of r * channels params
