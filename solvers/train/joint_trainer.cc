@@ -219,6 +219,10 @@ JointIterationStats JointTrainer::Step() {
   const Frame& frame = (*frames_)[out.frame];
   cost_->Reset(&frame, frame.time_index, LoopStructure::Of(model_));
   const int partner = energy_on() ? partner_[out.frame] : -1;
+  // Whether every writer of the triplanes' gradients flagged the chunks
+  // it wrote (into their SparseAdam's flags), so the scan below reads only
+  // those.
+  bool flagged = false;
   if (partner >= 0) {
     out.loss = PairLossGradient(frame, partner, &out);
   } else {
@@ -226,11 +230,22 @@ JointIterationStats JointTrainer::Step() {
     std::vector<double*> gradients = SplatRenderCost::Blocks(&grad_);
     // AddLossGradient adds: the splats' rows are cleared here, the
     // fields' are zero already.
-    const std::vector<int32_t>& sizes = cost_->layout().sizes();
+    const JointBlockLayout& layout = cost_->layout();
+    const std::vector<int32_t>& sizes = layout.sizes();
     for (size_t b = 0; b < gradients.size(); ++b)
       std::fill(gradients[b], gradients[b] + sizes[b], 0.0);
     for (std::vector<double>& g : field_grad_) gradients.push_back(g.data());
-    out.loss = cost_->AddLossGradient(params.data(), gradients.data());
+    std::vector<char*> chunks(gradients.size(), nullptr);
+    // Field blocks: V's triplane and MLP, then D's.
+    if (layout.motion_triplane() >= 0)
+      chunks[layout.motion_triplane()] = field_adam_[0].chunk_flags();
+    if (layout.residual_triplane() >= 0) {
+      chunks[layout.residual_triplane()] =
+          field_adam_[model_.motion ? 2 : 0].chunk_flags();
+    }
+    out.loss = cost_->AddLossGradient(params.data(), gradients.data(),
+                                      chunks.data());
+    flagged = true;
     out.photometric = cost_->last_photometric();
     out.mask = cost_->last_mask();
     out.residual = cost_->last_residual();
@@ -240,12 +255,19 @@ JointIterationStats JointTrainer::Step() {
     // V's blocks come first among the field gradients.
     out.flow_prior = flow_prior_->AddLossAndGradient(
         model_.motion->params(), iteration_, options_.iterations,
-        options_.seed, {field_grad_[0].data(), field_grad_[1].data()});
+        options_.seed,
+        {field_grad_[0].data(), field_grad_[1].data(),
+         flagged ? field_adam_[0].chunk_flags() : nullptr});
     out.loss += out.flow_prior;
   }
   bool finite = std::isfinite(out.loss) && AllFinite(grad_);
-  for (size_t b = 0; b < field_grad_.size(); ++b)
-    finite = field_adam_[b].ScanGradient(field_grad_[b].data()) && finite;
+  for (size_t b = 0; b < field_grad_.size(); ++b) {
+    SparseAdam& adam = field_adam_[b];
+    const bool triplane = b % 2 == 0;
+    finite = (flagged && triplane ? adam.ScanFlagged(field_grad_[b].data())
+                                  : adam.ScanGradient(field_grad_[b].data())) &&
+             finite;
+  }
   if (!guard_.Accept(iteration_ + 1, finite)) {
     for (size_t b = 0; b < field_grad_.size(); ++b)
       field_adam_[b].ClearGradient(field_grad_[b].data());
