@@ -18,6 +18,10 @@ namespace {
 constexpr int kChunk = kGradientChunk;
 // Below this many chunks a parallel region costs more than it saves.
 constexpr int kMinParallelChunks = 1024;
+// The same for Step, whose per-chunk work (a square root and a division
+// per value) is several times a scan's: the fields' active chunks (a few
+// hundred to a few thousand per block) are split between threads.
+constexpr int kMinParallelStepChunks = 128;
 
 int NumChunks(int size) { return (size + kChunk - 1) / kChunk; }
 
@@ -127,7 +131,7 @@ bool SparseAdam::Step(int64_t t, double lr, double* grad, double* x) {
   }
   const int active = static_cast<int>(active_.size());
   bool all_finite = true;
-#pragma omp parallel for if (active >= kMinParallelChunks) \
+#pragma omp parallel for if (active >= kMinParallelStepChunks) \
     schedule(static) reduction(&& : all_finite)
   for (int k = 0; k < active; ++k) {
     const int c = active_[k];
