@@ -135,14 +135,14 @@ DEFINE_int32(densify_water_views, 8,
 DEFINE_double(densify_water_split_pixels, 1.0,
               "Water Gaussians larger than this on screen (std dev, px) are "
               "split in two smaller ones, smaller ones cloned.");
-DEFINE_double(motion_energy_weight, 0,
+DEFINE_double(motion_energy_weight, 1,
               "> 0: each iteration also renders the sampled frame's "
               "neighbour in the video and matches the local amplitude of "
               "frame-to-frame change in the water, per colour channel, to "
               "the input's, with this weight (the L1 / SSIM loss alone is "
               "lowest for a still, time-averaged sheet); 0: off. Twice the "
               "rendering per iteration.");
-DEFINE_double(detail_energy_weight, 0,
+DEFINE_double(detail_energy_weight, 1,
               "> 0: with the same frame pairs, match the local amplitude "
               "of the water's fine texture (each colour channel minus its "
               "blur) to the input's, with this weight; 0: off.");
