@@ -147,10 +147,11 @@ double JointRenderCost::RenderForGradient(
 
 void JointRenderCost::BackwardWithImageGradient(
     double const* const* parameters, const double* extra_d_rgb,
-    double** gradients) const {
+    double** gradients, bool accumulate,
+    char* const* triplane_chunks) const {
   const LoopModelView model = AttachedView(parameters);
   if (extra_d_rgb) image_loss_.AddRgbGradient(extra_d_rgb);
-  Backward(model, gradients, /*accumulate=*/false);
+  Backward(model, gradients, accumulate, triplane_chunks);
 }
 
 double JointRenderCost::Forward(const LoopModelView& model,

@@ -94,9 +94,12 @@ class JointRenderCost : public ceres::CostFunction {
   // photometric term must be on when extra_d_rgb is given.
   double RenderForGradient(double const* const* parameters) const;
   const RenderResult& render() const { return render_; }
+  // With accumulate it adds (+=) into the rows, with triplane_chunks as
+  // in AddLossGradient.
   void BackwardWithImageGradient(double const* const* parameters,
-                                 const double* extra_d_rgb,
-                                 double** gradients) const;
+                                 const double* extra_d_rgb, double** gradients,
+                                 bool accumulate = false,
+                                 char* const* triplane_chunks = nullptr) const;
 
   const JointBlockLayout& layout() const { return layout_; }
   // Unweighted terms of the last Evaluate (0 for a disabled term).
