@@ -237,7 +237,10 @@ void Triplane::Backward(const double* params, int n, const double* x,
 #pragma omp parallel num_threads(threads)
   {
     const int id = omp_get_thread_num();
-    std::vector<double> scratch(3 * options_.channels);
+    // Per thread and kept, so a call allocates nothing after the first.
+    thread_local std::vector<double> scratch;
+    if (scratch.size() < 3 * static_cast<size_t>(options_.channels))
+      scratch.resize(3 * static_cast<size_t>(options_.channels));
     PartialGradient* mine =
         d_params != nullptr && id > 0 ? &partial[id - 1] : nullptr;
     double* grad = mine != nullptr ? mine->grad.data() : d_params;
