@@ -86,7 +86,7 @@ class Triplane {
     double ds_dx;  // d frac / d x; 0 where clamped
   };
   AxisSample SampleAxis(double x, int axis) const;
-  // One point of Sample / Backward; scratch holds 3 C doubles.
+  // One point of Sample / Backward; scratch holds 4 C doubles.
   void SamplePoint(const double* params, const double* x, double* out) const;
   void BackwardPoint(const double* params, const double* x, const double* d_out,
                      double* scratch, double* d_params, double* d_x) const;
