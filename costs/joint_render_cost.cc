@@ -132,10 +132,11 @@ double JointRenderCost::LossGradient(double const* const* parameters,
 }
 
 double JointRenderCost::AddLossGradient(double const* const* parameters,
-                                        double** gradients) const {
+                                        double** gradients,
+                                        char* const* triplane_chunks) const {
   const LoopModelView model = AttachedView(parameters);
   const double loss = HalfSquaredLoss(model);
-  Backward(model, gradients, /*accumulate=*/true);
+  Backward(model, gradients, /*accumulate=*/true, triplane_chunks);
   return loss;
 }
 
@@ -146,10 +147,11 @@ double JointRenderCost::RenderForGradient(
 
 void JointRenderCost::BackwardWithImageGradient(
     double const* const* parameters, const double* extra_d_rgb,
-    double** gradients) const {
+    double** gradients, bool accumulate,
+    char* const* triplane_chunks) const {
   const LoopModelView model = AttachedView(parameters);
   if (extra_d_rgb) image_loss_.AddRgbGradient(extra_d_rgb);
-  Backward(model, gradients, /*accumulate=*/false);
+  Backward(model, gradients, accumulate, triplane_chunks);
 }
 
 double JointRenderCost::Forward(const LoopModelView& model,
@@ -169,7 +171,8 @@ double JointRenderCost::Forward(const LoopModelView& model,
 }
 
 void JointRenderCost::Backward(const LoopModelView& model,
-                               double** jacobians, bool accumulate) const {
+                               double** jacobians, bool accumulate,
+                               char* const* triplane_chunks) const {
   // Gradients accumulate into the rows.
   const std::vector<int32_t>& sizes = layout_.sizes();
   for (int b = 0; !accumulate && b < layout_.num_blocks(); ++b)
@@ -183,13 +186,18 @@ void JointRenderCost::Backward(const LoopModelView& model,
   out.quats = jacobians[kQuatsBlock];
   out.opacity_logits = jacobians[kOpacityBlock];
   out.sh = jacobians[kShBlock];
+  auto chunks = [triplane_chunks](int block) {
+    return triplane_chunks != nullptr ? triplane_chunks[block] : nullptr;
+  };
   if (layout_.motion_triplane() >= 0) {
     out.motion = {jacobians[layout_.motion_triplane()],
-                  jacobians[layout_.motion_mlp()]};
+                  jacobians[layout_.motion_mlp()],
+                  chunks(layout_.motion_triplane())};
   }
   if (layout_.residual_triplane() >= 0) {
     out.residual = {jacobians[layout_.residual_triplane()],
-                    jacobians[layout_.residual_mlp()]};
+                    jacobians[layout_.residual_mlp()],
+                    chunks(layout_.residual_triplane())};
   }
   composer_.Backward(model, grads_,
                      residual_on() ? d_residuals_.data() : nullptr, out);

@@ -78,8 +78,12 @@ class JointRenderCost : public ceres::CostFunction {
   // LossGradient that adds (+=) d loss / d block to the rows instead, so a
   // caller that keeps them zero between calls (the trainer, whose field
   // gradients touch few texels) need not clear whole field-sized rows.
-  double AddLossGradient(double const* const* parameters,
-                         double** gradients) const;
+  // triplane_chunks (nullable) is indexed like gradients: for the fields'
+  // triplane blocks, chunk flags (core/fields/gradient_chunks.h) set where
+  // this call writes, so the caller need not scan the whole block; other
+  // entries are ignored and may be null.
+  double AddLossGradient(double const* const* parameters, double** gradients,
+                         char* const* triplane_chunks = nullptr) const;
 
   // LossGradient in two halves, for a loss across frames between them:
   // RenderForGradient composes, renders and scores the frame (returning
@@ -90,9 +94,12 @@ class JointRenderCost : public ceres::CostFunction {
   // photometric term must be on when extra_d_rgb is given.
   double RenderForGradient(double const* const* parameters) const;
   const RenderResult& render() const { return render_; }
+  // With accumulate it adds (+=) into the rows, with triplane_chunks as
+  // in AddLossGradient.
   void BackwardWithImageGradient(double const* const* parameters,
-                                 const double* extra_d_rgb,
-                                 double** gradients) const;
+                                 const double* extra_d_rgb, double** gradients,
+                                 bool accumulate = false,
+                                 char* const* triplane_chunks = nullptr) const;
 
   const JointBlockLayout& layout() const { return layout_; }
   // Unweighted terms of the last Evaluate (0 for a disabled term).
@@ -117,8 +124,10 @@ class JointRenderCost : public ceres::CostFunction {
   double Forward(const LoopModelView& model, bool want_grad) const;
   // Writes (or, with accumulate, adds) d loss / d block into every
   // non-null gradient row.
+  // triplane_chunks as in AddLossGradient.
   void Backward(const LoopModelView& model, double** gradients,
-                bool accumulate = false) const;
+                bool accumulate = false,
+                char* const* triplane_chunks = nullptr) const;
 
   const Frame* frame_ = nullptr;
   int frame_index_ = 0;

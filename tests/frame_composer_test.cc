@@ -5,7 +5,9 @@
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <omp.h>
 
+#include "core/fields/gradient_chunks.h"
 #include "core/loop/cycle_time.h"
 #include "core/loop/euler_chain.h"
 #include "core/loop/loop_animator.h"
@@ -228,6 +230,139 @@ TEST(FrameComposerTest, BackwardMatchesCentralDifferences) {
   check(&m.motion->triplane_params(), d_vt, "V triplane");
   check(&m.residual->mlp_params(), d_dm, "D mlp");
   check(&m.residual->triplane_params(), d_dt, "D triplane");
+}
+
+// Every output of one Compose + Backward, for comparing runs.
+struct ComposeResult {
+  std::vector<double> means, opacity, sh;
+  std::vector<double> d_means, d_opacity, d_sh, d_vt, d_vm, d_dt, d_dm;
+  std::vector<char> vt_chunks, dt_chunks;
+  int shares = 0;
+};
+
+ComposeResult ComposeAndBackward(const LoopModel& m, int frame,
+                                 const LinearLoss& loss,
+                                 FrameComposer* composer) {
+  const int n = m.gaussians.size();
+  const LoopModelView view = LoopModelView::Of(m);
+  const SplatView& v = composer->Compose(view, frame);
+  ComposeResult r;
+  r.shares = composer->num_shares();
+  r.means.assign(v.means, v.means + 3 * n);
+  r.opacity.assign(v.opacity_logits, v.opacity_logits + n);
+  r.sh.assign(v.sh, v.sh + m.gaussians.sh.size());
+  SplatGradients grads;
+  grads.Resize(n, m.gaussians.sh_degree, 0);
+  grads.means = loss.w_means;
+  grads.opacity_logits = loss.w_opacity;
+  grads.sh = loss.w_sh;
+  r.d_means.assign(3 * n, 0.0);
+  r.d_opacity.assign(n, 0.0);
+  r.d_sh.assign(m.gaussians.sh.size(), 0.0);
+  r.d_vt.assign(m.motion->triplane().num_params(), 0.0);
+  r.d_vm.assign(m.motion->mlp().num_params(), 0.0);
+  r.d_dt.assign(m.residual->triplane().num_params(), 0.0);
+  r.d_dm.assign(m.residual->mlp().num_params(), 0.0);
+  r.vt_chunks.assign(NumGradientChunks(r.d_vt.size()), 0);
+  r.dt_chunks.assign(NumGradientChunks(r.d_dt.size()), 0);
+  LoopModelGradients out;
+  out.means = r.d_means.data();
+  out.opacity_logits = r.d_opacity.data();
+  out.sh = r.d_sh.data();
+  out.motion = {r.d_vt.data(), r.d_vm.data(), r.vt_chunks.data()};
+  out.residual = {r.d_dt.data(), r.d_dm.data(), r.dt_chunks.data()};
+  composer->Backward(view, grads, nullptr, out);
+  return r;
+}
+
+void ExpectClose(const std::vector<double>& a, const std::vector<double>& b,
+                 const char* name) {
+  ASSERT_EQ(a.size(), b.size()) << name;
+  double max_abs = 0;
+  for (double x : a) max_abs = std::max(max_abs, std::abs(x));
+  ASSERT_GT(max_abs, 0.0) << name;
+  for (size_t i = 0; i < a.size(); ++i)
+    ASSERT_NEAR(a[i], b[i], 1e-12 * max_abs) << name << "[" << i << "]";
+}
+
+// Every chunk with a non-zero gradient value is flagged.
+void ExpectFlagged(const std::vector<double>& grad,
+                   const std::vector<char>& chunks, const char* name) {
+  for (size_t i = 0; i < grad.size(); ++i) {
+    if (grad[i] != 0.0) {
+      ASSERT_TRUE(chunks[i / kGradientChunk]) << name << "[" << i << "]";
+    }
+  }
+}
+
+// The dynamic Gaussians cut into one share per thread (each advected and
+// evaluated by its thread, gradients summed at the end) give what one
+// share gives, including on a second pass (the shares' gradient buffers
+// must come back zero), and flag every triplane chunk they write.
+TEST(FrameComposerTest, SharesAcrossThreadsMatchOneShare) {
+  LoopModel m = TinyModel(1);
+  // Finer planes and points in a corner of the box, so that most triplane
+  // chunks get no gradient.
+  MotionFieldOptions motion = TinyMotion();
+  motion.triplane.resolution = 32;
+  m.motion.emplace(motion);
+  m.motion->SetBox(Eigen::Vector3d::Constant(-1), Eigen::Vector3d::Constant(1));
+  ResidualFieldOptions residual = TinyResidual();
+  residual.triplane.resolution = 32;
+  m.residual.emplace(residual);
+  m.residual->SetBox(Eigen::Vector3d::Constant(-1),
+                     Eigen::Vector3d::Constant(1));
+  const int n = 400;
+  m.gaussians.Resize(n);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (double& v : m.gaussians.means) v = 0.3 * u(rng) - 0.5;
+  for (double& v : m.gaussians.log_scales) v = -2 + 0.2 * u(rng);
+  for (double& v : m.gaussians.opacity_logits) v = u(rng);
+  for (double& v : m.gaussians.sh) v = 0.5 * u(rng);
+  m.dynamic_index.clear();
+  m.start_times.clear();
+  for (int i = 0; i < n; i += 4) {  // 300 dynamic
+    for (int j = i + 1; j < i + 4; ++j) {
+      m.dynamic_index.push_back(j);
+      m.start_times.push_back(std::uniform_int_distribution<int>(
+          0, kCycle - 1)(rng));
+    }
+  }
+  LinearLoss loss;
+  loss.w_means.resize(3 * n);
+  loss.w_opacity.resize(n);
+  loss.w_sh.resize(m.gaussians.sh.size());
+  for (auto* w : {&loss.w_means, &loss.w_opacity, &loss.w_sh})
+    for (double& x : *w) x = u(rng);
+  const int frame = 6;
+
+  const int saved_threads = omp_get_max_threads();
+  omp_set_num_threads(4);
+  FrameComposer one, split;
+  one.set_max_shares(1);
+  const ComposeResult a = ComposeAndBackward(m, frame, loss, &one);
+  const ComposeResult b = ComposeAndBackward(m, frame, loss, &split);
+  const ComposeResult c = ComposeAndBackward(m, frame, loss, &split);
+  omp_set_num_threads(saved_threads);
+  EXPECT_EQ(a.shares, 1);
+  EXPECT_EQ(b.shares, 4);
+  for (const ComposeResult* r : {&b, &c}) {
+    ExpectClose(a.means, r->means, "means");
+    ExpectClose(a.opacity, r->opacity, "opacity");
+    ExpectClose(a.sh, r->sh, "sh");
+    ExpectClose(a.d_means, r->d_means, "d means");
+    ExpectClose(a.d_opacity, r->d_opacity, "d opacity");
+    ExpectClose(a.d_sh, r->d_sh, "d sh");
+    ExpectClose(a.d_vt, r->d_vt, "V triplane");
+    ExpectClose(a.d_vm, r->d_vm, "V mlp");
+    ExpectClose(a.d_dt, r->d_dt, "D triplane");
+    ExpectClose(a.d_dm, r->d_dm, "D mlp");
+  }
+  for (const ComposeResult* r : {&a, &b}) {
+    ExpectFlagged(r->d_vt, r->vt_chunks, "V triplane");
+    ExpectFlagged(r->d_dt, r->dt_chunks, "D triplane");
+  }
 }
 
 }  // namespace

@@ -286,5 +286,48 @@ TEST(RasterizerThreads, ImagesDoNotDependOnThreadCount) {
   omp_set_num_threads(2);
 }
 
+// Backward overwrites the whole gradient, whatever the buffer held: culled
+// Gaussians (behind the camera, transparent, off-screen) get zeros, the
+// kept ones what a fresh buffer gets, with and without the parallel pass.
+TEST(RasterizerHardCases, BackwardOverwritesStaleGradientsWithCulledZeros) {
+  for (int n : {10, 4000}) {
+    TestScene s = reference::RandomScene(13, n, 2, 1);
+    const Eigen::Vector3d center = s.camera.Center();
+    const Eigen::Vector3d behind =
+        center - s.camera.R().transpose() * Eigen::Vector3d(0, 0, 1);
+    s.Add(s.camera.R() * (behind - center), {1, 1, 1}, {1, 0, 0, 0}, 3);
+    s.Add({0, 0, 4}, {1, 1, 1}, {1, 0, 0, 0}, -8);  // opacity < 1/255
+    s.Add({100, 0, 4}, {0.1, 0.1, 0.1}, {1, 0, 0, 0}, 3);  // off-screen
+    const int count = n + 3;
+    Rasterizer r;
+    RenderResult out;
+    r.Forward(s.camera, s.View(), RenderOptions(), &out);
+    std::vector<double> ones_rgb(out.rgb.size(), 1.0);
+    std::vector<double> ones(out.alpha.size(), 1.0);
+    const RenderGradients image_grads{ones_rgb.data(), ones.data(),
+                                      ones.data(), ones.data()};
+    SplatGradients fresh, stale;
+    r.Backward(image_grads, &fresh);
+    stale.Resize(count, s.sh_degree, s.num_extra);
+    for (auto* v : {&stale.means, &stale.log_scales, &stale.quats,
+                    &stale.opacity_logits, &stale.sh, &stale.extra})
+      std::fill(v->begin(), v->end(), 7.0);
+    r.Backward(image_grads, &stale);
+    EXPECT_EQ(fresh.means, stale.means);
+    EXPECT_EQ(fresh.log_scales, stale.log_scales);
+    EXPECT_EQ(fresh.quats, stale.quats);
+    EXPECT_EQ(fresh.opacity_logits, stale.opacity_logits);
+    EXPECT_EQ(fresh.sh, stale.sh);
+    EXPECT_EQ(fresh.extra, stale.extra);
+    const int coeffs = 3 * NumShCoeffs(s.sh_degree);
+    for (int i = n; i < count; ++i) {
+      for (int j = 0; j < 3; ++j) EXPECT_EQ(stale.means[3 * i + j], 0.0);
+      EXPECT_EQ(stale.opacity_logits[i], 0.0);
+      for (int j = 0; j < coeffs; ++j)
+        EXPECT_EQ(stale.sh[coeffs * i + j], 0.0);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace es

@@ -65,7 +65,10 @@ void Mlp::Forward(const double* params, int n, const double* input, double* out,
     }
   }
   const int chunks = (n + kChunkRows - 1) / kChunkRows;
-#pragma omp parallel for schedule(static) if (chunks > 1)
+  // Inside a parallel region (a share of FrameComposer's) the calling
+  // thread runs every chunk.
+  const bool parallel = chunks > 1 && !omp_in_parallel();
+#pragma omp parallel for schedule(static) if (parallel)
   for (int c = 0; c < chunks; ++c) {
     const int r0 = c * kChunkRows;
     ForwardRows(params, r0, std::min(kChunkRows, n - r0), input, out, ws);
@@ -101,7 +104,8 @@ void Mlp::Backward(const double* params, const double* d_out, double* d_params,
     if (ws->grad_prev.size() < size) ws->grad_prev.resize(size);
   }
   const int chunks = (n + kChunkRows - 1) / kChunkRows;
-  const int threads = chunks > 1 ? omp_get_max_threads() : 1;
+  const int threads =
+      chunks > 1 && !omp_in_parallel() ? omp_get_max_threads() : 1;
   // Zeroed here, not by their threads: the team may get fewer threads.
   if (d_params != nullptr) {
     ws->thread_grads.resize(threads - 1);
@@ -160,9 +164,8 @@ void Mlp::BackwardRows(const double* params, int r0, int rows,
     double* next = buffers[l % 2]->data() + static_cast<size_t>(r0) * in;
     kernels_->multiply(rows, o, in, g, w, nullptr, /*accumulate=*/false, next);
     const size_t size = static_cast<size_t>(rows) * in;
-    for (size_t i = 0; i < size; ++i) {
-      if (!(a[i] > 0.0)) next[i] = 0.0;
-    }
+    // A select, not a conditional store, so it vectorizes.
+    for (size_t i = 0; i < size; ++i) next[i] = a[i] > 0.0 ? next[i] : 0.0;
     g = next;
   }
 }

@@ -73,7 +73,8 @@ void MotionField::Backward(const FieldParams& p, const double* d_v,
                 need_features ? ws->d_features.data() : nullptr, &ws->mlp);
   if (need_features) {
     triplane_.Backward(p.triplane, n, ws->x, ws->d_features.data(),
-                       grads.triplane, d_x);
+                       grads.triplane, d_x, /*d_out_stride=*/0,
+                       grads.triplane_chunks);
   }
 }
 

@@ -35,6 +35,9 @@ struct FieldParams {
 struct FieldGradients {
   double* triplane = nullptr;
   double* mlp = nullptr;
+  // Nullable: one flag per chunk of the triplane gradient
+  // (core/fields/gradient_chunks.h), set where Backward writes.
+  char* triplane_chunks = nullptr;
 };
 
 // State of one Evaluate kept for Backward, row-major arrays; buffers only

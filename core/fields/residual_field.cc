@@ -92,7 +92,8 @@ void ResidualField::Backward(const FieldParams& params, const double* d_out,
                 need_features ? ws->d_features.data() : nullptr, &ws->mlp);
   if (!need_features) return;
   triplane_.Backward(params.triplane, n, ws->x, ws->d_features.data(),
-                     grads.triplane, d_x0, mlp_.input_dim());
+                     grads.triplane, d_x0, mlp_.input_dim(),
+                     grads.triplane_chunks);
 }
 
 }  // namespace es

@@ -8,6 +8,8 @@
 #include <glog/logging.h>
 #include <omp.h>
 
+#include "core/fields/gradient_chunks.h"
+
 namespace es {
 namespace {
 
@@ -147,6 +149,7 @@ void Triplane::BackwardPoint(const double* params, const double* x,
       }
     }
   }
+  double* g = scratch + 3 * c;  // dL / d(this plane's feature), per channel
   for (int p = 0; p < 3; ++p) {
     const AxisSample& a = as[p];
     const AxisSample& b = bs[p];
@@ -154,32 +157,44 @@ void Triplane::BackwardPoint(const double* params, const double* x,
     const double* t01 = t00 + c;
     const double* t10 = t00 + r * c;
     const double* t11 = t10 + c;
-    const double w00 = (1 - a.frac) * (1 - b.frac), w01 = a.frac * (1 - b.frac);
-    const double w10 = (1 - a.frac) * b.frac, w11 = a.frac * b.frac;
+    const double* gp = g;
+    switch (mode) {
+      case PlaneCombination::kSum:
+        gp = d_out;
+        break;
+      case PlaneCombination::kProduct: {
+        const double* f1 = f + ((p + 1) % 3) * c;
+        const double* f2 = f + ((p + 2) % 3) * c;
+        for (int k = 0; k < c; ++k) g[k] = d_out[k] * f1[k] * f2[k];
+        break;
+      }
+      case PlaneCombination::kConcat:
+        gp = d_out + p * c;
+        break;
+    }
     double d_a = 0.0, d_b = 0.0;
     for (int k = 0; k < c; ++k) {
-      double g = 0.0;  // dL / d(this plane's feature k)
-      switch (mode) {
-        case PlaneCombination::kSum:
-          g = d_out[k];
-          break;
-        case PlaneCombination::kProduct:
-          g = d_out[k] * f[((p + 1) % 3) * c + k] * f[((p + 2) % 3) * c + k];
-          break;
-        case PlaneCombination::kConcat:
-          g = d_out[p * c + k];
-          break;
-      }
-      d_a +=
-          g * ((1 - b.frac) * (t01[k] - t00[k]) + b.frac * (t11[k] - t10[k]));
-      d_b +=
-          g * ((1 - a.frac) * (t10[k] - t00[k]) + a.frac * (t11[k] - t01[k]));
-      if (d_params != nullptr) {
-        double* g00 = d_params + (t00 - params);
-        g00[k] += w00 * g;
-        g00[k + c] += w01 * g;
-        g00[k + r * c] += w10 * g;
-        g00[k + r * c + c] += w11 * g;
+      d_a += gp[k] *
+             ((1 - b.frac) * (t01[k] - t00[k]) + b.frac * (t11[k] - t10[k]));
+      d_b += gp[k] *
+             ((1 - a.frac) * (t10[k] - t00[k]) + a.frac * (t11[k] - t01[k]));
+    }
+    if (d_params != nullptr) {
+      // The four texels' channel runs do not overlap each other, nor the
+      // features and gradients read here, so the loop vectorizes.
+      const double w00 = (1 - a.frac) * (1 - b.frac);
+      const double w01 = a.frac * (1 - b.frac);
+      const double w10 = (1 - a.frac) * b.frac, w11 = a.frac * b.frac;
+      double* __restrict g00 = d_params + (t00 - params);
+      double* __restrict g01 = g00 + c;
+      double* __restrict g10 = g00 + r * c;
+      double* __restrict g11 = g10 + c;
+      const double* __restrict gk = gp;
+      for (int k = 0; k < c; ++k) {
+        g00[k] += w00 * gk[k];
+        g01[k] += w01 * gk[k];
+        g10[k] += w10 * gk[k];
+        g11[k] += w11 * gk[k];
       }
     }
     if (d_x != nullptr) {
@@ -189,15 +204,35 @@ void Triplane::BackwardPoint(const double* params, const double* x,
   }
 }
 
+void Triplane::FlagPoint(const double* x, char* touched_chunks) const {
+  const int r = options_.resolution;
+  const int c = options_.channels;
+  for (int p = 0; p < 3; ++p) {
+    const AxisSample a = SampleAxis(x[kPlaneAxes[p][0]], kPlaneAxes[p][0]);
+    const AxisSample b = SampleAxis(x[kPlaneAxes[p][1]], kPlaneAxes[p][1]);
+    // Texels (i0, j0) and (i0 + 1, j0), then the same one row down.
+    const size_t t00 = (static_cast<size_t>(p * r + b.i0) * r + a.i0) * c;
+    const size_t t10 = t00 + static_cast<size_t>(r) * c;
+    FlagGradientChunks(t00, t00 + 2 * c, touched_chunks);
+    FlagGradientChunks(t10, t10 + 2 * c, touched_chunks);
+  }
+}
+
 void Triplane::Backward(const double* params, int n, const double* x,
                         const double* d_out, double* d_params, double* d_x,
-                        int d_out_stride) const {
+                        int d_out_stride, char* touched_chunks) const {
   const int d = d_out_stride > 0 ? d_out_stride : output_dim();
   if (d_params == nullptr && d_x == nullptr) return;
+  if (d_params != nullptr && touched_chunks != nullptr) {
+    for (int i = 0; i < n; ++i) FlagPoint(x + 3 * i, touched_chunks);
+  }
   // Texels are shared between points: every thread but the first
   // accumulates parameter gradients into its own dense buffer, and the
-  // buffers are summed at the end.
-  const int threads = n >= kMinParallelPoints ? omp_get_max_threads() : 1;
+  // buffers are summed at the end. Inside a parallel region (e.g. one
+  // share of FrameComposer's) this runs on the calling thread alone.
+  const int threads = n >= kMinParallelPoints && !omp_in_parallel()
+                          ? omp_get_max_threads()
+                          : 1;
   const int extra = d_params != nullptr ? threads - 1 : 0;
   const int r = options_.resolution;
   const int rows = 3 * r;  // (plane, row) blocks of r * channels params
@@ -215,7 +250,10 @@ void Triplane::Backward(const double* params, int n, const double* x,
 #pragma omp parallel num_threads(threads)
   {
     const int id = omp_get_thread_num();
-    std::vector<double> scratch(3 * options_.channels);
+    // Per thread and kept, so a call allocates nothing after the first.
+    thread_local std::vector<double> scratch;
+    if (scratch.size() < 4 * static_cast<size_t>(options_.channels))
+      scratch.resize(4 * static_cast<size_t>(options_.channels));
     PartialGradient* mine =
         d_params != nullptr && id > 0 ? &partial[id - 1] : nullptr;
     double* grad = mine != nullptr ? mine->grad.data() : d_params;

@@ -65,10 +65,12 @@ class Triplane {
   // Given d_out = dL/dout (n x output_dim()), accumulates dL/dparams into the
   // dense array d_params (num_params(); only 4 texels per plane per point are
   // touched) and dL/dx into d_x (n x 3). Either may be nullptr. d_out rows
-  // are d_out_stride apart, as in Sample.
+  // are d_out_stride apart, as in Sample. touched_chunks (nullable, one flag
+  // per kGradientChunk values of d_params, core/fields/gradient_chunks.h)
+  // gets the chunks written to d_params set; the others are left alone.
   void Backward(const double* params, int n, const double* x,
                 const double* d_out, double* d_params, double* d_x,
-                int d_out_stride = 0) const;
+                int d_out_stride = 0, char* touched_chunks = nullptr) const;
 
   // Total variation: weight * mean over planes, channels and horizontal and
   // vertical neighbour pairs of the squared difference. Accumulates its
@@ -84,10 +86,12 @@ class Triplane {
     double ds_dx;  // d frac / d x; 0 where clamped
   };
   AxisSample SampleAxis(double x, int axis) const;
-  // One point of Sample / Backward; scratch holds 3 C doubles.
+  // One point of Sample / Backward; scratch holds 4 C doubles.
   void SamplePoint(const double* params, const double* x, double* out) const;
   void BackwardPoint(const double* params, const double* x, const double* d_out,
                      double* scratch, double* d_params, double* d_x) const;
+  // Flags the chunks of d_params that BackwardPoint at x writes.
+  void FlagPoint(const double* x, char* touched_chunks) const;
 
   TriplaneOptions options_;
   Eigen::Vector3d lo_, hi_;

@@ -3,12 +3,17 @@
 #include <algorithm>
 
 #include <glog/logging.h>
+#include <omp.h>
 
 #include "core/loop/cycle_time.h"
 #include "core/profile/stage_profile.h"
 
 namespace es {
 namespace {
+
+// Fewest dynamic Gaussians per share: below it a thread's batches are too
+// small to pay for the parallel region and the gradient sum.
+constexpr int kMinSharePoints = 64;
 
 // SH coefficients per channel that D offsets: its 16, or fewer when the
 // model's degree has fewer.
@@ -36,12 +41,87 @@ LoopModelView LoopModelView::Of(const LoopModel& model) {
 FrameComposer::FrameComposer(const EulerOptions& euler_options)
     : euler_options_(euler_options) {}
 
-EulerChain* FrameComposer::ChainFor(const MotionField* field) {
-  if (!chain_ || chain_field_ != field) {
-    chain_.emplace(field, euler_options_);
-    chain_field_ = field;
+void FrameComposer::PlanShares(const LoopStructure& s, int m, bool advect) {
+  const bool motion = advect && s.motion != nullptr;
+  // Work per Gaussian in MLP parameters: V's per Euler step, D's once.
+  const double v_cost = motion ? s.motion->mlp().num_params() : 0.0;
+  const double d_cost =
+      s.residual != nullptr ? s.residual->mlp().num_params() : 0.0;
+  double total = 0.0;
+  for (int k = 0; k < m; ++k) total += cycle_index_[k] * v_cost + d_cost;
+  int shares = omp_in_parallel() ? 1 : omp_get_max_threads();
+  if (max_shares_ > 0) shares = std::min(shares, max_shares_);
+  shares = std::min(shares, m / kMinSharePoints);
+  if (!(total > 0.0)) shares = 1;
+  shares = std::max(shares, 1);
+  if (static_cast<int>(shares_.size()) < shares) shares_.resize(shares);
+  num_shares_ = shares;
+  int k = 0;
+  double done = 0.0;
+  for (int g = 0; g < shares; ++g) {
+    Share& share = shares_[g];
+    share.begin = k;
+    if (g + 1 == shares) {
+      k = m;
+    } else {
+      // At least one Gaussian each, and one left for every later share.
+      const double target = total * (g + 1) / shares;
+      const int last = m - (shares - 1 - g);
+      while (k < last && (k == share.begin || done < target)) {
+        done += cycle_index_[k] * v_cost + d_cost;
+        ++k;
+      }
+    }
+    share.end = k;
   }
-  return &*chain_;
+}
+
+void FrameComposer::EvaluateFields(const LoopModelView& model, bool advect) {
+  ScopedStage timer(Stage::kFieldsForward);
+  const LoopStructure& s = model.structure;
+  const int m = s.num_dynamic();
+  const bool motion = advect && s.motion != nullptr;
+  advected_ = motion;
+  if (s.residual != nullptr) {
+    residuals_.resize(static_cast<size_t>(m) * kResidualDim);
+  } else {
+    residuals_.clear();
+  }
+  euler_stats_ = EulerStats();
+  if (m == 0 || (!motion && s.residual == nullptr)) return;
+  PlanShares(s, m, advect);
+  auto run = [&](int g) {
+    Share& share = shares_[g];
+    const int b = share.begin, n = share.end - share.begin;
+    share.stats = EulerStats();
+    if (motion) {
+      if (!share.chain || share.chain_field != s.motion) {
+        share.chain.emplace(s.motion, euler_options_);
+        share.chain_field = s.motion;
+      }
+      share.chain->Forward(model.motion_params, n, &canonical_[3 * b],
+                           &cycle_index_[b], &positions_[3 * b]);
+      share.stats = share.chain->stats();
+    }
+    if (s.residual != nullptr) {
+      s.residual->Evaluate(model.residual_params, n, &canonical_[3 * b],
+                           &cycle_index_[b], &cycle_number_[b],
+                           &residuals_[static_cast<size_t>(b) * kResidualDim],
+                           &share.residual_ws);
+    }
+  };
+  if (num_shares_ == 1) {
+    run(0);
+  } else {
+#pragma omp parallel for schedule(static, 1) num_threads(num_shares_)
+    for (int g = 0; g < num_shares_; ++g) run(g);
+  }
+  for (int g = 0; g < num_shares_; ++g) {
+    const EulerStats& e = shares_[g].stats;
+    euler_stats_.velocity_evaluations += e.velocity_evaluations;
+    euler_stats_.nonfinite_velocities += e.nonfinite_velocities;
+    euler_stats_.clamped_steps += e.clamped_steps;
+  }
 }
 
 const SplatView& FrameComposer::Compose(const LoopModelView& model,
@@ -66,16 +146,9 @@ const SplatView& FrameComposer::Compose(const LoopModelView& model,
     cycle_number_[k] =
         CycleNumber(frame, start_times[k], s.cycle_length);
   }
-  positions_.resize(canonical_.size());
-  euler_stats_ = EulerStats();
-  if (s.motion != nullptr && m > 0) {
-    EulerChain* chain = ChainFor(s.motion);
-    chain->Forward(model.motion_params, m, canonical_.data(),
-                   cycle_index_.data(), positions_.data());
-    euler_stats_ = chain->stats();
-  } else {
-    positions_ = canonical_;
-  }
+  // The Euler chain overwrites these when there is a motion field.
+  positions_ = canonical_;
+  EvaluateFields(model, /*advect=*/true);
   backward_ready_ = true;
   return Assemble(model);
 }
@@ -97,7 +170,7 @@ const SplatView& FrameComposer::ComposeAdvected(const LoopModelView& model,
   positions_.assign(positions, positions + 3 * static_cast<size_t>(m));
   cycle_index_.assign(cycle_indices, cycle_indices + m);
   cycle_number_.assign(m, cycle_number);
-  euler_stats_ = EulerStats();
+  EvaluateFields(model, /*advect=*/false);
   backward_ready_ = false;
   return Assemble(model);
 }
@@ -110,24 +183,14 @@ const SplatView& FrameComposer::Assemble(const LoopModelView& model) {
   const int count = c.count;
   const int coeffs = NumShCoeffs(c.sh_degree);
   view_ = c;
-  if (m == 0) {
-    residuals_.clear();
-    return view_;
-  }
+  if (m == 0) return view_;
   means_.assign(c.means, c.means + 3 * static_cast<size_t>(count));
   for (int k = 0; k < m; ++k) {
     std::copy(&positions_[3 * k], &positions_[3 * k] + 3,
               &means_[3 * dynamic[k]]);
   }
   view_.means = means_.data();
-  if (s.residual == nullptr) {
-    residuals_.clear();
-    return view_;
-  }
-  residuals_.resize(static_cast<size_t>(m) * kResidualDim);
-  s.residual->Evaluate(model.residual_params, m, canonical_.data(),
-                           cycle_index_.data(), cycle_number_.data(),
-                           residuals_.data(), &residual_ws_);
+  if (s.residual == nullptr) return view_;
   opacity_logits_.assign(c.opacity_logits, c.opacity_logits + count);
   sh_.assign(c.sh, c.sh + 3 * static_cast<size_t>(coeffs) * count);
   const int offset_coeffs = OffsetShCoeffs(c.sh_degree);
@@ -208,15 +271,9 @@ void FrameComposer::Backward(const LoopModelView& model,
       for (size_t i = 0; i < d_residuals_.size(); ++i)
         d_residuals_[i] += d_residuals[i];
     }
-    s.residual->Backward(model.residual_params, d_residuals_.data(),
-                             out.residual,
-                             out.means != nullptr ? d_x0_.data() : nullptr,
-                             &residual_ws_);
   }
-  if (s.motion != nullptr) {
-    CHECK(chain_ && chain_field_ == s.motion);
-    chain_->Backward(model.motion_params, d_positions_.data(), out.motion,
-                     out.means != nullptr ? d_x0_.data() : nullptr);
+  if (advected_ || s.residual != nullptr) {
+    FieldsBackward(model, out);
   } else {
     for (size_t i = 0; i < d_x0_.size(); ++i) d_x0_[i] += d_positions_[i];
   }
@@ -224,6 +281,69 @@ void FrameComposer::Backward(const LoopModelView& model,
   for (int k = 0; k < m; ++k) {
     const int n = dynamic[k];
     for (int j = 0; j < 3; ++j) out.means[3 * n + j] += d_x0_[3 * k + j];
+  }
+}
+
+void FrameComposer::FieldsBackward(const LoopModelView& model,
+                                   const LoopModelGradients& out) {
+  ScopedStage timer(Stage::kFieldsBackward);
+  const LoopStructure& s = model.structure;
+  CHECK(num_shares_ >= 1 &&
+        shares_[num_shares_ - 1].end == s.num_dynamic())
+      << "FrameComposer::Backward without a matching Compose";
+  const bool motion = advected_;
+  for (int g = 1; g < num_shares_; ++g) {
+    Share& share = shares_[g];
+    if (motion) {
+      share.motion_grads.Resize(s.motion->triplane().num_params(),
+                                s.motion->mlp().num_params());
+    }
+    if (s.residual != nullptr) {
+      share.residual_grads.Resize(s.residual->triplane().num_params(),
+                                  s.residual->mlp().num_params());
+    }
+  }
+  // D, then V through the Euler chain, each share into its own gradient
+  // buffers (the first into out's); dL/dx0 rows are the share's own.
+  auto run = [&](int g) {
+    Share& share = shares_[g];
+    const int b = share.begin, n = share.end - share.begin;
+    double* d_x0 = out.means != nullptr ? &d_x0_[3 * b] : nullptr;
+    if (s.residual != nullptr) {
+      const FieldGradients grads =
+          g == 0 ? out.residual : share.residual_grads.Gradients(out.residual);
+      s.residual->Backward(model.residual_params,
+                           &d_residuals_[static_cast<size_t>(b) * kResidualDim],
+                           grads, d_x0, &share.residual_ws);
+    }
+    if (motion) {
+      CHECK(share.chain && share.chain_field == s.motion);
+      const FieldGradients grads =
+          g == 0 ? out.motion : share.motion_grads.Gradients(out.motion);
+      share.chain->Backward(model.motion_params, &d_positions_[3 * b], grads,
+                            d_x0);
+    } else {
+      for (int i = 3 * b; i < 3 * (b + n); ++i) d_x0_[i] += d_positions_[i];
+    }
+  };
+  if (num_shares_ == 1) {
+    run(0);
+    return;
+  }
+#pragma omp parallel for schedule(static, 1) num_threads(num_shares_)
+  for (int g = 0; g < num_shares_; ++g) run(g);
+  std::vector<FieldGradientBuffer*>& buffers = gradient_buffers_;
+  if (motion) {
+    buffers.clear();
+    for (int g = 1; g < num_shares_; ++g)
+      buffers.push_back(&shares_[g].motion_grads);
+    AddAndClearGradients(buffers, out.motion);
+  }
+  if (s.residual != nullptr) {
+    buffers.clear();
+    for (int g = 1; g < num_shares_; ++g)
+      buffers.push_back(&shares_[g].residual_grads);
+    AddAndClearGradients(buffers, out.residual);
   }
 }
 

@@ -4,6 +4,7 @@
 #include <optional>
 #include <vector>
 
+#include "core/fields/field_gradient_buffer.h"
 #include "core/fields/motion_field.h"
 #include "core/fields/residual_field.h"
 #include "core/loop/euler_chain.h"
@@ -48,7 +49,14 @@ struct LoopModelGradients {
 //              for k' < min(K, 16) (K = the model's SH coefficients)
 // with the V term x0 when there is no motion field and no D terms when
 // there is no residual field. V and D are evaluated on the dynamic
-// Gaussians only, in batches. Owns the composed arrays; the returned view
+// Gaussians only, in batches: the dynamic Gaussians are cut into shares of
+// about equal field work (Euler steps and D), one per OpenMP thread, each
+// advected and evaluated by its thread alone, forward and backward, so a
+// pass is one parallel region; the shares' parameter gradients are summed
+// in share order at the end (for a given thread count the result does not
+// depend on scheduling). Each share after the first keeps a gradient
+// buffer the size of V's and of D's parameters (about 11 MB at the
+// default 128^2 planes), allocated on its first Backward. Owns the composed arrays; the returned view
 // (log-scales, quaternions and extra point at the canonical arrays) stays
 // valid until the next Compose* call. Not thread-safe.
 class FrameComposer {
@@ -85,17 +93,45 @@ class FrameComposer {
   const std::vector<int>& cycle_numbers() const { return cycle_number_; }
   // Euler-chain counts of the last Compose.
   const EulerStats& euler_stats() const { return euler_stats_; }
+  // Shares the last Compose* cut the dynamic Gaussians into (1 when it
+  // ran on one thread).
+  int num_shares() const { return num_shares_; }
+  // At most this many shares (0: one per OpenMP thread), for tests that
+  // compare a split run with a one-share run.
+  void set_max_shares(int max_shares) { max_shares_ = max_shares; }
 
  private:
-  // Shared tail of both Compose* entries: D, then the composed arrays from
-  // the dynamic positions in positions_.
+  // A contiguous range of the dynamic Gaussians (dynamic order) that one
+  // thread advects and evaluates D for, with its own workspaces.
+  struct Share {
+    int begin = 0, end = 0;
+    std::optional<EulerChain> chain;
+    const MotionField* chain_field = nullptr;
+    FieldWorkspace residual_ws;
+    EulerStats stats;
+    // Gradients of the shares after the first (the first writes into the
+    // caller's buffers).
+    FieldGradientBuffer motion_grads, residual_grads;
+  };
+  // Cuts the m dynamic Gaussians into shares (num_shares_) by their field
+  // work: `steps` Euler steps each when advect, plus one D evaluation.
+  void PlanShares(const LoopStructure& s, int m, bool advect);
+  // Forward of V (when advect) and D on every share into positions_ and
+  // residuals_.
+  void EvaluateFields(const LoopModelView& model, bool advect);
+  // The composed arrays from positions_ and residuals_.
   const SplatView& Assemble(const LoopModelView& model);
-  EulerChain* ChainFor(const MotionField* field);
+  // D's and (when the last Compose advected) V's backward on every share,
+  // from d_positions_ and d_residuals_, adding dL/dx0 into d_x0_.
+  void FieldsBackward(const LoopModelView& model,
+                      const LoopModelGradients& out);
 
   EulerOptions euler_options_;
-  std::optional<EulerChain> chain_;
-  const MotionField* chain_field_ = nullptr;
-  FieldWorkspace residual_ws_;
+  std::vector<Share> shares_;
+  std::vector<FieldGradientBuffer*> gradient_buffers_;
+  int num_shares_ = 0;
+  int max_shares_ = 0;
+  bool advected_ = false;  // the last Compose* ran the Euler chain
   EulerStats euler_stats_;
   bool backward_ready_ = false;  // the last Compose* was Compose
   std::vector<double> canonical_, positions_, residuals_;

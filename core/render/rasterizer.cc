@@ -344,7 +344,16 @@ void Rasterizer::Backward(const RenderGradients& image_grads,
   State& s = *state_;
   CHECK(s.camera.has_value()) << "Backward before Forward";
   const SplatView& splats = s.splats;
-  grads->Resize(splats.count, splats.sh_degree, splats.num_extra);
+  // Sized only: every value is written below (a full clear first was a
+  // serial pass over all of them, 144 MB at 300k Gaussians of SH degree 3).
+  const int coeffs = 3 * NumShCoeffs(splats.sh_degree);
+  const int num_extra = splats.num_extra;
+  grads->means.resize(3 * static_cast<size_t>(splats.count));
+  grads->log_scales.resize(3 * static_cast<size_t>(splats.count));
+  grads->quats.resize(4 * static_cast<size_t>(splats.count));
+  grads->opacity_logits.resize(splats.count);
+  grads->sh.resize(static_cast<size_t>(coeffs) * splats.count);
+  grads->extra.resize(static_cast<size_t>(num_extra) * splats.count);
   if (s.options.use_double) {
     s.BackwardTiles<double>(image_grads);
   } else {
@@ -353,24 +362,41 @@ void Rasterizer::Backward(const RenderGradients& image_grads,
   ScopedStage timer(Stage::kProjectionBackward);
   const int grad_stride = kGradHead + s.num_features;
   const int count = static_cast<int>(s.order.size());
-  const int num_extra = splats.num_extra;
-#pragma omp parallel for schedule(static, 256) \
-    if (count > kMinParallelSplats)
-  for (int k = 0; k < count; ++k) {
-    const int n = s.order[k];
-    const double* g2 = &s.grad2d[static_cast<size_t>(grad_stride) * k];
-    ProjectedGradient pg;
-    pg.mean2d[0] = g2[0];
-    pg.mean2d[1] = g2[1];
-    pg.conic[0] = g2[2];
-    pg.conic[1] = g2[3];
-    pg.conic[2] = g2[4];
-    pg.opacity = g2[5];
-    for (int c = 0; c < 3; ++c) pg.color[c] = g2[kGradHead + c];
-    pg.depth = g2[kGradHead + 3];
-    ProjectSplatBackward(*s.camera, splats, n, pg, grads);
-    for (int e = 0; e < num_extra; ++e) {
-      grads->extra[n * num_extra + e] = g2[kGradHead + 4 + e];
+  const int total = splats.count;
+#pragma omp parallel if (total > kMinParallelSplats)
+  {
+    // Culled Gaussians get zeros; ProjectSplatBackward writes every value
+    // of a kept one (and the loop below its extras).
+#pragma omp for schedule(static, 1024) nowait
+    for (int n = 0; n < total; ++n) {
+      if (s.keep[n]) continue;
+      auto zero = [](std::vector<double>* v, size_t begin, size_t size) {
+        std::fill(v->begin() + begin, v->begin() + begin + size, 0.0);
+      };
+      zero(&grads->means, 3 * static_cast<size_t>(n), 3);
+      zero(&grads->log_scales, 3 * static_cast<size_t>(n), 3);
+      zero(&grads->quats, 4 * static_cast<size_t>(n), 4);
+      zero(&grads->opacity_logits, n, 1);
+      zero(&grads->sh, static_cast<size_t>(coeffs) * n, coeffs);
+      zero(&grads->extra, static_cast<size_t>(num_extra) * n, num_extra);
+    }
+#pragma omp for schedule(static, 256)
+    for (int k = 0; k < count; ++k) {
+      const int n = s.order[k];
+      const double* g2 = &s.grad2d[static_cast<size_t>(grad_stride) * k];
+      ProjectedGradient pg;
+      pg.mean2d[0] = g2[0];
+      pg.mean2d[1] = g2[1];
+      pg.conic[0] = g2[2];
+      pg.conic[1] = g2[3];
+      pg.conic[2] = g2[4];
+      pg.opacity = g2[5];
+      for (int c = 0; c < 3; ++c) pg.color[c] = g2[kGradHead + c];
+      pg.depth = g2[kGradHead + 3];
+      ProjectSplatBackward(*s.camera, splats, n, pg, grads);
+      for (int e = 0; e < num_extra; ++e) {
+        grads->extra[n * num_extra + e] = g2[kGradHead + 4 + e];
+      }
     }
   }
 }

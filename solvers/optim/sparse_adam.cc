@@ -7,15 +7,21 @@
 
 #include <glog/logging.h>
 
+#include "core/fields/gradient_chunks.h"
 #include "core/profile/stage_profile.h"
 
 namespace es {
 namespace {
 
-// Values per chunk: 64 doubles, one cache line's worth eight times over.
-constexpr int kChunk = 64;
+// Values per chunk: 64 doubles, one cache line's worth eight times over;
+// producers' chunk flags use the same.
+constexpr int kChunk = kGradientChunk;
 // Below this many chunks a parallel region costs more than it saves.
 constexpr int kMinParallelChunks = 1024;
+// The same for Step, whose per-chunk work (a square root and a division
+// per value) is several times a scan's: the fields' active chunks (a few
+// hundred to a few thousand per block) are split between threads.
+constexpr int kMinParallelStepChunks = 128;
 
 int NumChunks(int size) { return (size + kChunk - 1) / kChunk; }
 
@@ -81,10 +87,32 @@ bool SparseAdam::ScanGradient(const double* grad) {
   return all_finite;
 }
 
-void SparseAdam::ClearGradient(double* grad) const {
+bool SparseAdam::ScanFlagged(const double* grad) {
+  const int chunks = NumChunks(size());
+  flagged_.clear();
+  for (int c = 0; c < chunks; ++c) {
+    if (touched_[c]) flagged_.push_back(c);
+  }
+  const int flagged = static_cast<int>(flagged_.size());
+  bool all_finite = true;
+#pragma omp parallel for if (flagged >= kMinParallelChunks) \
+    schedule(static) reduction(&& : all_finite)
+  for (int k = 0; k < flagged; ++k) {
+    const int c = flagged_[k];
+    const int begin = c * kChunk, end = std::min(size(), begin + kChunk);
+    bool nonzero, finite;
+    Inspect(grad + begin, end - begin, &nonzero, &finite);
+    touched_[c] = nonzero;
+    all_finite = all_finite && finite;
+  }
+  return all_finite;
+}
+
+void SparseAdam::ClearGradient(double* grad) {
   const int chunks = NumChunks(size());
   for (int c = 0; c < chunks; ++c) {
     if (!touched_[c]) continue;
+    touched_[c] = 0;
     const int begin = c * kChunk, end = std::min(size(), begin + kChunk);
     std::fill(grad + begin, grad + end, 0.0);
   }
@@ -103,7 +131,7 @@ bool SparseAdam::Step(int64_t t, double lr, double* grad, double* x) {
   }
   const int active = static_cast<int>(active_.size());
   bool all_finite = true;
-#pragma omp parallel for if (active >= kMinParallelChunks) \
+#pragma omp parallel for if (active >= kMinParallelStepChunks) \
     schedule(static) reduction(&& : all_finite)
   for (int k = 0; k < active; ++k) {
     const int c = active_[k];

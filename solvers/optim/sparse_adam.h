@@ -18,7 +18,11 @@ namespace es {
 // Use per step: the block's gradient is accumulated into a buffer that is
 // all zero; ScanGradient checks it for non-finite values and notes the
 // chunks it touches; then either Step (which re-zeroes those chunks) or,
-// to drop the step, ClearGradient.
+// to drop the step, ClearGradient. Where every producer of the gradient
+// flags the chunks it writes (FieldGradients::triplane_chunks) into
+// chunk_flags(), ScanFlagged replaces ScanGradient and reads only those
+// chunks instead of the whole block. Chunks are kGradientChunk values
+// (core/fields/gradient_chunks.h).
 class SparseAdam {
  public:
   explicit SparseAdam(int size = 0, const AdamOptions& options = {});
@@ -31,8 +35,15 @@ class SparseAdam {
 
   // False if any of the size() values of grad is not finite.
   bool ScanGradient(const double* grad);
-  // Zeroes the chunks of grad the last ScanGradient found non-zero.
-  void ClearGradient(double* grad) const;
+  // One flag per chunk for the gradient's producers to set where they
+  // write; all zero again after Step or ClearGradient.
+  char* chunk_flags() { return touched_.data(); }
+  // ScanGradient for a gradient that is zero outside the chunks flagged in
+  // chunk_flags(): reads only those. False if any value there is not
+  // finite.
+  bool ScanFlagged(const double* grad);
+  // Zeroes the chunks of grad the last scan found non-zero.
+  void ClearGradient(double* grad);
   // One Adam step t with rate lr on x (size() values) from the last
   // ScanGradient's gradient, which it zeroes. Returns false if a value it
   // changed is not finite (those it did not change are as before).
@@ -42,8 +53,11 @@ class SparseAdam {
   AdamOptions options_;
   std::vector<double> m_, v_;
   std::vector<char> live_;     // per chunk: its moments may be non-zero
-  std::vector<char> touched_;  // per chunk: non-zero gradient at the scan
+  // Per chunk: non-zero gradient at the scan (before ScanFlagged: flagged
+  // by a producer).
+  std::vector<char> touched_;
   std::vector<int> active_;    // chunks Step updates
+  std::vector<int> flagged_;   // ScanFlagged's flagged chunks
 };
 
 }  // namespace es

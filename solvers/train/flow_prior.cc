@@ -5,6 +5,7 @@
 
 #include <glog/logging.h>
 
+#include "core/fields/gradient_chunks.h"
 #include "solvers/optim/lr_schedule.h"
 
 namespace es {
@@ -25,6 +26,7 @@ SceneFlowPrior::SceneFlowPrior(const MotionField* field,
   inverse_mean_square_speed_ = mean > 0 ? 1.0 / mean : 1.0;
   indices_.resize(std::min<size_t>(options_.batch_size, samples_.size()));
   grad_triplane_.resize(field->triplane().num_params());
+  chunks_.resize(NumGradientChunks(grad_triplane_.size()));
   grad_mlp_.resize(field->mlp().num_params());
 }
 
@@ -48,13 +50,24 @@ double SceneFlowPrior::AddLossAndGradient(const FieldParams& params,
   std::uniform_int_distribution<int> pick(0, num_samples() - 1);
   for (int& i : indices_) i = pick(rng);
   batch_.Assign(samples_, indices_);
-  std::fill(grad_triplane_.begin(), grad_triplane_.end(), 0.0);
+  // grad_triplane_ is all zero between calls: only the chunks the batch
+  // writes are added and cleared.
   std::fill(grad_mlp_.begin(), grad_mlp_.end(), 0.0);
-  const double loss =
-      cost_.Loss(params, {grad_triplane_.data(), grad_mlp_.data()});
-  if (grads.triplane != nullptr) {
-    for (size_t k = 0; k < grad_triplane_.size(); ++k)
-      grads.triplane[k] += scale * grad_triplane_[k];
+  const double loss = cost_.Loss(
+      params, {grad_triplane_.data(), grad_mlp_.data(), chunks_.data()});
+  const size_t size = grad_triplane_.size();
+  for (size_t c = 0; c < chunks_.size(); ++c) {
+    if (!chunks_[c]) continue;
+    chunks_[c] = 0;
+    const size_t begin = c * kGradientChunk;
+    const size_t end = std::min(size, begin + kGradientChunk);
+    for (size_t k = begin; k < end; ++k) {
+      if (grads.triplane != nullptr)
+        grads.triplane[k] += scale * grad_triplane_[k];
+      grad_triplane_[k] = 0.0;
+    }
+    if (grads.triplane != nullptr && grads.triplane_chunks != nullptr)
+      grads.triplane_chunks[c] = 1;
   }
   if (grads.mlp != nullptr) {
     for (size_t k = 0; k < grad_mlp_.size(); ++k)

@@ -53,6 +53,7 @@ class SceneFlowPrior {
   SceneFlowCost cost_;
   std::vector<int> indices_;
   std::vector<double> grad_triplane_, grad_mlp_;
+  std::vector<char> chunks_;  // grad_triplane_'s written chunks
 };
 
 }  // namespace es

@@ -6,6 +6,7 @@
 
 #include <glog/logging.h>
 
+#include "core/fields/gradient_chunks.h"
 #include "core/io/input_error.h"
 #include "core/loop/cycle_time.h"
 #include "core/loop/frame_composer.h"
@@ -127,7 +128,6 @@ JointTrainer::JointTrainer(const std::vector<Frame>* frames,
                        (*frames_)[train_.at(0)].time_index,
                        LoopStructure::Of(model_), Terms(options_, use_masks_),
                        render_options());
-    pair_field_grad_ = field_grad_;
   }
 }
 
@@ -139,6 +139,19 @@ void JointTrainer::SetSceneFlowPrior(std::vector<SceneFlowSample> samples) {
 
 RenderOptions JointTrainer::render_options() const {
   return MakeRenderOptions(options_);
+}
+
+std::vector<char*> JointTrainer::TriplaneChunkFlags() {
+  const JointBlockLayout& layout = cost_->layout();
+  std::vector<char*> chunks(layout.num_blocks(), nullptr);
+  // Field blocks: V's triplane and MLP, then D's.
+  if (layout.motion_triplane() >= 0)
+    chunks[layout.motion_triplane()] = field_adam_[0].chunk_flags();
+  if (layout.residual_triplane() >= 0) {
+    chunks[layout.residual_triplane()] =
+        field_adam_[model_.motion ? 2 : 0].chunk_flags();
+  }
+  return chunks;
 }
 
 std::vector<std::vector<double>*> JointTrainer::FieldBlocks() {
@@ -226,11 +239,14 @@ JointIterationStats JointTrainer::Step() {
     std::vector<double*> gradients = SplatRenderCost::Blocks(&grad_);
     // AddLossGradient adds: the splats' rows are cleared here, the
     // fields' are zero already.
-    const std::vector<int32_t>& sizes = cost_->layout().sizes();
+    const JointBlockLayout& layout = cost_->layout();
+    const std::vector<int32_t>& sizes = layout.sizes();
     for (size_t b = 0; b < gradients.size(); ++b)
       std::fill(gradients[b], gradients[b] + sizes[b], 0.0);
     for (std::vector<double>& g : field_grad_) gradients.push_back(g.data());
-    out.loss = cost_->AddLossGradient(params.data(), gradients.data());
+    const std::vector<char*> chunks = TriplaneChunkFlags();
+    out.loss = cost_->AddLossGradient(params.data(), gradients.data(),
+                                      chunks.data());
     out.photometric = cost_->last_photometric();
     out.mask = cost_->last_mask();
     out.residual = cost_->last_residual();
@@ -240,12 +256,22 @@ JointIterationStats JointTrainer::Step() {
     // V's blocks come first among the field gradients.
     out.flow_prior = flow_prior_->AddLossAndGradient(
         model_.motion->params(), iteration_, options_.iterations,
-        options_.seed, {field_grad_[0].data(), field_grad_[1].data()});
+        options_.seed,
+        {field_grad_[0].data(), field_grad_[1].data(),
+         field_adam_[0].chunk_flags()});
     out.loss += out.flow_prior;
   }
+  // Every writer of the triplanes' gradients (the costs, the flow prior)
+  // flagged the chunks it wrote into their SparseAdam's flags, so only
+  // those are read; the MLPs' small blocks are scanned whole.
   bool finite = std::isfinite(out.loss) && AllFinite(grad_);
-  for (size_t b = 0; b < field_grad_.size(); ++b)
-    finite = field_adam_[b].ScanGradient(field_grad_[b].data()) && finite;
+  for (size_t b = 0; b < field_grad_.size(); ++b) {
+    SparseAdam& adam = field_adam_[b];
+    const bool triplane = b % 2 == 0;
+    finite = (triplane ? adam.ScanFlagged(field_grad_[b].data())
+                       : adam.ScanGradient(field_grad_[b].data())) &&
+             finite;
+  }
   if (!guard_.Accept(iteration_ + 1, finite)) {
     for (size_t b = 0; b < field_grad_.size(); ++b)
       field_adam_[b].ClearGradient(field_grad_[b].data());
@@ -294,10 +320,20 @@ double JointTrainer::PairLossGradient(const Frame& frame, int partner,
   std::vector<double*> params = JointBlocks(&model_);
   std::vector<double*> gradients = SplatRenderCost::Blocks(&grad_);
   std::vector<double*> pair_gradients = SplatRenderCost::Blocks(&pair_grad_);
-  for (size_t b = 0; b < field_grad_.size(); ++b) {
-    gradients.push_back(field_grad_[b].data());
-    pair_gradients.push_back(pair_field_grad_[b].data());
+  // Both backward passes add: the splats' rows are cleared here and
+  // averaged below; the fields' buffers (zero already) are shared, take
+  // the sum of both passes, flagged, and are halved below.
+  const size_t splat_blocks = gradients.size();
+  const std::vector<int32_t>& sizes = cost_->layout().sizes();
+  for (size_t b = 0; b < splat_blocks; ++b) {
+    std::fill(gradients[b], gradients[b] + sizes[b], 0.0);
+    std::fill(pair_gradients[b], pair_gradients[b] + sizes[b], 0.0);
   }
+  for (std::vector<double>& g : field_grad_) {
+    gradients.push_back(g.data());
+    pair_gradients.push_back(g.data());
+  }
+  const std::vector<char*> chunks = TriplaneChunkFlags();
   const double loss = cost_->RenderForGradient(params.data());
   out->photometric = cost_->last_photometric();
   out->mask = cost_->last_mask();
@@ -325,15 +361,25 @@ double JointTrainer::PairLossGradient(const Frame& frame, int partner,
   cost_->BackwardWithImageGradient(
       params.data(),
       frame_first ? energy_grad_a_.data() : energy_grad_b_.data(),
-      gradients.data());
+      gradients.data(), /*accumulate=*/true, chunks.data());
   pair_cost_->BackwardWithImageGradient(
       params.data(),
       frame_first ? energy_grad_b_.data() : energy_grad_a_.data(),
-      pair_gradients.data());
-  const std::vector<int32_t>& sizes = cost_->layout().sizes();
-  for (size_t k = 0; k < sizes.size(); ++k)
+      pair_gradients.data(), /*accumulate=*/true, chunks.data());
+  for (size_t k = 0; k < splat_blocks; ++k)
     for (int i = 0; i < sizes[k]; ++i)
       gradients[k][i] = 0.5 * (gradients[k][i] + pair_gradients[k][i]);
+  // The fields' sum: the triplanes' flagged chunks, the MLPs whole.
+  for (size_t b = 0; b < field_grad_.size(); ++b) {
+    std::vector<double>& g = field_grad_[b];
+    const char* flags = chunks[splat_blocks + b];  // nullptr: an MLP
+    for (size_t c = 0; c < static_cast<size_t>(NumGradientChunks(g.size()));
+         ++c) {
+      if (flags != nullptr && !flags[c]) continue;
+      const size_t end = std::min(g.size(), (c + 1) * kGradientChunk);
+      for (size_t i = c * kGradientChunk; i < end; ++i) g[i] *= 0.5;
+    }
+  }
   return 0.5 * (loss + pair_loss + energy);
 }
 

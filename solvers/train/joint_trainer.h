@@ -165,6 +165,9 @@ class JointTrainer {
   void ClampDynamicScales();
   std::vector<double> FieldLearningRates() const;
   std::vector<std::vector<double>*> FieldBlocks();
+  // Per cost block, the chunk flags (SparseAdam::chunk_flags) of the
+  // fields' triplane blocks, nullptr for the others.
+  std::vector<char*> TriplaneChunkFlags();
 
   const std::vector<Frame>* frames_;
   std::vector<int> train_;
@@ -196,7 +199,6 @@ class JointTrainer {
   std::optional<WaterEnergyLoss> energy_;
   std::optional<JointRenderCost> pair_cost_;
   GaussianSet pair_grad_;
-  std::vector<std::vector<double>> pair_field_grad_;
   std::vector<double> energy_grad_a_, energy_grad_b_;
   int64_t iteration_ = 0;
   DivergenceGuard guard_;
