@@ -8,7 +8,7 @@
 namespace es {
 namespace {
 
-constexpr int kChannels = 3;  // RGB
+constexpr int kChannels = 3;  // RGB, and the opponent channels
 
 std::vector<double> GaussianKernel(double sigma) {
   CHECK_GT(sigma, 0);
@@ -80,10 +80,38 @@ void BlurAdjoint(const std::vector<double>& g_out, int w, int h,
   Pass1dAdjoint(tmp->data(), w, h, 1, w, k, g_in->data());
 }
 
+// An orthonormal opponent colour basis: luminance, red-green,
+// yellow-blue. Water's change and texture are mostly of luminance; in
+// RGB, a render could match each channel's amplitude with a tint that
+// flickers (red up while green goes down), which the chroma rows count.
+constexpr double kOpponent[kChannels][kChannels] = {
+    {0.57735026918962576, 0.57735026918962576, 0.57735026918962576},
+    {0.70710678118654752, -0.70710678118654752, 0.0},
+    {0.40824829046386302, 0.40824829046386302, -0.81649658092772603}};
+
+// Opponent channel c of an H x W x 3 RGB image.
 void ChannelOf(const double* rgb, size_t pixels, int c,
                std::vector<double>* out) {
   out->resize(pixels);
-  for (size_t p = 0; p < pixels; ++p) (*out)[p] = rgb[kChannels * p + c];
+  const double* k = kOpponent[c];
+  for (size_t p = 0; p < pixels; ++p) {
+    const double* v = rgb + kChannels * p;
+    (*out)[p] = k[0] * v[0] + k[1] * v[1] + k[2] * v[2];
+  }
+}
+
+// Adds the gradient of opponent channel c back to RGB (the basis'
+// transpose).
+void AddChannelGradient(const std::vector<double>& d_channel, int c,
+                        double* d_rgb) {
+  if (d_rgb == nullptr) return;
+  const double* k = kOpponent[c];
+  for (size_t p = 0; p < d_channel.size(); ++p) {
+    double* d = d_rgb + kChannels * p;
+    d[0] += k[0] * d_channel[p];
+    d[1] += k[1] * d_channel[p];
+    d[2] += k[2] * d_channel[p];
+  }
 }
 
 // 1 where the mask says water (or everywhere without a mask), else 0.
@@ -167,7 +195,7 @@ double WaterEnergyLoss::Evaluate(const double* rendered_a,
   for (size_t p = 0; p < pixels; ++p)
     mask_[p] = std::max(mask_a_[p], mask_b_[p]);
 
-  // Each colour channel on its own, averaged: a change of hue that the
+  // Each opponent channel on its own, averaged: a change of hue that the
   // input does not have is not counted as the input's change.
   const double channel_scale = scale / kChannels;
   WaterEnergyTerms t;
@@ -215,10 +243,8 @@ double WaterEnergyLoss::Evaluate(const double* rendered_a,
         for (size_t p = 0; p < pixels; ++p) dy[p] += g_[p] - diff_[p];
       }
     }
-    for (size_t p = 0; p < pixels; ++p) {
-      if (d_a) d_a[kChannels * p + c] += dya_[p];
-      if (d_b) d_b[kChannels * p + c] += dyb_[p];
-    }
+    AddChannelGradient(dya_, c, d_a);
+    AddChannelGradient(dyb_, c, d_b);
   }
   if (terms) *terms = t;
   return scale * (options_.motion_weight * t.motion +

@@ -11,8 +11,9 @@ namespace es {
 // loss of one frame is lowest at the temporal mean of stochastic water (a
 // smooth, slow sheet), since no model can predict where each streak is.
 // This loss compares local energies instead, which do not depend on the
-// streaks' exact places: on each colour channel y of two consecutive
-// frames A and B (rendered) against the input frames,
+// streaks' exact places: on each opponent colour channel y (orthonormal:
+// luminance, red-green, yellow-blue) of two consecutive frames A and B
+// (rendered) against the input frames,
 //   motion: e = W * (y_B - y_A)^2           (frame-to-frame change)
 //   detail: e = W * (y - G * y)^2, per frame (high-frequency texture)
 // where G is a Gaussian blur of detail_sigma pixels and W a Gaussian
@@ -20,7 +21,9 @@ namespace es {
 // the mean over the water pixels of |sqrt(e_rendered + eps) -
 // sqrt(e_input + eps)|: the local amplitude of change / texture, rendered
 // against input, averaged over the channels (on grey alone, training
-// met the motion target with a coloured flicker). The motion term uses the
+// met the motion target with a coloured flicker; on R, G and B, with
+// faint tinted streaks: each channel's amplitude matched, their signs
+// not). The motion term uses the
 // pixels that are water in A or B; the detail term each frame's own;
 // without masks, every pixel.
 struct WaterEnergyOptions {

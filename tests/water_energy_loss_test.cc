@@ -48,8 +48,10 @@ TEST(WaterEnergyLossTest, RenderLikeTheInputScoresZero) {
 }
 
 // A still, flat render against an input that brightens uniformly by c:
-// the input's change energy is c^2 everywhere (the window sums to 1, also
-// at the clamped borders), the render's 0, and neither has texture.
+// the input's luminance change energy is 3 c^2 everywhere (luminance is
+// (R + G + B) / sqrt(3); the window sums to 1, also at the clamped
+// borders), its chroma change 0, the render's 0, and neither has texture.
+// The motion term is the mean over the three opponent channels.
 TEST(WaterEnergyLossTest, StillRenderOfAChangingInputKnownAnswer) {
   const double c = 0.1;
   const cv::Mat a(kH, kW, CV_32FC3, cv::Scalar(0.3, 0.3, 0.3));
@@ -61,13 +63,44 @@ TEST(WaterEnergyLossTest, StillRenderOfAChangingInputKnownAnswer) {
   loss.Evaluate(still.data(), still.data(), a, b, cv::Mat(), cv::Mat(), 1.0,
                 nullptr, nullptr, &terms);
   EXPECT_NEAR(terms.motion,
-              std::sqrt(c * c + options.eps) - std::sqrt(options.eps), 1e-6);
+              (std::sqrt(3 * c * c + options.eps) - std::sqrt(options.eps)) /
+                  3,
+              1e-6);
   EXPECT_NEAR(terms.detail, 0.0, 1e-12);
   // The render's own change, in the input's amount, closes the gap.
   std::vector<double> moved = Flat(b);
   loss.Evaluate(still.data(), moved.data(), a, b, cv::Mat(), cv::Mat(), 1.0,
                 nullptr, nullptr, &terms);
   EXPECT_NEAR(terms.motion, 0.0, 1e-6);
+}
+
+// The input brightens by c on every channel; the render's red and blue
+// rise by c and its green falls by c: each RGB channel changes by the
+// input's amount (a loss per RGB channel scores 0), but the render's
+// luminance changes by a third of the input's and its chroma changes,
+// which the opponent channels count:
+//   motion = (|sqrt(c^2 / 3 + eps) - sqrt(3 c^2 + eps)|
+//             + sqrt(2 c^2 + eps) - sqrt(eps)
+//             + sqrt(2 c^2 / 3 + eps) - sqrt(eps)) / 3.
+TEST(WaterEnergyLossTest, TintedChangeOfTheInputsAmountIsCounted) {
+  const double c = 0.1, eps = WaterEnergyOptions().eps;
+  const cv::Mat a(kH, kW, CV_32FC3, cv::Scalar(0.5, 0.5, 0.5));
+  const cv::Mat b(kH, kW, CV_32FC3, cv::Scalar::all(0.5 + c));
+  const cv::Mat tinted(kH, kW, CV_32FC3,
+                       cv::Scalar(0.5 + c, 0.5 - c, 0.5 + c));
+  const std::vector<double> ra = Flat(a), rb = Flat(tinted);
+  WaterEnergyOptions options;
+  options.detail_weight = 0;
+  WaterEnergyLoss loss(options);
+  WaterEnergyTerms terms;
+  loss.Evaluate(ra.data(), rb.data(), a, b, cv::Mat(), cv::Mat(), 1.0,
+                nullptr, nullptr, &terms);
+  const double expected =
+      (std::abs(std::sqrt(c * c / 3 + eps) - std::sqrt(3 * c * c + eps)) +
+       std::sqrt(2 * c * c + eps) - std::sqrt(eps) +
+       std::sqrt(2 * c * c / 3 + eps) - std::sqrt(eps)) /
+      3;
+  EXPECT_NEAR(terms.motion, expected, 1e-6);
 }
 
 // A blurred render of a textured input has less detail energy: the detail
