@@ -2,6 +2,8 @@
 
 #include <limits>
 
+#include <opencv2/imgproc.hpp>
+
 namespace es {
 
 cv::Mat CameraFlow(const cv::Mat& depth, const Camera& a, const Camera& b) {
@@ -23,6 +25,24 @@ cv::Mat CameraFlow(const cv::Mat& depth, const Camera& a, const Camera& b) {
     }
   }
   return out;
+}
+
+void CarryByCameraFlow(const cv::Mat& image, const cv::Mat& camera_flow,
+                       cv::Mat* out, cv::Mat* known) {
+  cv::Mat map(camera_flow.size(), CV_32FC2);
+  *known = cv::Mat(camera_flow.size(), CV_8UC1, cv::Scalar(1));
+  for (int y = 0; y < map.rows; ++y)
+    for (int x = 0; x < map.cols; ++x) {
+      const cv::Vec2f c = camera_flow.at<cv::Vec2f>(y, x);
+      const cv::Vec2f m(x + c[0], y + c[1]);
+      map.at<cv::Vec2f>(y, x) = m;
+      // NaN fails every comparison: unknown too.
+      if (!(m[0] >= 0 && m[1] >= 0 && m[0] <= image.cols - 1 &&
+            m[1] <= image.rows - 1))
+        known->at<uchar>(y, x) = 0;
+    }
+  cv::remap(image, *out, map, cv::noArray(), cv::INTER_LINEAR,
+            cv::BORDER_REPLICATE);
 }
 
 }  // namespace es

@@ -12,6 +12,12 @@ namespace es {
 // offsets, NaN where there is no depth or the point falls behind b.
 cv::Mat CameraFlow(const cv::Mat& depth, const Camera& a, const Camera& b);
 
+// image carried from its frame to the frame of camera_flow (which maps that
+// frame's pixels into image's), bilinear; `known` (CV_8UC1) is 0 where the
+// flow is unknown or leaves the image, else 1.
+void CarryByCameraFlow(const cv::Mat& image, const cv::Mat& camera_flow,
+                       cv::Mat* out, cv::Mat* known);
+
 }  // namespace es
 
 #endif  // EULERSPLAT_CORE_MASKS_CAMERA_FLOW_H_

@@ -16,24 +16,11 @@ namespace {
 // the flow is unknown or leaves b.
 cv::Mat CarriedDifference(const cv::Mat& a, const cv::Mat& b,
                           const cv::Mat& camera_flow) {
-  cv::Mat map(camera_flow.size(), CV_32FC2);
-  cv::Mat outside(camera_flow.size(), CV_8UC1, cv::Scalar(0));
-  for (int y = 0; y < map.rows; ++y)
-    for (int x = 0; x < map.cols; ++x) {
-      const cv::Vec2f c = camera_flow.at<cv::Vec2f>(y, x);
-      const cv::Vec2f m(x + c[0], y + c[1]);
-      map.at<cv::Vec2f>(y, x) = m;
-      // NaN fails every comparison: it is outside too.
-      if (!(m[0] >= 0 && m[1] >= 0 && m[0] <= b.cols - 1 &&
-            m[1] <= b.rows - 1))
-        outside.at<uchar>(y, x) = 1;
-    }
-  cv::Mat carried, diff, out;
-  cv::remap(b, carried, map, cv::noArray(), cv::INTER_LINEAR,
-            cv::BORDER_REPLICATE);
+  cv::Mat carried, known, diff, out;
+  CarryByCameraFlow(b, camera_flow, &carried, &known);
   cv::absdiff(a, carried, diff);
   cv::transform(diff, out, cv::Matx13f(1 / 3.f, 1 / 3.f, 1 / 3.f));
-  out.setTo(-1, outside);
+  out.setTo(-1, known == 0);
   return out;
 }
 

@@ -13,27 +13,6 @@
 namespace es {
 namespace {
 
-// image carried from its frame to the frame of camera_flow (which maps that
-// frame's pixels into image's); `known` is 0 where the flow is unknown or
-// leaves the image.
-void Carry(const cv::Mat& image, const cv::Mat& camera_flow, cv::Mat* out,
-           cv::Mat* known) {
-  cv::Mat map(camera_flow.size(), CV_32FC2);
-  *known = cv::Mat(camera_flow.size(), CV_8UC1, cv::Scalar(1));
-  for (int y = 0; y < map.rows; ++y)
-    for (int x = 0; x < map.cols; ++x) {
-      const cv::Vec2f c = camera_flow.at<cv::Vec2f>(y, x);
-      const cv::Vec2f m(x + c[0], y + c[1]);
-      map.at<cv::Vec2f>(y, x) = m;
-      // NaN fails every comparison: unknown too.
-      if (!(m[0] >= 0 && m[1] >= 0 && m[0] <= image.cols - 1 &&
-            m[1] <= image.rows - 1))
-        known->at<uchar>(y, x) = 0;
-    }
-  cv::remap(image, *out, map, cv::noArray(), cv::INTER_LINEAR,
-            cv::BORDER_REPLICATE);
-}
-
 float L1(const cv::Vec3f& a, const cv::Vec3f& b) {
   return std::abs(a[0] - b[0]) + std::abs(a[1] - b[1]) + std::abs(a[2] - b[2]);
 }
@@ -69,8 +48,9 @@ std::vector<cv::Mat> MatWater(const std::vector<ResidualFrame>& frames,
     for (int j = i % stride; j < n; j += stride) {
       samples.emplace_back();
       known.emplace_back();
-      Carry(images[j], CameraFlow(f.depth, f.camera, frames[j].camera),
-            &samples.back(), &known.back());
+      CarryByCameraFlow(images[j],
+                        CameraFlow(f.depth, f.camera, frames[j].camera),
+                        &samples.back(), &known.back());
     }
     const cv::Mat& image = images[i];
     cv::Mat ratio = colours.LogRatio(image);
