@@ -50,6 +50,10 @@ DEFINE_double(min_water_fraction, 0.02, "Mean water fraction below which "
 DEFINE_bool(matting, true, "Within the water regions, keep only the "
             "pixels whose colour is more water than the scenery seen there "
             "at other times (false: the smooth regions are the masks).");
+DEFINE_bool(calm_water, true, "With --matting, also the pixels beyond the "
+            "regions whose colour is water's in every frame and that "
+            "connect to the water found (a calm pool next to a fall); "
+            "false: only near the regions.");
 DEFINE_bool(white_background, false, "The static model was trained on "
             "white.");
 
@@ -130,6 +134,7 @@ int Main() {
   options.change.gap = FLAGS_change_gap;
   options.min_water_fraction = FLAGS_min_water_fraction;
   options.matting = FLAGS_matting;
+  options.matting_options.calm_water = FLAGS_calm_water;
   if (FLAGS_white_background) options.render.background.setOnes();
   std::printf("[masks] %zu frames at %dx%d: residual change over time, "
               "optical flow vs camera motion, then the water's share of "

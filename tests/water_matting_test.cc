@@ -9,6 +9,7 @@
 #include <random>
 
 #include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
 
 namespace es {
 namespace {
@@ -111,6 +112,78 @@ TEST(WaterMattingTest, FindsEachFramesDropletsAndNotTheScenery) {
   EXPECT_LT(Found(masks[0], clip.strong[1] & ~clip.strong[0] &
                                 ~clip.faint[0] & inner),
             0.1);
+}
+
+// A fall (water that changes every frame) into a calm pool: the regions
+// hold the fall and the pool's middle only (its calm ends move too little
+// for them); a patch of the pool's colour elsewhere is scenery.
+struct PoolClip {
+  std::vector<ResidualFrame> frames;
+  std::vector<cv::Mat> images, regions;
+  cv::Mat pool, patch;  // CV_8UC1, 255 = inside
+};
+
+PoolClip MakePoolClip() {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> u(0, 1);
+  const cv::Rect fall(24, 2, 16, 22), pool(4, 24, 56, 20);
+  const cv::Rect patch(50, 4, 10, 10);  // the pool's colour, not touching it
+  const cv::Rect fall_region(22, 2, 20, 22), pool_region(18, 24, 28, 20);
+  const cv::Vec3f blue(0.35f, 0.55f, 0.75f);
+  PoolClip clip;
+  clip.pool = cv::Mat(kHeight, kWidth, CV_8UC1, cv::Scalar(0));
+  clip.pool(pool).setTo(255);
+  clip.patch = cv::Mat(kHeight, kWidth, CV_8UC1, cv::Scalar(0));
+  clip.patch(patch).setTo(255);
+  cv::Mat scenery(kHeight, kWidth, CV_32FC3);
+  for (int p = 0; p < static_cast<int>(scenery.total()); ++p) {
+    const float v = 0.2f * u(rng);
+    scenery.at<cv::Vec3f>(p) = {0.25f + v, 0.2f + v, 0.15f + v};
+  }
+  // Still water, still scenery: the same slight texture in every frame.
+  for (int p = 0; p < static_cast<int>(scenery.total()); ++p)
+    if (clip.pool.at<uchar>(p) || clip.patch.at<uchar>(p))
+      scenery.at<cv::Vec3f>(p) = blue * (0.95f + 0.1f * u(rng));
+  cv::Mat regions(kHeight, kWidth, CV_8UC1, cv::Scalar(0));
+  regions(fall_region).setTo(255);
+  regions(pool_region).setTo(255);
+  for (int t = 0; t < kFrames; ++t) {
+    cv::Mat image = scenery.clone();
+    for (int y = fall.y; y < fall.br().y; ++y)
+      for (int x = fall.x; x < fall.br().x; ++x)
+        image.at<cv::Vec3f>(y, x) = kWater * (0.85f + 0.15f * u(rng));
+    ResidualFrame f;
+    f.camera.width = kWidth;
+    f.camera.height = kHeight;
+    f.camera.fx = f.camera.fy = 60;
+    f.camera.cx = kWidth / 2.0;
+    f.camera.cy = kHeight / 2.0;
+    f.depth = cv::Mat(kHeight, kWidth, CV_32FC1, cv::Scalar(1.f));
+    f.time_index = t;
+    clip.frames.push_back(f);
+    clip.images.push_back(image);
+    clip.regions.push_back(regions.clone());
+  }
+  return clip;
+}
+
+TEST(WaterMattingTest, FollowsCalmWaterConnectedToTheRegions) {
+  const PoolClip clip = MakePoolClip();
+  const std::vector<cv::Mat> masks = MatWater(
+      clip.frames, clip.images, clip.regions, WaterMattingOptions());
+  WaterMattingOptions near_regions;
+  near_regions.calm_water = false;
+  const std::vector<cv::Mat> near = MatWater(
+      clip.frames, clip.images, clip.regions, near_regions);
+  // Away from the pool's edge (the blur there mixes it with the scenery).
+  cv::Mat inner;
+  cv::erode(clip.pool, inner, cv::Mat(), cv::Point(-1, -1), 2);
+  for (int t = 0; t < kFrames; ++t) {
+    EXPECT_GT(Found(masks[t], inner), 0.95) << "frame " << t;
+    EXPECT_EQ(Found(masks[t], clip.patch), 0) << "frame " << t;
+    // Only near the regions without it (the pool's far ends are missed).
+    EXPECT_LT(Found(near[t], inner), 0.7) << "frame " << t;
+  }
 }
 
 }  // namespace

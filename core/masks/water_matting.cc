@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include <glog/logging.h>
 #include <opencv2/imgproc.hpp>
@@ -15,6 +16,21 @@ namespace {
 
 float L1(const cv::Vec3f& a, const cv::Vec3f& b) {
   return std::abs(a[0] - b[0]) + std::abs(a[1] - b[1]) + std::abs(a[2] - b[2]);
+}
+
+// The pixels of `through` (CV_8UC1) 8-connected to a pixel of `seeds`
+// (a subset of `through`).
+cv::Mat ConnectedTo(const cv::Mat& seeds, const cv::Mat& through) {
+  cv::Mat labels;
+  const int n = cv::connectedComponents(through, labels, 8, CV_32S);
+  std::vector<uchar> reached(n, 0);
+  for (int p = 0; p < static_cast<int>(seeds.total()); ++p)
+    if (seeds.at<uchar>(p)) reached[labels.at<int>(p)] = 255;
+  reached[0] = 0;
+  cv::Mat out(seeds.size(), CV_8UC1);
+  for (int p = 0; p < static_cast<int>(out.total()); ++p)
+    out.at<uchar>(p) = reached[labels.at<int>(p)];
+  return out;
 }
 
 }  // namespace
@@ -95,7 +111,14 @@ std::vector<cv::Mat> MatWater(const std::vector<ResidualFrame>& frames,
     cv::compare(share, 0.5, by_share, cv::CMP_GT);
     cv::compare(ratio, 0, by_colour, cv::CMP_GT);
     cv::dilate(regions[i], region, grow);
-    masks[i] = ((by_share & seen) | (by_colour & ~seen)) & region;
+    const cv::Mat water_here = (by_share & seen) | (by_colour & ~seen);
+    masks[i] = water_here & region;
+    // Calm water (a still pool below a fall) can move and change too
+    // little for the regions, but it is water-coloured in every frame,
+    // hiding its scenery: such pixels connected to the water found are
+    // water too. Scenery seen in any frame is not followed.
+    if (options.calm_water)
+      masks[i] = ConnectedTo(masks[i], masks[i] | (by_colour & ~seen));
     if (progress) progress(i + 1);
   }
   return masks;

@@ -18,6 +18,9 @@ struct WaterMattingOptions {
   double grow = 0.05;    // the region grows by this fraction of the width
   double inner = 0.01;   // colour model: water this far inside a region,
   double outer = 0.025;  // scenery this far outside (fractions of width)
+  // Beyond the grown regions, also the pixels water-coloured in every
+  // sample (calm water) that connect to the water found.
+  bool calm_water = true;
 };
 
 // Per-frame water masks at the resolution of single droplets, inside
