@@ -33,29 +33,18 @@ cv::Mat ConnectedTo(const cv::Mat& seeds, const cv::Mat& through) {
   return out;
 }
 
-}  // namespace
-
-std::vector<cv::Mat> MatWater(const std::vector<ResidualFrame>& frames,
-                              const std::vector<cv::Mat>& images,
-                              const std::vector<cv::Mat>& regions,
-                              const WaterMattingOptions& options,
-                              const std::function<void(int)>& progress) {
-  CHECK_GT(options.stride, 0);
-  CHECK_GT(options.max_samples, 0);
+// One pass of the matting with the given colour model: the mask of every
+// frame. Calls progress(frames done).
+std::vector<cv::Mat> MatFrames(const std::vector<ResidualFrame>& frames,
+                               const std::vector<cv::Mat>& images,
+                               const std::vector<cv::Mat>& regions,
+                               const WaterColourModel& colours, int stride,
+                               const WaterMattingOptions& options,
+                               const std::function<void(int)>& progress) {
   const int n = static_cast<int>(frames.size());
-  const int stride = std::max(
-      options.stride, (n + options.max_samples - 1) / options.max_samples);
-  CHECK_EQ(static_cast<int>(images.size()), n);
-  CHECK_EQ(static_cast<int>(regions.size()), n);
   std::vector<cv::Mat> masks(n);
-  if (n == 0) return masks;
-  const int width = images[0].cols;
-  const WaterColourModel colours(
-      images, regions, std::lround(options.inner * width),
-      std::lround(options.outer * width));
   const cv::Vec3f water = colours.mean_water();
-  const cv::Mat grow = Disk(std::lround(options.grow * width));
-
+  const cv::Mat grow = Disk(std::lround(options.grow * images[0].cols));
   std::vector<cv::Mat> samples, known;
   for (int i = 0; i < n; ++i) {
     const ResidualFrame& f = frames[i];
@@ -119,9 +108,60 @@ std::vector<cv::Mat> MatWater(const std::vector<ResidualFrame>& frames,
     // water too. Scenery seen in any frame is not followed.
     if (options.calm_water)
       masks[i] = ConnectedTo(masks[i], masks[i] | (by_colour & ~seen));
-    if (progress) progress(i + 1);
+    progress(i + 1);
   }
   return masks;
+}
+
+}  // namespace
+
+std::vector<cv::Mat> MatWater(const std::vector<ResidualFrame>& frames,
+                              const std::vector<cv::Mat>& images,
+                              const std::vector<cv::Mat>& regions,
+                              const WaterMattingOptions& options,
+                              const std::function<void(int)>& progress) {
+  CHECK_GT(options.stride, 0);
+  CHECK_GT(options.max_samples, 0);
+  const int n = static_cast<int>(frames.size());
+  const int stride = std::max(
+      options.stride, (n + options.max_samples - 1) / options.max_samples);
+  CHECK_EQ(static_cast<int>(images.size()), n);
+  CHECK_EQ(static_cast<int>(regions.size()), n);
+  std::vector<cv::Mat> masks(n);
+  if (n == 0) return masks;
+  const int width = images[0].cols;
+  const int inner = std::lround(options.inner * width);
+  const int outer = std::lround(options.outer * width);
+  // Progress over the passes (with calm water, two: the second where
+  // some was found).
+  const int passes = options.calm_water ? 2 : 1;
+  const auto report = [&](int pass, int done) {
+    if (progress) progress((pass * n + done) / passes);
+  };
+  masks = MatFrames(frames, images, regions,
+                    WaterColourModel(images, regions, inner, outer), stride,
+                    options, [&](int done) { report(0, done); });
+  if (!options.calm_water) return masks;
+  // The calm water found beyond the regions had taught the colour model
+  // scenery (it lay outside them), which makes its colours look less like
+  // water than they are: learn them again with it inside.
+  const cv::Mat grow = Disk(std::lround(options.grow * width));
+  std::vector<cv::Mat> wider(n);
+  bool found = false;
+  for (int i = 0; i < n; ++i) {
+    cv::Mat near;
+    cv::dilate(regions[i], near, grow);
+    const cv::Mat beyond = masks[i] & ~near;
+    found = found || cv::countNonZero(beyond) > 0;
+    wider[i] = regions[i] | beyond;
+  }
+  if (!found) {
+    report(1, n);
+    return masks;
+  }
+  return MatFrames(frames, images, regions,
+                   WaterColourModel(images, wider, inner, outer), stride,
+                   options, [&](int done) { report(1, done); });
 }
 
 }  // namespace es
