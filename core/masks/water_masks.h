@@ -33,7 +33,8 @@ namespace es {
 // temporal window, thresholded (Otsu on the log, never below min_score),
 // cleaned with morphology, voted over the same window, and small blobs are
 // dropped. These regions are smooth; the masks within them are per pixel:
-// where the water's share of the colour passes one half (MatWater).
+// where the water's share of the colour passes one half, plus the calm
+// water joined to them that is water-coloured in every frame (MatWater).
 struct WaterMaskOptions {
   int window = 2;            // frames on each side for averaging and voting
   double min_score = 2.0;    // evidence (x the median) that can be water
@@ -59,8 +60,8 @@ struct WaterMaskResult {
   std::vector<cv::Mat> evidence;  // per frame, CV_32FC1, x the median
   double threshold = 0;           // on the evidence
   double water_fraction = 0;      // of the masks, mean over frames
-  // The regions' water fraction >= min_water_fraction (the matting only
-  // looks inside them).
+  // The regions' water fraction >= min_water_fraction (the matting starts
+  // from them).
   bool has_water = false;
 };
 

@@ -135,8 +135,10 @@ std::vector<cv::Mat> MatWater(const std::vector<ResidualFrame>& frames,
   // Progress over the passes (with calm water, two: the second where
   // some was found).
   const int passes = options.calm_water ? 2 : 1;
+  int reported = 0;
   const auto report = [&](int pass, int done) {
-    if (progress) progress((pass * n + done) / passes);
+    const int now = (pass * n + done) / passes;
+    if (progress && now > reported) progress(reported = now);
   };
   masks = MatFrames(frames, images, regions,
                     WaterColourModel(images, regions, inner, outer), stride,

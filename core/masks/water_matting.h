@@ -35,6 +35,11 @@ struct WaterMattingOptions {
 //    the pixel's own colour decides, water-like or not.
 //  - The water: the palette colour nearest to the sample most unlike the
 //    scenery (a pool's blue, a spray's white).
+// With calm_water, the masks also take the pixels beyond the grown regions
+// that are water-coloured in every sample (a still pool hides its scenery
+// in every frame but moves too little for the regions) and connect to the
+// water found; a second pass then learns the colour model again with that
+// calm water counted as water, not as scenery.
 // frames: the residual frames' cameras, depth and time (residual unused);
 // images: CV_32FC3 in [0, 1]; regions: CV_8UC1, 255 = water. Returns
 // CV_8UC1 masks, 255 = water. Calls progress(frames done) per frame.
