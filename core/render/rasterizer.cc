@@ -30,7 +30,8 @@ struct TileData {
   std::vector<S> geom;
   std::vector<S> feature;
   std::vector<int> box;
-  std::vector<S> t_final;  // per pixel
+  std::vector<S> t_final;     // per pixel
+  std::vector<S> entry_grad;  // per entry of tile_entries (TilePass)
 };
 
 }  // namespace
@@ -51,7 +52,12 @@ struct Rasterizer::State {
   std::vector<int> order;                 // visible input indices, by depth
   std::vector<int> tile_offsets;          // per tile, into tile_entries
   std::vector<int> tile_entries;          // indices into `order`
+  // Per binned Gaussian k (depth order), its entries of tile_entries:
+  // gaussian_entries[gaussian_offsets[k] .. gaussian_offsets[k + 1]).
+  std::vector<int> gaussian_offsets;
+  std::vector<int> gaussian_entries;
   std::vector<int> cursor;                // per thread and tile, binning
+  std::vector<int> run_entries;           // per thread, binning
   std::vector<int> last;                  // per pixel: entries used + 1
   TileData<float> float_data;
   TileData<double> double_data;
@@ -75,6 +81,11 @@ struct Rasterizer::State {
   void ForwardTiles(RenderResult* result);
   template <typename S>
   void BackwardTiles(const RenderGradients& image_grads);
+  // Sums each Gaussian's tile shares and chains them back to its
+  // attributes (every value of *grads is written).
+  template <typename S>
+  void ProjectBackward(const std::vector<S>& entry_grad,
+                       SplatGradients* grads);
   // Tiny renders (tests, thumbnails) run faster without thread start-up.
   bool ParallelTiles() const {
     return tile_entries.size() > kMinParallelEntries;
@@ -132,7 +143,9 @@ void Rasterizer::State::Bin() {
   const int threads =
       count > kMinParallelBinning ? omp_get_max_threads() : 1;
   cursor.assign(static_cast<size_t>(threads) * num_tiles, 0);
+  run_entries.assign(threads + 1, 0);
   tile_offsets.assign(num_tiles + 1, 0);
+  gaussian_offsets.resize(count + 1);
   const auto for_each_tile = [&](int k, auto&& visit) {
     const ProjectedSplat& p = projected[order[k]];
     for (int ty = p.tile_y0; ty < p.tile_y1; ++ty)
@@ -146,11 +159,14 @@ void Rasterizer::State::Bin() {
     const int k1 =
         static_cast<int>(static_cast<long long>(count) * (t + 1) / nt);
     int* mine = &cursor[static_cast<size_t>(t) * num_tiles];
+    int run = 0;
     for (int k = k0; k < k1; ++k)
-      for_each_tile(k, [&](int tile) { ++mine[tile]; });
+      for_each_tile(k, [&](int tile) { ++mine[tile], ++run; });
+    run_entries[t + 1] = run;
 #pragma omp barrier
 #pragma omp single
     {
+      for (int r = 0; r < nt; ++r) run_entries[r + 1] += run_entries[r];
       // Per tile: the runs' counts become the runs' start offsets.
       int total = 0;
       for (int tile = 0; tile < num_tiles; ++tile) {
@@ -164,9 +180,17 @@ void Rasterizer::State::Bin() {
       }
       tile_offsets[num_tiles] = total;
       tile_entries.resize(total);
+      gaussian_entries.resize(total);
+      gaussian_offsets[count] = total;
     }
-    for (int k = k0; k < k1; ++k)
-      for_each_tile(k, [&](int tile) { tile_entries[mine[tile]++] = k; });
+    int next = run_entries[t];
+    for (int k = k0; k < k1; ++k) {
+      gaussian_offsets[k] = next;
+      for_each_tile(k, [&](int tile) {
+        gaussian_entries[next++] = mine[tile];
+        tile_entries[mine[tile]++] = k;
+      });
+    }
   }
 }
 
@@ -258,13 +282,14 @@ template <typename S>
 void Rasterizer::State::BackwardTiles(const RenderGradients& ig) {
   ScopedStage timer(Stage::kBackwardTiles);
   const int grad_stride = kGradHead + num_features;
-  grad2d.assign(static_cast<size_t>(grad_stride) * order.size(), 0.0);
+  std::vector<S>& entry_grad = data<S>().entry_grad;
+  entry_grad.resize(static_cast<size_t>(grad_stride) * tile_entries.size());
   TilePass<S> pass = MakeTilePass<S>();
   pass.d_rgb = ig.d_rgb;
   pass.d_alpha = ig.d_alpha;
   pass.d_depth = ig.d_depth;
   pass.d_extra = ig.d_extra;
-  pass.grad2d = grad2d.data();
+  pass.entry_grad = entry_grad.data();
   pass.grad_stride = grad_stride;
   const auto backward = TileKernels<S>(options.simd, num_features - 4).backward;
   const int per_thread = TileScratchSize(num_features);
@@ -276,6 +301,61 @@ void Rasterizer::State::BackwardTiles(const RenderGradients& ig) {
     S* mine =
         &all_scratch[static_cast<size_t>(omp_get_thread_num()) * per_thread];
     backward(pass, tile, mine);
+  }
+}
+
+template <typename S>
+void Rasterizer::State::ProjectBackward(const std::vector<S>& entry_grad,
+                                        SplatGradients* grads) {
+  ScopedStage timer(Stage::kProjectionBackward);
+  const int grad_stride = kGradHead + num_features;
+  const int count = static_cast<int>(order.size());
+  const int total = splats.count;
+  const int coeffs = 3 * NumShCoeffs(splats.sh_degree);
+  const int num_extra = splats.num_extra;
+  grad2d.resize(static_cast<size_t>(grad_stride) * count);
+#pragma omp parallel if (total > kMinParallelSplats)
+  {
+    // Culled Gaussians get zeros; ProjectSplatBackward writes every value
+    // of a kept one (and the loop below its extras).
+#pragma omp for schedule(static, 1024) nowait
+    for (int n = 0; n < total; ++n) {
+      if (keep[n]) continue;
+      auto zero = [](std::vector<double>* v, size_t begin, size_t size) {
+        std::fill(v->begin() + begin, v->begin() + begin + size, 0.0);
+      };
+      zero(&grads->means, 3 * static_cast<size_t>(n), 3);
+      zero(&grads->log_scales, 3 * static_cast<size_t>(n), 3);
+      zero(&grads->quats, 4 * static_cast<size_t>(n), 4);
+      zero(&grads->opacity_logits, n, 1);
+      zero(&grads->sh, static_cast<size_t>(coeffs) * n, coeffs);
+      zero(&grads->extra, static_cast<size_t>(num_extra) * n, num_extra);
+    }
+#pragma omp for schedule(static, 256)
+    for (int k = 0; k < count; ++k) {
+      const int n = order[k];
+      // The Gaussian's gradient: its tiles' shares, summed in double.
+      double* g2 = &grad2d[static_cast<size_t>(grad_stride) * k];
+      for (int c = 0; c < grad_stride; ++c) g2[c] = 0;
+      for (int j = gaussian_offsets[k]; j < gaussian_offsets[k + 1]; ++j) {
+        const S* share =
+            &entry_grad[static_cast<size_t>(grad_stride) * gaussian_entries[j]];
+        for (int c = 0; c < grad_stride; ++c) g2[c] += share[c];
+      }
+      ProjectedGradient pg;
+      pg.mean2d[0] = g2[0];
+      pg.mean2d[1] = g2[1];
+      pg.conic[0] = g2[2];
+      pg.conic[1] = g2[3];
+      pg.conic[2] = g2[4];
+      pg.opacity = g2[5];
+      for (int c = 0; c < 3; ++c) pg.color[c] = g2[kGradHead + c];
+      pg.depth = g2[kGradHead + 3];
+      ProjectSplatBackward(*camera, splats, n, pg, grads);
+      for (int e = 0; e < num_extra; ++e) {
+        grads->extra[n * num_extra + e] = g2[kGradHead + 4 + e];
+      }
+    }
   }
 }
 
@@ -356,48 +436,10 @@ void Rasterizer::Backward(const RenderGradients& image_grads,
   grads->extra.resize(static_cast<size_t>(num_extra) * splats.count);
   if (s.options.use_double) {
     s.BackwardTiles<double>(image_grads);
+    s.ProjectBackward(s.double_data.entry_grad, grads);
   } else {
     s.BackwardTiles<float>(image_grads);
-  }
-  ScopedStage timer(Stage::kProjectionBackward);
-  const int grad_stride = kGradHead + s.num_features;
-  const int count = static_cast<int>(s.order.size());
-  const int total = splats.count;
-#pragma omp parallel if (total > kMinParallelSplats)
-  {
-    // Culled Gaussians get zeros; ProjectSplatBackward writes every value
-    // of a kept one (and the loop below its extras).
-#pragma omp for schedule(static, 1024) nowait
-    for (int n = 0; n < total; ++n) {
-      if (s.keep[n]) continue;
-      auto zero = [](std::vector<double>* v, size_t begin, size_t size) {
-        std::fill(v->begin() + begin, v->begin() + begin + size, 0.0);
-      };
-      zero(&grads->means, 3 * static_cast<size_t>(n), 3);
-      zero(&grads->log_scales, 3 * static_cast<size_t>(n), 3);
-      zero(&grads->quats, 4 * static_cast<size_t>(n), 4);
-      zero(&grads->opacity_logits, n, 1);
-      zero(&grads->sh, static_cast<size_t>(coeffs) * n, coeffs);
-      zero(&grads->extra, static_cast<size_t>(num_extra) * n, num_extra);
-    }
-#pragma omp for schedule(static, 256)
-    for (int k = 0; k < count; ++k) {
-      const int n = s.order[k];
-      const double* g2 = &s.grad2d[static_cast<size_t>(grad_stride) * k];
-      ProjectedGradient pg;
-      pg.mean2d[0] = g2[0];
-      pg.mean2d[1] = g2[1];
-      pg.conic[0] = g2[2];
-      pg.conic[1] = g2[3];
-      pg.conic[2] = g2[4];
-      pg.opacity = g2[5];
-      for (int c = 0; c < 3; ++c) pg.color[c] = g2[kGradHead + c];
-      pg.depth = g2[kGradHead + 3];
-      ProjectSplatBackward(*s.camera, splats, n, pg, grads);
-      for (int e = 0; e < num_extra; ++e) {
-        grads->extra[n * num_extra + e] = g2[kGradHead + 4 + e];
-      }
-    }
+    s.ProjectBackward(s.float_data.entry_grad, grads);
   }
 }
 

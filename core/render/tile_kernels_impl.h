@@ -301,7 +301,7 @@ struct BackwardTileState {
   S* suffix;     // d loss / d (everything behind), see BackwardRow
   S* g_feat;     // num_features arrays of pixel gradients
   S* lane_extra;  // one Gaussian's extra-channel gradients, per lane
-  S* grad;        // one Gaussian's summed gradient (grad_stride terms)
+  S* grad;        // where one Gaussian's summed gradient goes (its entry)
   int last[kTilePixels];
   int row_last[kTileSize];  // the largest last[] of each row
 };
@@ -478,22 +478,8 @@ bool BackwardGaussian(const TilePass<S>& p, const TileRect& r, const Span& s,
   return lanes.Sum(st->grad);
 }
 
-// Adds one Gaussian's tile gradient to its row of grad2d (tiles run in
-// parallel, hence atomically).
-template <typename S>
-void AddGaussianGradient(const TilePass<S>& p, int k, int num_extra,
-                         const S* grad) {
-  double* out = &p.grad2d[static_cast<size_t>(p.grad_stride) * k];
-  const int terms = LaneGradient<S>::kTerms + num_extra;
-  for (int c = 0; c < terms; ++c) {
-#pragma omp atomic
-    out[c] += static_cast<double>(grad[c]);
-  }
-}
-
 template <typename S, int kExtra>
 void BackwardTile(const TilePass<S>& p, int tile, S* scratch) {
-  const int num_extra = NumExtra<kExtra>(p);
   const int begin = p.tile_offsets[tile], end = p.tile_offsets[tile + 1];
   if (begin == end) return;
   const TileRect r(tile, p.tiles_x, p.width, p.height);
@@ -502,7 +488,6 @@ void BackwardTile(const TilePass<S>& p, int tile, S* scratch) {
   st.suffix = st.t + kTilePixels;
   st.g_feat = st.suffix + kTilePixels;
   st.lane_extra = st.g_feat + p.num_features * kTilePixels;
-  st.grad = st.lane_extra + p.num_extra * kTileSize;
   for (int i = 0; i < kTilePixels; ++i) st.last[i] = 0;
   if (kFullRows && r.x1 - r.x0 < kTileSize) {
     // Full rows also run over the pixels past the image's right edge.
@@ -510,12 +495,19 @@ void BackwardTile(const TilePass<S>& p, int tile, S* scratch) {
     for (int i = 0; i < n; ++i) st.t[i] = S(0);
   }
   const int max_last = LoadTileGradients(p, r, &st);
+  const int stride = p.grad_stride;
+  S* const tile_grad = p.entry_grad + static_cast<size_t>(stride) * begin;
+  // Entries behind every pixel's last one took no part.
+  for (size_t i = static_cast<size_t>(stride) * max_last;
+       i < static_cast<size_t>(stride) * (end - begin); ++i)
+    tile_grad[i] = S(0);
   for (int e = begin + max_last - 1; e >= begin; --e) {
     const int k = p.tile_entries[e];
     const Span s = r.Clip(&p.box[4 * static_cast<size_t>(k)]);
-    if (s.empty()) continue;
-    if (BackwardGaussian<S, kExtra>(p, r, s, k, e - begin, &st))
-      AddGaussianGradient(p, k, num_extra, st.grad);
+    S* out = tile_grad + static_cast<size_t>(stride) * (e - begin);
+    st.grad = out;
+    if (s.empty() || !BackwardGaussian<S, kExtra>(p, r, s, k, e - begin, &st))
+      for (int c = 0; c < stride; ++c) out[c] = S(0);
   }
 }
 
