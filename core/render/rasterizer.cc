@@ -50,12 +50,14 @@ struct Rasterizer::State {
   };
   std::vector<DepthKey> depth_keys;       // sort keys of the visible
   std::vector<int> order;                 // visible input indices, by depth
+  std::vector<int> rank;                  // per input Gaussian: its k
   std::vector<int> tile_offsets;          // per tile, into tile_entries
   std::vector<int> tile_entries;          // indices into `order`
-  // Per binned Gaussian k (depth order), its entries of tile_entries:
-  // gaussian_entries[gaussian_offsets[k] .. gaussian_offsets[k + 1]).
+  // Per entry of tile_entries, its slot of the backward's gradient shares;
+  // binned Gaussian k (depth order) has the slots [gaussian_offsets[k],
+  // gaussian_offsets[k + 1]), so its shares are summed in sequence.
+  std::vector<int> entry_slot;
   std::vector<int> gaussian_offsets;
-  std::vector<int> gaussian_entries;
   std::vector<int> cursor;                // per thread and tile, binning
   std::vector<int> run_entries;           // per thread, binning
   std::vector<int> last;                  // per pixel: entries used + 1
@@ -128,8 +130,10 @@ void Rasterizer::State::Project() {
                      (a.depth == b.depth && a.index < b.index);
             });
   order.resize(depth_keys.size());
+  rank.resize(n);
   for (size_t k = 0; k < depth_keys.size(); ++k) {
     order[k] = depth_keys[k].index;
+    rank[order[k]] = static_cast<int>(k);
   }
 }
 
@@ -180,15 +184,16 @@ void Rasterizer::State::Bin() {
       }
       tile_offsets[num_tiles] = total;
       tile_entries.resize(total);
-      gaussian_entries.resize(total);
+      entry_slot.resize(total);
       gaussian_offsets[count] = total;
     }
     int next = run_entries[t];
     for (int k = k0; k < k1; ++k) {
       gaussian_offsets[k] = next;
       for_each_tile(k, [&](int tile) {
-        gaussian_entries[next++] = mine[tile];
-        tile_entries[mine[tile]++] = k;
+        const int e = mine[tile]++;
+        tile_entries[e] = k;
+        entry_slot[e] = next++;
       });
     }
   }
@@ -289,6 +294,7 @@ void Rasterizer::State::BackwardTiles(const RenderGradients& ig) {
   pass.d_alpha = ig.d_alpha;
   pass.d_depth = ig.d_depth;
   pass.d_extra = ig.d_extra;
+  pass.entry_slot = entry_slot.data();
   pass.entry_grad = entry_grad.data();
   pass.grad_stride = grad_stride;
   const auto backward = TileKernels<S>(options.simd, num_features - 4).backward;
@@ -314,13 +320,14 @@ void Rasterizer::State::ProjectBackward(const std::vector<S>& entry_grad,
   const int coeffs = 3 * NumShCoeffs(splats.sh_degree);
   const int num_extra = splats.num_extra;
   grad2d.resize(static_cast<size_t>(grad_stride) * count);
-#pragma omp parallel if (total > kMinParallelSplats)
-  {
-    // Culled Gaussians get zeros; ProjectSplatBackward writes every value
-    // of a kept one (and the loop below its extras).
-#pragma omp for schedule(static, 1024) nowait
-    for (int n = 0; n < total; ++n) {
-      if (keep[n]) continue;
+  // In input order: each Gaussian's attributes and gradients (SH degree 3:
+  // 768 bytes) are read and written in sequence, not at random as the
+  // depth order would.
+#pragma omp parallel for schedule(static, 256) if (total > kMinParallelSplats)
+  for (int n = 0; n < total; ++n) {
+    if (!keep[n]) {
+      // Culled: zeros. ProjectSplatBackward writes every value of a kept
+      // Gaussian (and the loop below its extras).
       auto zero = [](std::vector<double>* v, size_t begin, size_t size) {
         std::fill(v->begin() + begin, v->begin() + begin + size, 0.0);
       };
@@ -330,31 +337,30 @@ void Rasterizer::State::ProjectBackward(const std::vector<S>& entry_grad,
       zero(&grads->opacity_logits, n, 1);
       zero(&grads->sh, static_cast<size_t>(coeffs) * n, coeffs);
       zero(&grads->extra, static_cast<size_t>(num_extra) * n, num_extra);
+      continue;
     }
-#pragma omp for schedule(static, 256)
-    for (int k = 0; k < count; ++k) {
-      const int n = order[k];
-      // The Gaussian's gradient: its tiles' shares, summed in double.
-      double* g2 = &grad2d[static_cast<size_t>(grad_stride) * k];
-      for (int c = 0; c < grad_stride; ++c) g2[c] = 0;
-      for (int j = gaussian_offsets[k]; j < gaussian_offsets[k + 1]; ++j) {
-        const S* share =
-            &entry_grad[static_cast<size_t>(grad_stride) * gaussian_entries[j]];
-        for (int c = 0; c < grad_stride; ++c) g2[c] += share[c];
-      }
-      ProjectedGradient pg;
-      pg.mean2d[0] = g2[0];
-      pg.mean2d[1] = g2[1];
-      pg.conic[0] = g2[2];
-      pg.conic[1] = g2[3];
-      pg.conic[2] = g2[4];
-      pg.opacity = g2[5];
-      for (int c = 0; c < 3; ++c) pg.color[c] = g2[kGradHead + c];
-      pg.depth = g2[kGradHead + 3];
-      ProjectSplatBackward(*camera, splats, n, pg, grads);
-      for (int e = 0; e < num_extra; ++e) {
-        grads->extra[n * num_extra + e] = g2[kGradHead + 4 + e];
-      }
+    const int k = rank[n];
+    // The Gaussian's gradient: its tiles' shares, summed in double.
+    double* g2 = &grad2d[static_cast<size_t>(grad_stride) * k];
+    for (int c = 0; c < grad_stride; ++c) g2[c] = 0;
+    const S* share =
+        &entry_grad[static_cast<size_t>(grad_stride) * gaussian_offsets[k]];
+    const S* share_end =
+        &entry_grad[static_cast<size_t>(grad_stride) * gaussian_offsets[k + 1]];
+    for (; share != share_end; share += grad_stride)
+      for (int c = 0; c < grad_stride; ++c) g2[c] += share[c];
+    ProjectedGradient pg;
+    pg.mean2d[0] = g2[0];
+    pg.mean2d[1] = g2[1];
+    pg.conic[0] = g2[2];
+    pg.conic[1] = g2[3];
+    pg.conic[2] = g2[4];
+    pg.opacity = g2[5];
+    for (int c = 0; c < 3; ++c) pg.color[c] = g2[kGradHead + c];
+    pg.depth = g2[kGradHead + 3];
+    ProjectSplatBackward(*camera, splats, n, pg, grads);
+    for (int e = 0; e < num_extra; ++e) {
+      grads->extra[n * num_extra + e] = g2[kGradHead + 4 + e];
     }
   }
 }

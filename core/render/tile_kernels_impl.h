@@ -544,15 +544,18 @@ void BackwardTile(const TilePass<S>& p, int tile, S* scratch) {
   }
   const int max_last = LoadTileGradients(p, r, &st);
   const int stride = p.grad_stride;
-  S* const tile_grad = p.entry_grad + static_cast<size_t>(stride) * begin;
+  const auto slot = [&](int e) {
+    return p.entry_grad + static_cast<size_t>(stride) * p.entry_slot[e];
+  };
   // Entries behind every pixel's last one took no part.
-  for (size_t i = static_cast<size_t>(stride) * max_last;
-       i < static_cast<size_t>(stride) * (end - begin); ++i)
-    tile_grad[i] = S(0);
+  for (int e = begin + max_last; e < end; ++e) {
+    S* out = slot(e);
+    for (int c = 0; c < stride; ++c) out[c] = S(0);
+  }
   for (int e = begin + max_last - 1; e >= begin; --e) {
     const int k = p.tile_entries[e];
     const Span s = r.Clip(&p.box[4 * static_cast<size_t>(k)]);
-    S* out = tile_grad + static_cast<size_t>(stride) * (e - begin);
+    S* out = slot(e);
     st.grad = out;
     if (s.empty() || !BackwardGaussian<S, kExtra>(p, r, s, k, e - begin, &st))
       for (int c = 0; c < stride; ++c) out[c] = S(0);
