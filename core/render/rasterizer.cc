@@ -66,6 +66,7 @@ struct Rasterizer::State {
   std::vector<float> float_scratch;   // per thread
   std::vector<double> double_scratch;
   std::vector<double> grad2d;         // per visible Gaussian
+  bool has_grad2d = false;            // grad2d belongs to the last Forward
   long long pair_evaluations = 0;
 
   template <typename S>
@@ -320,6 +321,7 @@ void Rasterizer::State::ProjectBackward(const std::vector<S>& entry_grad,
   const int coeffs = 3 * NumShCoeffs(splats.sh_degree);
   const int num_extra = splats.num_extra;
   grad2d.resize(static_cast<size_t>(grad_stride) * count);
+  has_grad2d = true;
   // In input order: each Gaussian's attributes and gradients (SH degree 3:
   // 768 bytes) are read and written in sequence, not at random as the
   // depth order would.
@@ -386,7 +388,7 @@ void Rasterizer::Mean2dGradients(std::vector<double>* grads) const {
   const State& s = *state_;
   grads->assign(2 * static_cast<size_t>(s.splats.count), 0.0);
   const size_t stride = kGradHead + s.num_features;
-  if (s.grad2d.size() != stride * s.order.size()) return;  // no Backward
+  if (!s.has_grad2d) return;  // no Backward since the last Forward
   for (size_t k = 0; k < s.order.size(); ++k) {
     (*grads)[2 * s.order[k]] = s.grad2d[stride * k];
     (*grads)[2 * s.order[k] + 1] = s.grad2d[stride * k + 1];
@@ -405,7 +407,7 @@ void Rasterizer::Forward(const Camera& camera, const SplatView& splats,
   s.splats = splats;
   s.options = options;
   s.num_features = 4 + splats.num_extra;
-  s.grad2d.clear();  // belongs to the previous Forward
+  s.has_grad2d = false;  // grad2d belongs to the previous Forward
   s.Project();
   s.Bin();
 
