@@ -233,25 +233,44 @@ inline void CompositeRow(int n, const S* raw, const S* f, int rank, S* t,
 }
 
 // Writes the composited tile (per-pixel arrays t and accum, nf features)
-// into the pass's images.
+// into the pass's images, a tile row at a time.
 template <typename S>
 void StoreTile(const TilePass<S>& p, const TileRect& r, const S* t,
                const S* accum, const int* tile_last) {
-  const double* bg = p.background;
+  const double bg0 = p.background[0], bg1 = p.background[1],
+               bg2 = p.background[2];
   const int num_extra = p.num_extra;
+  const int n = r.x1 - r.x0;
   for (int y = r.y0; y < r.y1; ++y) {
-    for (int x = r.x0; x < r.x1; ++x) {
-      const int q = r.Offset(x, y);
-      const size_t pix = static_cast<size_t>(y) * p.width + x;
-      const double tf = t[q];
-      for (int c = 0; c < 3; ++c)
-        p.rgb[3 * pix + c] = accum[c * kTilePixels + q] + bg[c] * tf;
-      p.alpha[pix] = 1 - tf;
-      p.depth[pix] = accum[3 * kTilePixels + q];
-      for (int c = 0; c < num_extra; ++c)
-        p.extra[pix * num_extra + c] = accum[(4 + c) * kTilePixels + q];
-      p.t_final[pix] = t[q];
-      p.last[pix] = tile_last[q];
+    const int q = r.Offset(r.x0, y);
+    const size_t pix = static_cast<size_t>(y) * p.width + r.x0;
+    const S* tq = t + q;
+    const S* a0 = accum + q;
+    const S* a1 = a0 + kTilePixels;
+    const S* a2 = a1 + kTilePixels;
+    const S* a3 = a2 + kTilePixels;
+    const int* lq = tile_last + q;
+    double* rgb = p.rgb + 3 * pix;
+    double* alpha = p.alpha + pix;
+    double* depth = p.depth + pix;
+    S* t_final = p.t_final + pix;
+    int* last = p.last + pix;
+#pragma omp simd
+    for (int i = 0; i < n; ++i) {
+      const double tf = tq[i];
+      rgb[3 * i] = a0[i] + bg0 * tf;
+      rgb[3 * i + 1] = a1[i] + bg1 * tf;
+      rgb[3 * i + 2] = a2[i] + bg2 * tf;
+      alpha[i] = 1 - tf;
+      depth[i] = a3[i];
+      t_final[i] = tq[i];
+      last[i] = lq[i];
+    }
+    for (int c = 0; c < num_extra; ++c) {
+      const S* ac = accum + (4 + c) * kTilePixels + q;
+      double* extra = p.extra + pix * num_extra + c;
+#pragma omp simd
+      for (int i = 0; i < n; ++i) extra[i * num_extra] = ac[i];
     }
   }
 }
@@ -340,40 +359,75 @@ struct BackwardTileState {
   int row_last[kTileSize];  // the largest last[] of each row
 };
 
-// Loads the pixel gradients and the forward's final state; returns the
-// largest number of entries any pixel of the tile used.
+// Loads the pixel gradients and the forward's final state, a tile row at a
+// time; returns the largest number of entries any pixel of the tile used.
 template <typename S>
 int LoadTileGradients(const TilePass<S>& p, const TileRect& r,
                       BackwardTileState<S>* st) {
-  const double* bg = p.background;
   const int num_extra = p.num_extra;
+  const int n = r.x1 - r.x0;
   int max_last = 0;
   for (int i = 0; i < kTileSize; ++i) st->row_last[i] = 0;
   for (int y = r.y0; y < r.y1; ++y) {
-    for (int x = r.x0; x < r.x1; ++x) {
-      const int q = r.Offset(x, y);
-      const size_t pix = static_cast<size_t>(y) * p.width + x;
-      double g_bg = 0;
-      for (int c = 0; c < 3; ++c) {
-        const double gc = p.d_rgb ? p.d_rgb[3 * pix + c] : 0.0;
-        st->g_feat[c * kTilePixels + q] = static_cast<S>(gc);
-        g_bg += gc * bg[c];
+    const int q = r.Offset(r.x0, y);
+    const size_t pix = static_cast<size_t>(y) * p.width + r.x0;
+    // d loss / d T_final: the background term and alpha = 1 - T_final.
+    double g_t[kTileSize];
+    for (int i = 0; i < n; ++i) g_t[i] = 0;
+    for (int c = 0; c < 3; ++c) {
+      S* g = st->g_feat + c * kTilePixels + q;
+      if (p.d_rgb == nullptr) {
+        for (int i = 0; i < n; ++i) g[i] = S(0);
+        continue;
       }
-      st->g_feat[3 * kTilePixels + q] =
-          static_cast<S>(p.d_depth ? p.d_depth[pix] : 0.0);
-      for (int c = 0; c < num_extra; ++c) {
-        st->g_feat[(4 + c) * kTilePixels + q] = static_cast<S>(
-            p.d_extra ? p.d_extra[pix * num_extra + c] : 0.0);
+      const double* d = p.d_rgb + 3 * pix + c;
+      const double bg = p.background[c];
+#pragma omp simd
+      for (int i = 0; i < n; ++i) {
+        g[i] = static_cast<S>(d[3 * i]);
+        g_t[i] += d[3 * i] * bg;
       }
-      const double g_alpha = p.d_alpha ? p.d_alpha[pix] : 0.0;
-      const double tf = p.t_final[pix];
-      st->t[q] = p.t_final[pix];
-      // The background term and alpha = 1 - T_final both scale T_final.
-      st->suffix[q] = static_cast<S>((g_bg - g_alpha) * tf);
-      st->last[q] = p.last[pix];
-      max_last = MaxInt(max_last, p.last[pix]);
-      st->row_last[y - r.y0] = MaxInt(st->row_last[y - r.y0], p.last[pix]);
     }
+    const auto load = [n](const double* d, S* g) {
+      if (d == nullptr) {
+        for (int i = 0; i < n; ++i) g[i] = S(0);
+        return;
+      }
+#pragma omp simd
+      for (int i = 0; i < n; ++i) g[i] = static_cast<S>(d[i]);
+    };
+    load(p.d_depth ? p.d_depth + pix : nullptr,
+         st->g_feat + 3 * kTilePixels + q);
+    for (int c = 0; c < num_extra; ++c) {
+      S* g = st->g_feat + (4 + c) * kTilePixels + q;
+      if (p.d_extra == nullptr) {
+        for (int i = 0; i < n; ++i) g[i] = S(0);
+        continue;
+      }
+      const double* d = p.d_extra + pix * num_extra + c;
+#pragma omp simd
+      for (int i = 0; i < n; ++i) g[i] = static_cast<S>(d[i * num_extra]);
+    }
+    if (p.d_alpha != nullptr) {
+      const double* d = p.d_alpha + pix;
+#pragma omp simd
+      for (int i = 0; i < n; ++i) g_t[i] -= d[i];
+    }
+    const S* t_final = p.t_final + pix;
+    const int* last = p.last + pix;
+    S* t = st->t + q;
+    S* suffix = st->suffix + q;
+    int* tile_last = st->last + q;
+    int row_last = 0;
+#pragma omp simd reduction(max : row_last)
+    for (int i = 0; i < n; ++i) {
+      t[i] = t_final[i];
+      suffix[i] = static_cast<S>(g_t[i] * static_cast<double>(t_final[i]));
+      tile_last[i] = last[i];
+      row_last = last[i] > row_last ? last[i] : row_last;
+    }
+    st->row_last[y - r.y0] = row_last;
+    max_last = MaxInt(max_last, row_last);
   }
   return max_last;
 }
