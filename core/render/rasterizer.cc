@@ -20,7 +20,8 @@ namespace {
 constexpr int kGradHead = kTileGradHead;
 // Below these sizes a parallel region costs more than it saves.
 constexpr int kMinParallelSplats = 2048;
-constexpr int kMinParallelBinning = 16384;  // binning is ~20 ns per Gaussian
+// Binning a Gaussian (two passes over its tiles) took ~0.2 us at 320x240.
+constexpr int kMinParallelBinning = 2048;
 constexpr size_t kMinParallelEntries = 256;
 
 // The per-Gaussian data of the tile pass, in the precision of its loops
