@@ -51,22 +51,21 @@ struct Rasterizer::State {
   };
   std::vector<DepthKey> depth_keys;       // sort keys of the visible
   std::vector<int> order;                 // visible input indices, by depth
-  std::vector<int> rank;                  // per input Gaussian: its k
   std::vector<int> tile_offsets;          // per tile, into tile_entries
   std::vector<int> tile_entries;          // indices into `order`
-  // Per entry of tile_entries, its slot of the backward's gradient shares;
-  // binned Gaussian k (depth order) has the slots [gaussian_offsets[k],
-  // gaussian_offsets[k + 1]), so its shares are summed in sequence.
+  // Per entry of tile_entries, its slot of the backward's gradient shares.
+  // Input Gaussian n has the slots [slot_offsets[n], slot_offsets[n + 1])
+  // (none if culled): the projection backward, in input order, reads them
+  // all in sequence.
   std::vector<int> entry_slot;
-  std::vector<int> gaussian_offsets;
+  std::vector<int> slot_offsets;
   std::vector<int> cursor;                // per thread and tile, binning
-  std::vector<int> run_entries;           // per thread, binning
   std::vector<int> last;                  // per pixel: entries used + 1
   TileData<float> float_data;
   TileData<double> double_data;
   std::vector<float> float_scratch;   // per thread
   std::vector<double> double_scratch;
-  std::vector<double> grad2d;         // per visible Gaussian
+  std::vector<double> grad2d;         // per input Gaussian (kept ones)
   bool has_grad2d = false;            // grad2d belongs to the last Forward
   long long pair_evaluations = 0;
 
@@ -123,19 +122,24 @@ void Rasterizer::State::Project() {
   // The keys sit next to each other (not behind an index into projected),
   // which keeps the sort in cache.
   depth_keys.clear();
+  slot_offsets.resize(n + 1);
+  int slots = 0;
   for (int i = 0; i < n; ++i) {
-    if (keep[i]) depth_keys.push_back({projected[i].depth, i});
+    slot_offsets[i] = slots;
+    if (!keep[i]) continue;
+    const ProjectedSplat& p = projected[i];
+    depth_keys.push_back({p.depth, i});
+    slots += (p.tile_x1 - p.tile_x0) * (p.tile_y1 - p.tile_y0);
   }
+  slot_offsets[n] = slots;
   std::sort(depth_keys.begin(), depth_keys.end(),
             [](const DepthKey& a, const DepthKey& b) {
               return a.depth < b.depth ||
                      (a.depth == b.depth && a.index < b.index);
             });
   order.resize(depth_keys.size());
-  rank.resize(n);
   for (size_t k = 0; k < depth_keys.size(); ++k) {
     order[k] = depth_keys[k].index;
-    rank[order[k]] = static_cast<int>(k);
   }
 }
 
@@ -149,9 +153,7 @@ void Rasterizer::State::Bin() {
   const int threads =
       count > kMinParallelBinning ? omp_get_max_threads() : 1;
   cursor.assign(static_cast<size_t>(threads) * num_tiles, 0);
-  run_entries.assign(threads + 1, 0);
   tile_offsets.assign(num_tiles + 1, 0);
-  gaussian_offsets.resize(count + 1);
   const auto for_each_tile = [&](int k, auto&& visit) {
     const ProjectedSplat& p = projected[order[k]];
     for (int ty = p.tile_y0; ty < p.tile_y1; ++ty)
@@ -165,14 +167,11 @@ void Rasterizer::State::Bin() {
     const int k1 =
         static_cast<int>(static_cast<long long>(count) * (t + 1) / nt);
     int* mine = &cursor[static_cast<size_t>(t) * num_tiles];
-    int run = 0;
     for (int k = k0; k < k1; ++k)
-      for_each_tile(k, [&](int tile) { ++mine[tile], ++run; });
-    run_entries[t + 1] = run;
+      for_each_tile(k, [&](int tile) { ++mine[tile]; });
 #pragma omp barrier
 #pragma omp single
     {
-      for (int r = 0; r < nt; ++r) run_entries[r + 1] += run_entries[r];
       // Per tile: the runs' counts become the runs' start offsets.
       int total = 0;
       for (int tile = 0; tile < num_tiles; ++tile) {
@@ -187,11 +186,9 @@ void Rasterizer::State::Bin() {
       tile_offsets[num_tiles] = total;
       tile_entries.resize(total);
       entry_slot.resize(total);
-      gaussian_offsets[count] = total;
     }
-    int next = run_entries[t];
     for (int k = k0; k < k1; ++k) {
-      gaussian_offsets[k] = next;
+      int next = slot_offsets[order[k]];
       for_each_tile(k, [&](int tile) {
         const int e = mine[tile]++;
         tile_entries[e] = k;
@@ -317,11 +314,10 @@ void Rasterizer::State::ProjectBackward(const std::vector<S>& entry_grad,
                                         SplatGradients* grads) {
   ScopedStage timer(Stage::kProjectionBackward);
   const int grad_stride = kGradHead + num_features;
-  const int count = static_cast<int>(order.size());
   const int total = splats.count;
   const int coeffs = 3 * NumShCoeffs(splats.sh_degree);
   const int num_extra = splats.num_extra;
-  grad2d.resize(static_cast<size_t>(grad_stride) * count);
+  grad2d.resize(static_cast<size_t>(grad_stride) * total);
   has_grad2d = true;
   // In input order: each Gaussian's attributes and gradients (SH degree 3:
   // 768 bytes) are read and written in sequence, not at random as the
@@ -342,14 +338,13 @@ void Rasterizer::State::ProjectBackward(const std::vector<S>& entry_grad,
       zero(&grads->extra, static_cast<size_t>(num_extra) * n, num_extra);
       continue;
     }
-    const int k = rank[n];
     // The Gaussian's gradient: its tiles' shares, summed in double.
-    double* g2 = &grad2d[static_cast<size_t>(grad_stride) * k];
+    double* g2 = &grad2d[static_cast<size_t>(grad_stride) * n];
     for (int c = 0; c < grad_stride; ++c) g2[c] = 0;
     const S* share =
-        &entry_grad[static_cast<size_t>(grad_stride) * gaussian_offsets[k]];
+        &entry_grad[static_cast<size_t>(grad_stride) * slot_offsets[n]];
     const S* share_end =
-        &entry_grad[static_cast<size_t>(grad_stride) * gaussian_offsets[k + 1]];
+        &entry_grad[static_cast<size_t>(grad_stride) * slot_offsets[n + 1]];
     for (; share != share_end; share += grad_stride)
       for (int c = 0; c < grad_stride; ++c) g2[c] += share[c];
     ProjectedGradient pg;
@@ -390,9 +385,9 @@ void Rasterizer::Mean2dGradients(std::vector<double>* grads) const {
   grads->assign(2 * static_cast<size_t>(s.splats.count), 0.0);
   const size_t stride = kGradHead + s.num_features;
   if (!s.has_grad2d) return;  // no Backward since the last Forward
-  for (size_t k = 0; k < s.order.size(); ++k) {
-    (*grads)[2 * s.order[k]] = s.grad2d[stride * k];
-    (*grads)[2 * s.order[k] + 1] = s.grad2d[stride * k + 1];
+  for (int n : s.order) {
+    (*grads)[2 * n] = s.grad2d[stride * n];
+    (*grads)[2 * n + 1] = s.grad2d[stride * n + 1];
   }
 }
 
