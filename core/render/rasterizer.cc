@@ -60,6 +60,12 @@ struct Rasterizer::State {
   std::vector<int> entry_slot;
   std::vector<int> slot_offsets;
   std::vector<int> cursor;                // per thread and tile, binning
+  // Per binned Gaussian k, what the binning's second pass needs, gathered
+  // in its first (one random read of projected[] per Gaussian, not two).
+  struct BinItem {
+    int tile_x0, tile_x1, tile_y0, tile_y1, slot;
+  };
+  std::vector<BinItem> bin_items;
   std::vector<int> last;                  // per pixel: entries used + 1
   TileData<float> float_data;
   TileData<double> double_data;
@@ -154,10 +160,10 @@ void Rasterizer::State::Bin() {
       count > kMinParallelBinning ? omp_get_max_threads() : 1;
   cursor.assign(static_cast<size_t>(threads) * num_tiles, 0);
   tile_offsets.assign(num_tiles + 1, 0);
-  const auto for_each_tile = [&](int k, auto&& visit) {
-    const ProjectedSplat& p = projected[order[k]];
-    for (int ty = p.tile_y0; ty < p.tile_y1; ++ty)
-      for (int tx = p.tile_x0; tx < p.tile_x1; ++tx)
+  bin_items.resize(count);
+  const auto for_each_tile = [&](const BinItem& b, auto&& visit) {
+    for (int ty = b.tile_y0; ty < b.tile_y1; ++ty)
+      for (int tx = b.tile_x0; tx < b.tile_x1; ++tx)
         visit(ty * camera->tiles_x + tx);
   };
 #pragma omp parallel num_threads(threads)
@@ -167,8 +173,13 @@ void Rasterizer::State::Bin() {
     const int k1 =
         static_cast<int>(static_cast<long long>(count) * (t + 1) / nt);
     int* mine = &cursor[static_cast<size_t>(t) * num_tiles];
-    for (int k = k0; k < k1; ++k)
-      for_each_tile(k, [&](int tile) { ++mine[tile]; });
+    for (int k = k0; k < k1; ++k) {
+      const int n = order[k];
+      const ProjectedSplat& p = projected[n];
+      BinItem& b = bin_items[k];
+      b = {p.tile_x0, p.tile_x1, p.tile_y0, p.tile_y1, slot_offsets[n]};
+      for_each_tile(b, [&](int tile) { ++mine[tile]; });
+    }
 #pragma omp barrier
 #pragma omp single
     {
@@ -188,8 +199,8 @@ void Rasterizer::State::Bin() {
       entry_slot.resize(total);
     }
     for (int k = k0; k < k1; ++k) {
-      int next = slot_offsets[order[k]];
-      for_each_tile(k, [&](int tile) {
+      int next = bin_items[k].slot;
+      for_each_tile(bin_items[k], [&](int tile) {
         const int e = mine[tile]++;
         tile_entries[e] = k;
         entry_slot[e] = next++;
