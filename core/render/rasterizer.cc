@@ -32,7 +32,7 @@ struct TileData {
   std::vector<S> feature;
   std::vector<int> box;
   std::vector<S> t_final;     // per pixel
-  std::vector<S> entry_grad;  // per entry of tile_entries (TilePass)
+  std::vector<S> entry_grad;  // per slot (TilePass::entry_grad)
 };
 
 }  // namespace
