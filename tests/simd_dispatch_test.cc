@@ -121,6 +121,63 @@ TEST_P(SimdLevelTest, DoubleMatchesPerPixelReference) {
   EXPECT_LT(RelativeDiff(p.image.extra, ref.extra), 1e-10);
 }
 
+// Small footprints, many in front of each other: with full rows
+// (AVX2 / AVX-512) the boxes of at most half a tile row run on a half-row
+// window placed over them, at tile and image edges too, and pixels stop.
+// They must give what the span-only SSE2 kernel gives.
+TestScene NarrowScene(unsigned seed) {
+  TestScene s;
+  s.camera = reference::TestCamera(83, 61);
+  s.sh_degree = 1;
+  s.num_extra = 1;
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> uni(0.0, 1.0);
+  const double f = s.camera.fx;
+  for (int i = 0; i < 1500; ++i) {
+    const double z = 2 + 3 * uni(rng);
+    // Sigma 0.3..1.3 px: boxes of 3..11 pixels, most within 8.
+    const double px = 0.3 + uni(rng);
+    const Eigen::Vector3d scale(px * z / f * (0.6 + 0.6 * uni(rng)),
+                                px * z / f * (0.6 + 0.6 * uni(rng)),
+                                px * z / f);
+    const Eigen::Vector4d q(uni(rng) - 0.5, uni(rng) - 0.5, uni(rng) - 0.5,
+                            uni(rng) - 0.5);
+    // Clustered on a few spots so pixels reach the transmittance limit.
+    const double u = i % 3 == 0 ? 40 + 6 * (uni(rng) - 0.5)
+                                : -3 + 89 * uni(rng);
+    const double v = i % 3 == 0 ? 30 + 6 * (uni(rng) - 0.5)
+                                : -3 + 67 * uni(rng);
+    s.Add(s.camera.Unproject(u, v, z), scale, q, -1 + 6 * uni(rng));
+  }
+  const int k_count = NumShCoeffs(s.sh_degree);
+  for (double& c : s.sh) c = (uni(rng) - 0.5) * 2;
+  for (int n = 0; n < s.count; ++n) s.sh[3 * k_count * n] += 1;  // DC red
+  for (double& e : s.extra) e = uni(rng);
+  return s;
+}
+
+TEST_P(SimdLevelTest, NarrowFootprintsMatchSse2WithinFloatTolerance) {
+  const TestScene s = NarrowScene(5);
+  // Most boxes fit a half row (radius 3 px: a box of at most ~8 pixels).
+  Rasterizer r;
+  RenderResult image;
+  r.Forward(s.camera, s.View(), RenderOptions(), &image);
+  std::vector<int> radii;
+  r.Radii(&radii);
+  int small = 0;
+  for (int radius : radii) small += radius > 0 && radius <= 3;
+  EXPECT_GT(small, s.count / 2);
+  double peak = 0;
+  for (double a : image.alpha) peak = std::max(peak, a);
+  EXPECT_GT(peak, 0.999);  // some pixels stop
+  for (bool use_double : {false, true}) {
+    EXPECT_LT(WorstDiff(RenderBoth(s, GetParam(), use_double),
+                        RenderBoth(s, SimdLevel::kSse2, use_double)),
+              use_double ? 1e-10 : 1e-4)
+        << (use_double ? "double" : "float");
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(Levels, SimdLevelTest,
                          ::testing::Values(SimdLevel::kSse2, SimdLevel::kAvx2,
                                            SimdLevel::kAvx512),

@@ -7,9 +7,8 @@ namespace es {
 int TileScratchSize(int num_features) {
   constexpr int kTilePixels = kTileSize * kTileSize;
   // Per pixel: T, suffix, the feature gradients; per lane: the extra
-  // channels' gradients; then one Gaussian's summed gradient.
-  return kTilePixels * (num_features + 2) + kTileSize * num_features +
-         kTileGradHead + num_features;
+  // channels' gradients.
+  return kTilePixels * (num_features + 2) + kTileSize * (num_features - 4);
 }
 
 template <>

@@ -36,14 +36,19 @@ struct TilePass {
   S* t_final = nullptr;     // transmittance after the last Gaussian
   int* last = nullptr;      // entries of the pixel's list used + 1
 
-  // Backward inputs (nullptr: zero) and output: per binned Gaussian,
-  // grad_stride doubles d mean2d (2), d conic (3), d opacity, then one per
-  // feature, added to atomically.
+  // Backward inputs (nullptr: zero) and output: per entry e of
+  // tile_entries (one Gaussian in one tile), at slot entry_slot[e] of
+  // entry_grad, grad_stride values d mean2d (2), d conic (3), d opacity,
+  // then one per feature: the tile's share of the Gaussian's gradient, zero
+  // where the tile did not use it. Each tile writes only its own entries'
+  // slots, so the tiles need no atomics and the per-Gaussian sums (taken
+  // afterwards) do not depend on the thread count.
   const double* d_rgb = nullptr;
   const double* d_alpha = nullptr;
   const double* d_depth = nullptr;
   const double* d_extra = nullptr;
-  double* grad2d = nullptr;
+  const int* entry_slot = nullptr;
+  S* entry_grad = nullptr;
   int grad_stride = 0;
 };
 
@@ -58,7 +63,7 @@ struct TileKernelSet {
   // Renders one tile into the forward outputs; returns the Gaussian-pixel
   // pairs it evaluated.
   long long (*forward)(const TilePass<S>& pass, int tile, S* scratch);
-  // Adds the tile's share of every Gaussian's 2D gradient to grad2d.
+  // Writes the tile's share of every Gaussian's 2D gradient (entry_grad).
   void (*backward)(const TilePass<S>& pass, int tile, S* scratch);
 };
 

@@ -21,6 +21,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <type_traits>
 
 #include "core/render/raster_constants.h"
 #include "core/render/tile_kernels.h"
@@ -30,12 +31,16 @@ namespace ES_TILE_ISA {
 namespace {
 
 constexpr int kTilePixels = kTileSize * kTileSize;
-// Whether a Gaussian's rows run over the whole tile row (a fixed trip
-// count of kTileSize, one or two vectors for AVX-512 / AVX2, no scalar
-// remainder) with the pixels outside its box masked to alpha 0, or over its
-// box only (fewer lanes wasted with 4-wide SSE2). Pixels with alpha 0 take
-// no part in either pass, so both give the same sums up to their order.
+// Whether a Gaussian's rows run over a fixed window of the tile row (a
+// fixed trip count, whole vectors for AVX-512 / AVX2, no scalar remainder)
+// with the pixels outside its box masked to alpha 0, or over its box only
+// (fewer lanes wasted with 4-wide SSE2). The window is the whole row, or
+// its half kNarrow wide placed over the box where the box fits in it (at
+// 16 lanes per row a typical box filled about 10; small boxes far fewer).
+// Pixels with alpha 0 take no part in either pass, so all give the same
+// sums up to their order.
 constexpr bool kFullRows = ES_TILE_FULL_ROWS;
+constexpr int kNarrow = kTileSize / 2;
 
 inline int MinInt(int a, int b) { return a < b ? a : b; }
 inline int MaxInt(int a, int b) { return a > b ? a : b; }
@@ -105,24 +110,42 @@ struct RowRange {
   int x0, n, lo, hi;
 };
 
+// The row window of a span, n kTileSize or kNarrow with full rows, else
+// the span's width. Forward and backward call it on the same span, so both
+// evaluate the same pixels.
 inline RowRange RowOf(const TileRect& r, const Span& s) {
-  if (kFullRows) return {r.x0, kTileSize, s.x0, s.x1};
-  return {s.x0, s.x1 - s.x0, s.x0, s.x1};
+  if (!kFullRows) return {s.x0, s.x1 - s.x0, s.x0, s.x1};
+  if (s.x1 - s.x0 > kNarrow) return {r.x0, kTileSize, s.x0, s.x1};
+  return {MinInt(s.x0, r.x0 + kTileSize - kNarrow), kNarrow, s.x0, s.x1};
+}
+
+// Runs body(std::integral_constant<int, N>) with N the row window's width
+// when it is one of the fixed ones (so its loops get a constant trip
+// count), else with N = 0 (the width is row.n).
+template <typename Body>
+inline auto WithRowWidth(const RowRange& row, Body&& body) {
+  if constexpr (kFullRows) {
+    if (row.n == kNarrow) return body(std::integral_constant<int, kNarrow>());
+    return body(std::integral_constant<int, kTileSize>());
+  } else {
+    return body(std::integral_constant<int, 0>());
+  }
 }
 
 // The Gaussian on the n pixels of row y from x0: raw[i] = o exp(-sigma),
 // alpha before the 0.99 clamp, with sigma = 0.5 d^T conic d, and 0 where
 // sigma < 0 or outside [lo, hi). Forward and backward share it so both take
 // exactly the same skip decisions.
-template <typename S>
+template <int kN, typename S>
 inline void RowAlphas(const Footprint<S>& g, int y, const RowRange& row,
                       S* raw) {
+  const int n = kN > 0 ? kN : row.n;
   const S dy = static_cast<S>(y) + S(0.5) - g.my;
   const S row_term = S(0.5) * g.cc * dy * dy;
   const S cross = g.cb * dy;
   const int x0 = row.x0, lo = row.lo, hi = row.hi;
 #pragma omp simd
-  for (int i = 0; i < row.n; ++i) {
+  for (int i = 0; i < n; ++i) {
     const int x = x0 + i;
     const S dx = static_cast<S>(x) + S(0.5) - g.mx;
     const S sigma = S(0.5) * g.ca * dx * dx + cross * dx + row_term;
@@ -148,6 +171,15 @@ inline bool RowLive(const S* done) {
   return least == S(0);
 }
 
+// Whether any of a tile row's flags (each 0 or 1) is set.
+template <typename S>
+inline bool AnySet(const S* flags) {
+  S most = 0;
+#pragma omp simd reduction(max : most)
+  for (int i = 0; i < kTileSize; ++i) most = flags[i] > most ? flags[i] : most;
+  return most != S(0);
+}
+
 // The sum of a row's kTileSize lanes, as a tree of vector adds (an
 // omp simd sum reduction ends in one scalar add per lane); a is overwritten.
 template <typename S>
@@ -164,22 +196,21 @@ inline S SumLanes(S* a) {
 // tile row, front to back, with the 3DGS rules: skip alpha < 1/255, clamp
 // alpha at 0.99, stop a pixel before T would fall below 1e-4. Per-pixel
 // arrays start at the row's first pixel; w receives each pixel's weight
-// alpha * T (0 where skipped) for the extra channels. Written without
-// branches so it vectorizes. Returns 1 if a pixel stopped, else 0.
+// alpha * T (0 where skipped) for the extra channels, and stopped[i] is
+// set to 1 where a pixel stopped (kept per lane: a reduction to one flag
+// per row cost a chain of horizontal maxes per row). Written without
+// branches so it vectorizes.
 template <typename S>
-inline S CompositeRow(int n, const S* raw, const S* f, int rank, S* t,
-                        S* done, int* last, S* acc0, S* acc1, S* acc2,
-                        S* acc3, S* w) {
+inline void CompositeRow(int n, const S* raw, const S* f, int rank, S* t,
+                         S* done, int* last, S* acc0, S* acc1, S* acc2,
+                         S* acc3, S* w, S* stopped) {
   const S max_alpha = static_cast<S>(kMaxAlpha);
   const S min_alpha = static_cast<S>(kMinAlpha);
   const S min_t = static_cast<S>(kMinTransmittance);
   const S f0 = f[0], f1 = f[1], f2 = f[2], f3 = f[3];
-  // Plain loads, `&` rather than `&&` (a short-circuit load of done[i]
-  // is a masked load GCC does not vectorize) and a max rather than a count
-  // of the stops (a float sum is combined lane by lane in order) keep the
-  // loop vectorized.
-  S stopped = 0;
-#pragma omp simd reduction(max : stopped)
+  // Plain loads and `&` rather than `&&` (a short-circuit load of done[i]
+  // is a masked load GCC does not vectorize) keep the loop vectorized.
+#pragma omp simd
   for (int i = 0; i < n; ++i) {
     const S r = raw[i], d = done[i], ti = t[i];
     const int li = last[i];
@@ -197,31 +228,49 @@ inline S CompositeRow(int n, const S* raw, const S* f, int rank, S* t,
     t[i] = use ? next_t : ti;
     last[i] = use ? rank : li;
     done[i] = stop ? S(1) : d;
-    stopped = stop ? S(1) : stopped;
+    stopped[i] = stop ? S(1) : stopped[i];
   }
-  return stopped;
 }
 
 // Writes the composited tile (per-pixel arrays t and accum, nf features)
-// into the pass's images.
+// into the pass's images, a tile row at a time.
 template <typename S>
 void StoreTile(const TilePass<S>& p, const TileRect& r, const S* t,
                const S* accum, const int* tile_last) {
-  const double* bg = p.background;
+  const double bg0 = p.background[0], bg1 = p.background[1],
+               bg2 = p.background[2];
   const int num_extra = p.num_extra;
+  const int n = r.x1 - r.x0;
   for (int y = r.y0; y < r.y1; ++y) {
-    for (int x = r.x0; x < r.x1; ++x) {
-      const int q = r.Offset(x, y);
-      const size_t pix = static_cast<size_t>(y) * p.width + x;
-      const double tf = t[q];
-      for (int c = 0; c < 3; ++c)
-        p.rgb[3 * pix + c] = accum[c * kTilePixels + q] + bg[c] * tf;
-      p.alpha[pix] = 1 - tf;
-      p.depth[pix] = accum[3 * kTilePixels + q];
-      for (int c = 0; c < num_extra; ++c)
-        p.extra[pix * num_extra + c] = accum[(4 + c) * kTilePixels + q];
-      p.t_final[pix] = t[q];
-      p.last[pix] = tile_last[q];
+    const int q = r.Offset(r.x0, y);
+    const size_t pix = static_cast<size_t>(y) * p.width + r.x0;
+    const S* tq = t + q;
+    const S* a0 = accum + q;
+    const S* a1 = a0 + kTilePixels;
+    const S* a2 = a1 + kTilePixels;
+    const S* a3 = a2 + kTilePixels;
+    const int* lq = tile_last + q;
+    double* rgb = p.rgb + 3 * pix;
+    double* alpha = p.alpha + pix;
+    double* depth = p.depth + pix;
+    S* t_final = p.t_final + pix;
+    int* last = p.last + pix;
+#pragma omp simd
+    for (int i = 0; i < n; ++i) {
+      const double tf = tq[i];
+      rgb[3 * i] = a0[i] + bg0 * tf;
+      rgb[3 * i + 1] = a1[i] + bg1 * tf;
+      rgb[3 * i + 2] = a2[i] + bg2 * tf;
+      alpha[i] = 1 - tf;
+      depth[i] = a3[i];
+      t_final[i] = tq[i];
+      last[i] = lq[i];
+    }
+    for (int c = 0; c < num_extra; ++c) {
+      const S* ac = accum + (4 + c) * kTilePixels + q;
+      double* extra = p.extra + pix * num_extra + c;
+#pragma omp simd
+      for (int i = 0; i < n; ++i) extra[i * num_extra] = ac[i];
     }
   }
 }
@@ -235,7 +284,7 @@ long long ForwardTile(const TilePass<S>& p, int tile, S* scratch) {
   S* done = t + kTilePixels;
   S* accum = done + kTilePixels;  // nf arrays
   int tile_last[kTilePixels];
-  S w[kTileSize], raw[kTileSize];
+  S w[kTileSize], raw[kTileSize], stop_lanes[kTileSize];
   for (int i = 0; i < kTilePixels; ++i) t[i] = S(1);
   for (int i = 0; i < kTilePixels * (nf + 1); ++i) done[i] = S(0);
   for (int i = 0; i < kTilePixels; ++i) tile_last[i] = 0;
@@ -261,25 +310,29 @@ long long ForwardTile(const TilePass<S>& p, int tile, S* scratch) {
     const Footprint<S> g(&p.geom[static_cast<size_t>(kTileGeomStride) * k]);
     const S* f = &p.feature[static_cast<size_t>(nf) * k];
     const RowRange row = RowOf(r, s);
-    const int n = row.n;
-    S stopped = 0;
-    for (int y = s.y0; y < s.y1; ++y) {
-      if (!row_live[y - r.y0]) continue;
-      RowAlphas(g, y, row, raw);
-      const int q = r.Offset(row.x0, y);
-      stopped += CompositeRow(n, raw, f, e - begin + 1, t + q, done + q,
-                              tile_last + q, accum + q,
-                              accum + kTilePixels + q,
-                              accum + 2 * kTilePixels + q,
-                              accum + 3 * kTilePixels + q, w);
-      for (int c = 4; c < nf; ++c) {
-        S* acc = accum + c * kTilePixels + q;
-        const S fc = f[c];
+    for (int i = 0; i < kTileSize; ++i) stop_lanes[i] = S(0);
+    WithRowWidth(row, [&](auto width) {
+      constexpr int kN = decltype(width)::value;
+      const int n = kN > 0 ? kN : row.n;
+      for (int y = s.y0; y < s.y1; ++y) {
+        if (!row_live[y - r.y0]) continue;
+        RowAlphas<kN>(g, y, row, raw);
+        const int q = r.Offset(row.x0, y);
+        CompositeRow(n, raw, f, e - begin + 1, t + q, done + q,
+                     tile_last + q, accum + q, accum + kTilePixels + q,
+                     accum + 2 * kTilePixels + q, accum + 3 * kTilePixels + q,
+                     w, stop_lanes);
+        for (int c = 4; c < nf; ++c) {
+          S* acc = accum + c * kTilePixels + q;
+          const S fc = f[c];
 #pragma omp simd
-        for (int i = 0; i < n; ++i) acc[i] += w[i] * fc;
+          for (int i = 0; i < n; ++i) acc[i] += w[i] * fc;
+        }
       }
-    }
-    if (stopped == S(0)) continue;
+      return 0;
+    });
+    // Only a stop can end a row.
+    if (!AnySet(stop_lanes)) continue;
     for (int y = s.y0; y < s.y1; ++y) {
       bool& live = row_live[y - r.y0];
       if (live && !RowLive(done + (y - r.y0) * kTileSize)) {
@@ -301,45 +354,80 @@ struct BackwardTileState {
   S* suffix;     // d loss / d (everything behind), see BackwardRow
   S* g_feat;     // num_features arrays of pixel gradients
   S* lane_extra;  // one Gaussian's extra-channel gradients, per lane
-  S* grad;        // one Gaussian's summed gradient (grad_stride terms)
+  S* grad;        // where one Gaussian's summed gradient goes (its entry)
   int last[kTilePixels];
   int row_last[kTileSize];  // the largest last[] of each row
 };
 
-// Loads the pixel gradients and the forward's final state; returns the
-// largest number of entries any pixel of the tile used.
+// Loads the pixel gradients and the forward's final state, a tile row at a
+// time; returns the largest number of entries any pixel of the tile used.
 template <typename S>
 int LoadTileGradients(const TilePass<S>& p, const TileRect& r,
                       BackwardTileState<S>* st) {
-  const double* bg = p.background;
   const int num_extra = p.num_extra;
+  const int n = r.x1 - r.x0;
   int max_last = 0;
   for (int i = 0; i < kTileSize; ++i) st->row_last[i] = 0;
   for (int y = r.y0; y < r.y1; ++y) {
-    for (int x = r.x0; x < r.x1; ++x) {
-      const int q = r.Offset(x, y);
-      const size_t pix = static_cast<size_t>(y) * p.width + x;
-      double g_bg = 0;
-      for (int c = 0; c < 3; ++c) {
-        const double gc = p.d_rgb ? p.d_rgb[3 * pix + c] : 0.0;
-        st->g_feat[c * kTilePixels + q] = static_cast<S>(gc);
-        g_bg += gc * bg[c];
+    const int q = r.Offset(r.x0, y);
+    const size_t pix = static_cast<size_t>(y) * p.width + r.x0;
+    // d loss / d T_final: the background term and alpha = 1 - T_final.
+    double g_t[kTileSize];
+    for (int i = 0; i < n; ++i) g_t[i] = 0;
+    for (int c = 0; c < 3; ++c) {
+      S* g = st->g_feat + c * kTilePixels + q;
+      if (p.d_rgb == nullptr) {
+        for (int i = 0; i < n; ++i) g[i] = S(0);
+        continue;
       }
-      st->g_feat[3 * kTilePixels + q] =
-          static_cast<S>(p.d_depth ? p.d_depth[pix] : 0.0);
-      for (int c = 0; c < num_extra; ++c) {
-        st->g_feat[(4 + c) * kTilePixels + q] = static_cast<S>(
-            p.d_extra ? p.d_extra[pix * num_extra + c] : 0.0);
+      const double* d = p.d_rgb + 3 * pix + c;
+      const double bg = p.background[c];
+#pragma omp simd
+      for (int i = 0; i < n; ++i) {
+        g[i] = static_cast<S>(d[3 * i]);
+        g_t[i] += d[3 * i] * bg;
       }
-      const double g_alpha = p.d_alpha ? p.d_alpha[pix] : 0.0;
-      const double tf = p.t_final[pix];
-      st->t[q] = p.t_final[pix];
-      // The background term and alpha = 1 - T_final both scale T_final.
-      st->suffix[q] = static_cast<S>((g_bg - g_alpha) * tf);
-      st->last[q] = p.last[pix];
-      max_last = MaxInt(max_last, p.last[pix]);
-      st->row_last[y - r.y0] = MaxInt(st->row_last[y - r.y0], p.last[pix]);
     }
+    const auto load = [n](const double* d, S* g) {
+      if (d == nullptr) {
+        for (int i = 0; i < n; ++i) g[i] = S(0);
+        return;
+      }
+#pragma omp simd
+      for (int i = 0; i < n; ++i) g[i] = static_cast<S>(d[i]);
+    };
+    load(p.d_depth ? p.d_depth + pix : nullptr,
+         st->g_feat + 3 * kTilePixels + q);
+    for (int c = 0; c < num_extra; ++c) {
+      S* g = st->g_feat + (4 + c) * kTilePixels + q;
+      if (p.d_extra == nullptr) {
+        for (int i = 0; i < n; ++i) g[i] = S(0);
+        continue;
+      }
+      const double* d = p.d_extra + pix * num_extra + c;
+#pragma omp simd
+      for (int i = 0; i < n; ++i) g[i] = static_cast<S>(d[i * num_extra]);
+    }
+    if (p.d_alpha != nullptr) {
+      const double* d = p.d_alpha + pix;
+#pragma omp simd
+      for (int i = 0; i < n; ++i) g_t[i] -= d[i];
+    }
+    const S* t_final = p.t_final + pix;
+    const int* last = p.last + pix;
+    S* t = st->t + q;
+    S* suffix = st->suffix + q;
+    int* tile_last = st->last + q;
+    int row_last = 0;
+#pragma omp simd reduction(max : row_last)
+    for (int i = 0; i < n; ++i) {
+      t[i] = t_final[i];
+      suffix[i] = static_cast<S>(g_t[i] * static_cast<double>(t_final[i]));
+      tile_last[i] = last[i];
+      row_last = last[i] > row_last ? last[i] : row_last;
+    }
+    st->row_last[y - r.y0] = row_last;
+    max_last = MaxInt(max_last, row_last);
   }
   return max_last;
 }
@@ -432,26 +520,20 @@ inline void BackwardRow(int n, const S* raw, const Footprint<S>& g,
   }
 }
 
-// Walks one Gaussian (entry `rank` of the tile's list) back over its span
-// of the tile, summing its gradient into st->grad. Returns whether any
-// pixel used it.
-template <typename S, int kExtra>
-bool BackwardGaussian(const TilePass<S>& p, const TileRect& r, const Span& s,
-                      int k, int rank, BackwardTileState<S>* st) {
-  const int num_extra = NumExtra<kExtra>(p), nf = 4 + num_extra;
-  const Footprint<S> g(&p.geom[static_cast<size_t>(kTileGeomStride) * k]);
-  const S* f = &p.feature[static_cast<size_t>(nf) * k];
-  const RowRange row = RowOf(r, s);
-  const int n = row.n;
+// The rows of BackwardGaussian, kN lanes each (0: row.n).
+template <int kN, int kExtra, typename S>
+inline void BackwardRows(const TilePass<S>& p, const TileRect& r,
+                         const Span& s, const RowRange& row,
+                         const Footprint<S>& g, const S* f, int rank,
+                         BackwardTileState<S>* st, LaneGradient<S>* lanes) {
+  const int nf = 4 + NumExtra<kExtra>(p);
+  const int n = kN > 0 ? kN : row.n;
   S w[kTileSize], raw[kTileSize], g_extra_dot[kTileSize];
-  LaneGradient<S> lanes;
-  lanes.Clear();
   for (int i = 0; i < kTileSize; ++i) g_extra_dot[i] = S(0);
-  for (int i = 0; i < num_extra * kTileSize; ++i) st->lane_extra[i] = S(0);
   for (int y = s.y0; y < s.y1; ++y) {
     // No pixel of the row used this Gaussian: T and suffix stay as they are.
     if (rank >= st->row_last[y - r.y0]) continue;
-    RowAlphas(g, y, row, raw);
+    RowAlphas<kN>(g, y, row, raw);
     const int q = r.Offset(row.x0, y);
     const S* gf = st->g_feat + q;
     for (int c = 4; c < nf; ++c) {
@@ -463,7 +545,7 @@ bool BackwardGaussian(const TilePass<S>& p, const TileRect& r, const Span& s,
     }
     BackwardRow(n, raw, g, f, rank, row.x0, y, st->last + q, st->t + q,
                 st->suffix + q, gf, gf + kTilePixels, gf + 2 * kTilePixels,
-                gf + 3 * kTilePixels, g_extra_dot, w, &lanes);
+                gf + 3 * kTilePixels, g_extra_dot, w, lanes);
     for (int c = 4; c < nf; ++c) {
       const S* gc = gf + c * kTilePixels;
       S* lane = st->lane_extra + (c - 4) * kTileSize;
@@ -472,28 +554,34 @@ bool BackwardGaussian(const TilePass<S>& p, const TileRect& r, const Span& s,
         lane[i] += w[i] != S(0) ? gc[i] * w[i] : S(0);
     }
   }
+}
+
+// Walks one Gaussian (entry `rank` of the tile's list) back over its span
+// of the tile, summing its gradient into st->grad. Returns whether any
+// pixel used it.
+template <typename S, int kExtra>
+bool BackwardGaussian(const TilePass<S>& p, const TileRect& r, const Span& s,
+                      int k, int rank, BackwardTileState<S>* st) {
+  const int num_extra = NumExtra<kExtra>(p), nf = 4 + num_extra;
+  const Footprint<S> g(&p.geom[static_cast<size_t>(kTileGeomStride) * k]);
+  const S* f = &p.feature[static_cast<size_t>(nf) * k];
+  const RowRange row = RowOf(r, s);
+  LaneGradient<S> lanes;
+  lanes.Clear();
+  for (int i = 0; i < num_extra * kTileSize; ++i) st->lane_extra[i] = S(0);
+  WithRowWidth(row, [&](auto width) {
+    constexpr int kN = decltype(width)::value;
+    BackwardRows<kN, kExtra>(p, r, s, row, g, f, rank, st, &lanes);
+    return 0;
+  });
   for (int c = 0; c < num_extra; ++c)
     st->grad[LaneGradient<S>::kTerms + c] =
         SumLanes(st->lane_extra + c * kTileSize);
   return lanes.Sum(st->grad);
 }
 
-// Adds one Gaussian's tile gradient to its row of grad2d (tiles run in
-// parallel, hence atomically).
-template <typename S>
-void AddGaussianGradient(const TilePass<S>& p, int k, int num_extra,
-                         const S* grad) {
-  double* out = &p.grad2d[static_cast<size_t>(p.grad_stride) * k];
-  const int terms = LaneGradient<S>::kTerms + num_extra;
-  for (int c = 0; c < terms; ++c) {
-#pragma omp atomic
-    out[c] += static_cast<double>(grad[c]);
-  }
-}
-
 template <typename S, int kExtra>
 void BackwardTile(const TilePass<S>& p, int tile, S* scratch) {
-  const int num_extra = NumExtra<kExtra>(p);
   const int begin = p.tile_offsets[tile], end = p.tile_offsets[tile + 1];
   if (begin == end) return;
   const TileRect r(tile, p.tiles_x, p.width, p.height);
@@ -502,7 +590,6 @@ void BackwardTile(const TilePass<S>& p, int tile, S* scratch) {
   st.suffix = st.t + kTilePixels;
   st.g_feat = st.suffix + kTilePixels;
   st.lane_extra = st.g_feat + p.num_features * kTilePixels;
-  st.grad = st.lane_extra + p.num_extra * kTileSize;
   for (int i = 0; i < kTilePixels; ++i) st.last[i] = 0;
   if (kFullRows && r.x1 - r.x0 < kTileSize) {
     // Full rows also run over the pixels past the image's right edge.
@@ -510,12 +597,22 @@ void BackwardTile(const TilePass<S>& p, int tile, S* scratch) {
     for (int i = 0; i < n; ++i) st.t[i] = S(0);
   }
   const int max_last = LoadTileGradients(p, r, &st);
+  const int stride = p.grad_stride;
+  const auto slot = [&](int e) {
+    return p.entry_grad + static_cast<size_t>(stride) * p.entry_slot[e];
+  };
+  // Entries behind every pixel's last one took no part.
+  for (int e = begin + max_last; e < end; ++e) {
+    S* out = slot(e);
+    for (int c = 0; c < stride; ++c) out[c] = S(0);
+  }
   for (int e = begin + max_last - 1; e >= begin; --e) {
     const int k = p.tile_entries[e];
     const Span s = r.Clip(&p.box[4 * static_cast<size_t>(k)]);
-    if (s.empty()) continue;
-    if (BackwardGaussian<S, kExtra>(p, r, s, k, e - begin, &st))
-      AddGaussianGradient(p, k, num_extra, st.grad);
+    S* out = slot(e);
+    st.grad = out;
+    if (s.empty() || !BackwardGaussian<S, kExtra>(p, r, s, k, e - begin, &st))
+      for (int c = 0; c < stride; ++c) out[c] = S(0);
   }
 }
 
