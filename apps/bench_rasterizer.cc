@@ -6,7 +6,10 @@
 //
 // Args: width, height, Gaussians, threads, use_double, simd (0 auto, 1
 // SSE2, 2 AVX2, 3 AVX-512; levels the CPU lacks are skipped). Counters:
-// visible Gaussians and Gaussian-pixel pairs evaluated per second (pairs/s).
+// visible Gaussians and Gaussian-pixel pairs evaluated per second (pairs/s);
+// on one thread also each stage's wall ms per pass (project_ms: projection
+// and packing the tile data, bin_sort_ms, fwd_tiles_ms, bwd_tiles_ms,
+// project_bwd_ms: summing each Gaussian's tile shares and the chain to 3D).
 //
 // BM_TileSplit simulates the tile passes on more threads than the machine
 // has: each tile's cost is the Gaussian-pixel pairs the forward pass
@@ -23,6 +26,7 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include <benchmark/benchmark.h>
@@ -32,6 +36,7 @@
 #include "core/model/camera.h"
 #include "core/model/gaussians.h"
 #include "core/profile/schedule_simulation.h"
+#include "core/profile/stage_profile.h"
 #include "core/render/raster_constants.h"
 #include "core/render/raster_project.h"
 #include "core/render/rasterizer.h"
@@ -119,6 +124,10 @@ void Run(benchmark::State& state, bool backward) {
   RenderResult result;
   SplatGradients splat_grads;
   rasterizer.Forward(scene.camera, view, options, &result);  // warm buffers
+  // Per-stage wall time (only on one thread: stages inside a parallel
+  // region are not timed by StageProfile).
+  StageProfile& profile = StageProfile::Get();
+  profile.Start(state.range(3) == 1);
   for (auto _ : state) {
     rasterizer.Forward(scene.camera, view, options, &result);
     if (backward) {
@@ -127,6 +136,19 @@ void Run(benchmark::State& state, bool backward) {
                           &splat_grads);
     }
     benchmark::DoNotOptimize(result.rgb.data());
+  }
+  if (StageProfile::On()) {
+    const std::pair<const char*, Stage> kStages[] = {
+        {"project_ms", Stage::kProjection},
+        {"bin_sort_ms", Stage::kBinSort},
+        {"fwd_tiles_ms", Stage::kForwardTiles},
+        {"bwd_tiles_ms", Stage::kBackwardTiles},
+        {"project_bwd_ms", Stage::kProjectionBackward}};
+    for (const auto& [name, stage] : kStages) {
+      state.counters[name] =
+          1e-6 * profile.nanoseconds(stage) / state.iterations();
+    }
+    profile.Enable(false);
   }
   state.counters["visible"] = rasterizer.num_visible();
   state.counters["pairs/s"] = benchmark::Counter(

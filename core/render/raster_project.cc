@@ -289,4 +289,37 @@ void ProjectSplatBackward(const ProjectionCamera& cam, const SplatView& s,
   grads->opacity_logits[n] = pg.opacity * o * (1 - o);
 }
 
+ProjectionInput MakeProjectionInput(const ProjectionCamera& cam,
+                                    const SplatView& s) {
+  ProjectionInput in;
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) in.R[3 * r + c] = cam.R(r, c);
+    in.t[r] = cam.t[r];
+    in.center[r] = cam.center[r];
+  }
+  in.fx = cam.fx;
+  in.fy = cam.fy;
+  in.cx = cam.cx;
+  in.cy = cam.cy;
+  in.lim_x = cam.lim_x;
+  in.lim_y = cam.lim_y;
+  in.width = cam.width;
+  in.height = cam.height;
+  in.tiles_x = cam.tiles_x;
+  in.tiles_y = cam.tiles_y;
+  in.sh_degree = s.sh_degree;
+  in.means = s.means;
+  in.log_scales = s.log_scales;
+  in.quats = s.quats;
+  in.opacity_logits = s.opacity_logits;
+  in.sh = s.sh;
+  return in;
+}
+
+ProjectionGradients MakeProjectionGradients(SplatGradients* grads) {
+  return {grads->means.data(), grads->log_scales.data(),
+          grads->quats.data(), grads->opacity_logits.data(),
+          grads->sh.data()};
+}
+
 }  // namespace es

@@ -4,6 +4,7 @@
 #include <Eigen/Core>
 
 #include "core/model/camera.h"
+#include "core/render/project_kernels.h"
 #include "core/render/rasterizer.h"
 
 namespace es {
@@ -18,22 +19,6 @@ struct ProjectionCamera {
   int width, height, tiles_x, tiles_y;
 
   explicit ProjectionCamera(const Camera& camera);
-};
-
-// One Gaussian after projection, everything the tile pass needs.
-struct ProjectedSplat {
-  double mean2d[2];  // continuous pixel coordinates
-  double conic[3];   // inverse of the dilated 2D covariance: a, b, c
-  double depth;      // camera z
-  double opacity;
-  double color[3];   // SH + 0.5, clamped below at 0
-  int radius;        // ceil(3 sqrt(max eigenvalue)), px
-  // Tiles [tile_x0, tile_x1) x [tile_y0, tile_y1) the Gaussian is binned to:
-  // those its 3-sigma square touches and its pixel box reaches.
-  int tile_x0, tile_x1, tile_y0, tile_y1;
-  // Pixels [px0, px1) x [py0, py1) that can reach alpha >= kMinAlpha, with a
-  // one-pixel margin; outside it the tile pass skips the Gaussian.
-  int px0, px1, py0, py1;
 };
 
 // Projects Gaussian n; returns false if it is culled (behind the near plane,
@@ -57,6 +42,12 @@ struct ProjectedGradient {
 void ProjectSplatBackward(const ProjectionCamera& camera,
                           const SplatView& splats, int n,
                           const ProjectedGradient& g, SplatGradients* grads);
+
+// The batched float kernels' view of a camera and splats
+// (project_kernels.h), and of the gradients they write.
+ProjectionInput MakeProjectionInput(const ProjectionCamera& camera,
+                                    const SplatView& splats);
+ProjectionGradients MakeProjectionGradients(SplatGradients* grads);
 
 }  // namespace es
 

@@ -119,9 +119,21 @@ void Rasterizer::State::Project() {
   const int n = splats.count;
   projected.resize(n);
   keep.resize(n);
+  if (options.use_double) {
 #pragma omp parallel for schedule(static, 1024) if (n > kMinParallelSplats)
-  for (int i = 0; i < n; ++i) {
-    keep[i] = ProjectSplat(*camera, splats, i, &projected[i]);
+    for (int i = 0; i < n; ++i) {
+      keep[i] = ProjectSplat(*camera, splats, i, &projected[i]);
+    }
+  } else {
+    const ProjectionInput in = MakeProjectionInput(*camera, splats);
+    const auto forward = ProjectKernels(options.simd).forward;
+    const int batches = (n + kProjectBatch - 1) / kProjectBatch;
+#pragma omp parallel for schedule(static, 64) if (n > kMinParallelSplats)
+    for (int b = 0; b < batches; ++b) {
+      const int begin = b * kProjectBatch;
+      forward(in, begin, std::min(kProjectBatch, n - begin),
+              &projected[begin], &keep[begin]);
+    }
   }
   ScopedStage sort_timer(Stage::kBinSort);
   // Front to back; ties broken by index so the order is deterministic.
@@ -330,46 +342,60 @@ void Rasterizer::State::ProjectBackward(const std::vector<S>& entry_grad,
   const int num_extra = splats.num_extra;
   grad2d.resize(static_cast<size_t>(grad_stride) * total);
   has_grad2d = true;
-  // In input order: each Gaussian's attributes and gradients (SH degree 3:
-  // 768 bytes) are read and written in sequence, not at random as the
-  // depth order would.
-#pragma omp parallel for schedule(static, 256) if (total > kMinParallelSplats)
-  for (int n = 0; n < total; ++n) {
-    if (!keep[n]) {
-      // Culled: zeros. ProjectSplatBackward writes every value of a kept
-      // Gaussian (and the loop below its extras).
-      auto zero = [](std::vector<double>* v, size_t begin, size_t size) {
-        std::fill(v->begin() + begin, v->begin() + begin + size, 0.0);
-      };
-      zero(&grads->means, 3 * static_cast<size_t>(n), 3);
-      zero(&grads->log_scales, 3 * static_cast<size_t>(n), 3);
-      zero(&grads->quats, 4 * static_cast<size_t>(n), 4);
-      zero(&grads->opacity_logits, n, 1);
-      zero(&grads->sh, static_cast<size_t>(coeffs) * n, coeffs);
-      zero(&grads->extra, static_cast<size_t>(num_extra) * n, num_extra);
-      continue;
+  const ProjectionInput in = MakeProjectionInput(*camera, splats);
+  const ProjectionGradients out = MakeProjectionGradients(grads);
+  const auto backward = ProjectKernels(options.simd).backward;
+  // In input order, a batch of Gaussians at a time: each Gaussian's
+  // attributes and gradients (SH degree 3: 768 bytes) are read and written
+  // in sequence, not at random as the depth order would.
+  const int batches = (total + kProjectBatch - 1) / kProjectBatch;
+#pragma omp parallel for schedule(static, 16) if (total > kMinParallelSplats)
+  for (int b = 0; b < batches; ++b) {
+    const int begin = b * kProjectBatch;
+    const int end = std::min(begin + kProjectBatch, total);
+    for (int n = begin; n < end; ++n) {
+      if (!keep[n]) {
+        // Culled: zeros. The projection backward writes every value of a
+        // kept Gaussian (and the loop below its extras).
+        auto zero = [](std::vector<double>* v, size_t begin, size_t size) {
+          std::fill(v->begin() + begin, v->begin() + begin + size, 0.0);
+        };
+        zero(&grads->means, 3 * static_cast<size_t>(n), 3);
+        zero(&grads->log_scales, 3 * static_cast<size_t>(n), 3);
+        zero(&grads->quats, 4 * static_cast<size_t>(n), 4);
+        zero(&grads->opacity_logits, n, 1);
+        zero(&grads->sh, static_cast<size_t>(coeffs) * n, coeffs);
+        zero(&grads->extra, static_cast<size_t>(num_extra) * n, num_extra);
+        continue;
+      }
+      // The Gaussian's gradient: its tiles' shares, summed in double.
+      double* g2 = &grad2d[static_cast<size_t>(grad_stride) * n];
+      for (int c = 0; c < grad_stride; ++c) g2[c] = 0;
+      const S* share =
+          &entry_grad[static_cast<size_t>(grad_stride) * slot_offsets[n]];
+      const S* share_end =
+          &entry_grad[static_cast<size_t>(grad_stride) * slot_offsets[n + 1]];
+      for (; share != share_end; share += grad_stride)
+        for (int c = 0; c < grad_stride; ++c) g2[c] += share[c];
+      for (int e = 0; e < num_extra; ++e) {
+        grads->extra[n * num_extra + e] = g2[kGradHead + 4 + e];
+      }
+      if (!options.use_double) continue;
+      ProjectedGradient pg;
+      pg.mean2d[0] = g2[0];
+      pg.mean2d[1] = g2[1];
+      pg.conic[0] = g2[2];
+      pg.conic[1] = g2[3];
+      pg.conic[2] = g2[4];
+      pg.opacity = g2[5];
+      for (int c = 0; c < 3; ++c) pg.color[c] = g2[kGradHead + c];
+      pg.depth = g2[kGradHead + 3];
+      ProjectSplatBackward(*camera, splats, n, pg, grads);
     }
-    // The Gaussian's gradient: its tiles' shares, summed in double.
-    double* g2 = &grad2d[static_cast<size_t>(grad_stride) * n];
-    for (int c = 0; c < grad_stride; ++c) g2[c] = 0;
-    const S* share =
-        &entry_grad[static_cast<size_t>(grad_stride) * slot_offsets[n]];
-    const S* share_end =
-        &entry_grad[static_cast<size_t>(grad_stride) * slot_offsets[n + 1]];
-    for (; share != share_end; share += grad_stride)
-      for (int c = 0; c < grad_stride; ++c) g2[c] += share[c];
-    ProjectedGradient pg;
-    pg.mean2d[0] = g2[0];
-    pg.mean2d[1] = g2[1];
-    pg.conic[0] = g2[2];
-    pg.conic[1] = g2[3];
-    pg.conic[2] = g2[4];
-    pg.opacity = g2[5];
-    for (int c = 0; c < 3; ++c) pg.color[c] = g2[kGradHead + c];
-    pg.depth = g2[kGradHead + 3];
-    ProjectSplatBackward(*camera, splats, n, pg, grads);
-    for (int e = 0; e < num_extra; ++e) {
-      grads->extra[n * num_extra + e] = g2[kGradHead + 4 + e];
+    if (!options.use_double) {
+      backward(in, begin, end - begin, &keep[begin],
+               &grad2d[static_cast<size_t>(grad_stride) * begin], grad_stride,
+               out);
     }
   }
 }
