@@ -10,6 +10,7 @@
 #include <glog/logging.h>
 
 #include "core/profile/stage_profile.h"
+#include "core/render/radix_sort.h"
 #include "core/render/raster_project.h"
 
 namespace es {
@@ -45,11 +46,22 @@ struct Rasterizer::State {
 
   std::vector<ProjectedSplat> projected;  // per input Gaussian
   std::vector<char> keep;                 // per input Gaussian
-  struct DepthKey {
-    double depth;
-    int index;
+  // Per binned Gaussian k, what the binning needs: its tiles and its
+  // first slot.
+  struct BinItem {
+    int tile_x0, tile_x1, tile_y0, tile_y1, slot;
   };
-  std::vector<DepthKey> depth_keys;       // sort keys of the visible
+  // Sort items of the visible Gaussians: depth key, input index, and the
+  // BinItem they carry through the sort, so the binning reads them in
+  // depth order in sequence (a lookup of projected[] per Gaussian was a
+  // cache miss each: ~40% of the binning's samples at 300k).
+  struct SortItem {
+    uint64_t key;
+    int index;
+    BinItem bin;
+  };
+  std::vector<SortItem> sort_items;
+  RadixSortScratch<SortItem> sort_scratch;
   std::vector<int> order;                 // visible input indices, by depth
   std::vector<int> tile_offsets;          // per tile, into tile_entries
   std::vector<int> tile_entries;          // indices into `order`
@@ -60,12 +72,7 @@ struct Rasterizer::State {
   std::vector<int> entry_slot;
   std::vector<int> slot_offsets;
   std::vector<int> cursor;                // per thread and tile, binning
-  // Per binned Gaussian k, what the binning's second pass needs, gathered
-  // in its first (one random read of projected[] per Gaussian, not two).
-  struct BinItem {
-    int tile_x0, tile_x1, tile_y0, tile_y1, slot;
-  };
-  std::vector<BinItem> bin_items;
+  std::vector<BinItem> bin_items;         // per binned Gaussian k
   std::vector<int> last;                  // per pixel: entries used + 1
   TileData<float> float_data;
   TileData<double> double_data;
@@ -137,27 +144,26 @@ void Rasterizer::State::Project() {
   }
   ScopedStage sort_timer(Stage::kBinSort);
   // Front to back; ties broken by index so the order is deterministic.
-  // The keys sit next to each other (not behind an index into projected),
-  // which keeps the sort in cache.
-  depth_keys.clear();
+  sort_items.clear();
   slot_offsets.resize(n + 1);
   int slots = 0;
   for (int i = 0; i < n; ++i) {
     slot_offsets[i] = slots;
     if (!keep[i]) continue;
     const ProjectedSplat& p = projected[i];
-    depth_keys.push_back({p.depth, i});
+    const BinItem bin = {p.tile_x0, p.tile_x1, p.tile_y0, p.tile_y1, slots};
+    sort_items.push_back({NonNegativeDoubleKey(p.depth), i, bin});
     slots += (p.tile_x1 - p.tile_x0) * (p.tile_y1 - p.tile_y0);
   }
   slot_offsets[n] = slots;
-  std::sort(depth_keys.begin(), depth_keys.end(),
-            [](const DepthKey& a, const DepthKey& b) {
-              return a.depth < b.depth ||
-                     (a.depth == b.depth && a.index < b.index);
-            });
-  order.resize(depth_keys.size());
-  for (size_t k = 0; k < depth_keys.size(); ++k) {
-    order[k] = depth_keys[k].index;
+  // Stable, and the items are in index order: ties stay in index order.
+  RadixSortByKey(&sort_items, &sort_scratch);
+  const size_t count = sort_items.size();
+  order.resize(count);
+  bin_items.resize(count);
+  for (size_t k = 0; k < count; ++k) {
+    order[k] = sort_items[k].index;
+    bin_items[k] = sort_items[k].bin;
   }
 }
 
@@ -172,7 +178,6 @@ void Rasterizer::State::Bin() {
       count > kMinParallelBinning ? omp_get_max_threads() : 1;
   cursor.assign(static_cast<size_t>(threads) * num_tiles, 0);
   tile_offsets.assign(num_tiles + 1, 0);
-  bin_items.resize(count);
   const auto for_each_tile = [&](const BinItem& b, auto&& visit) {
     for (int ty = b.tile_y0; ty < b.tile_y1; ++ty)
       for (int tx = b.tile_x0; tx < b.tile_x1; ++tx)
@@ -185,13 +190,8 @@ void Rasterizer::State::Bin() {
     const int k1 =
         static_cast<int>(static_cast<long long>(count) * (t + 1) / nt);
     int* mine = &cursor[static_cast<size_t>(t) * num_tiles];
-    for (int k = k0; k < k1; ++k) {
-      const int n = order[k];
-      const ProjectedSplat& p = projected[n];
-      BinItem& b = bin_items[k];
-      b = {p.tile_x0, p.tile_x1, p.tile_y0, p.tile_y1, slot_offsets[n]};
-      for_each_tile(b, [&](int tile) { ++mine[tile]; });
-    }
+    for (int k = k0; k < k1; ++k)
+      for_each_tile(bin_items[k], [&](int tile) { ++mine[tile]; });
 #pragma omp barrier
 #pragma omp single
     {
