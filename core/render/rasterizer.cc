@@ -25,6 +25,23 @@ constexpr int kMinParallelSplats = 2048;
 constexpr int kMinParallelBinning = 2048;
 constexpr size_t kMinParallelEntries = 256;
 
+// out[0, stride) = the sum of `slots` gradient shares of `stride` values
+// each, in double; kStride > 0 fixes the stride at compile time, so the
+// sums stay in registers and the loop unrolls.
+template <int kStride, typename S>
+void SumShares(const S* share, int slots, int stride, double* out) {
+  if constexpr (kStride > 0) {
+    double sum[kStride] = {};
+    for (int s = 0; s < slots; ++s, share += kStride)
+      for (int c = 0; c < kStride; ++c) sum[c] += share[c];
+    for (int c = 0; c < kStride; ++c) out[c] = sum[c];
+  } else {
+    for (int c = 0; c < stride; ++c) out[c] = 0;
+    for (int s = 0; s < slots; ++s, share += stride)
+      for (int c = 0; c < stride; ++c) out[c] += share[c];
+  }
+}
+
 // The per-Gaussian data of the tile pass, in the precision of its loops
 // (layouts: TilePass).
 template <typename S>
@@ -370,13 +387,17 @@ void Rasterizer::State::ProjectBackward(const std::vector<S>& entry_grad,
       }
       // The Gaussian's gradient: its tiles' shares, summed in double.
       double* g2 = &grad2d[static_cast<size_t>(grad_stride) * n];
-      for (int c = 0; c < grad_stride; ++c) g2[c] = 0;
       const S* share =
           &entry_grad[static_cast<size_t>(grad_stride) * slot_offsets[n]];
-      const S* share_end =
-          &entry_grad[static_cast<size_t>(grad_stride) * slot_offsets[n + 1]];
-      for (; share != share_end; share += grad_stride)
-        for (int c = 0; c < grad_stride; ++c) g2[c] += share[c];
+      const int slots = slot_offsets[n + 1] - slot_offsets[n];
+      // No extra channel or one (the dynamic probability): fixed strides.
+      if (grad_stride == kGradHead + 4) {
+        SumShares<kGradHead + 4>(share, slots, grad_stride, g2);
+      } else if (grad_stride == kGradHead + 5) {
+        SumShares<kGradHead + 5>(share, slots, grad_stride, g2);
+      } else {
+        SumShares<0>(share, slots, grad_stride, g2);
+      }
       for (int e = 0; e < num_extra; ++e) {
         grads->extra[n * num_extra + e] = g2[kGradHead + 4 + e];
       }
