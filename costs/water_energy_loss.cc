@@ -5,8 +5,12 @@
 
 #include <glog/logging.h>
 
+#include "core/profile/stage_profile.h"
+
 namespace es {
 namespace {
+
+using internal::BlurScratch;
 
 constexpr int kChannels = 3;  // RGB, and the opponent channels
 
@@ -23,61 +27,109 @@ std::vector<double> GaussianKernel(double sigma) {
   return k;
 }
 
-// One separable pass along x (step 1, n = width, lines = height) or y
-// (step = width, n = height, lines = width), borders clamped:
-//   out[i] = sum_j k[j] in[clamp(i + j - r)].
-void Pass1d(const double* in, int n, int lines, int step, int line_step,
-            const std::vector<double>& k, double* out) {
+// The blurs below clamp the borders: out[i] = sum_j k[j] in[clamp(i + j -
+// r)]. Rows are padded with their clamped ends, and columns are blurred a
+// whole row at a time, so every inner loop runs over contiguous memory
+// with a fixed kernel tap and vectorizes.
+
+// Along x: each row through a padded copy of itself.
+void BlurRows(const double* in, int w, int h, const std::vector<double>& k,
+              std::vector<double>* line, double* out) {
   const int r = static_cast<int>(k.size()) / 2;
-  for (int l = 0; l < lines; ++l) {
-    const double* src = in + static_cast<size_t>(l) * line_step;
-    double* dst = out + static_cast<size_t>(l) * line_step;
-    for (int i = 0; i < n; ++i) {
-      double s = 0;
-      for (int j = -r; j <= r; ++j)
-        s += k[j + r] * src[static_cast<size_t>(
-                            std::clamp(i + j, 0, n - 1)) * step];
-      dst[static_cast<size_t>(i) * step] = s;
+  line->resize(w + 2 * r);
+  double* pad = line->data();
+  for (int y = 0; y < h; ++y) {
+    const double* src = in + static_cast<size_t>(y) * w;
+    double* dst = out + static_cast<size_t>(y) * w;
+    for (int m = 0; m < r; ++m) {
+      pad[m] = src[0];
+      pad[w + r + m] = src[w - 1];
+    }
+    std::copy(src, src + w, pad + r);
+    std::fill(dst, dst + w, 0.0);
+    for (int j = 0; j <= 2 * r; ++j) {
+      const double kj = k[j];
+      const double* shifted = pad + j;
+      for (int x = 0; x < w; ++x) dst[x] += kj * shifted[x];
     }
   }
 }
 
-// The adjoint (transpose) of Pass1d: every input pixel gets back what it
-// gave, borders included, so gradients are exact.
-void Pass1dAdjoint(const double* g_out, int n, int lines, int step,
-                   int line_step, const std::vector<double>& k,
-                   double* g_in) {
+// The adjoint of BlurRows: each row's gradient spread into a padded line,
+// whose ends fold back onto the clamped border pixels.
+void BlurRowsAdjoint(const double* g_out, int w, int h,
+                     const std::vector<double>& k, std::vector<double>* line,
+                     double* g_in) {
   const int r = static_cast<int>(k.size()) / 2;
-  for (int l = 0; l < lines; ++l) {
-    const double* src = g_out + static_cast<size_t>(l) * line_step;
-    double* dst = g_in + static_cast<size_t>(l) * line_step;
-    for (int i = 0; i < n; ++i) dst[static_cast<size_t>(i) * step] = 0;
-    for (int i = 0; i < n; ++i) {
-      const double g = src[static_cast<size_t>(i) * step];
-      for (int j = -r; j <= r; ++j)
-        dst[static_cast<size_t>(std::clamp(i + j, 0, n - 1)) * step] +=
-            k[j + r] * g;
+  line->resize(w + 2 * r);
+  double* pad = line->data();
+  for (int y = 0; y < h; ++y) {
+    const double* src = g_out + static_cast<size_t>(y) * w;
+    double* dst = g_in + static_cast<size_t>(y) * w;
+    std::fill(pad, pad + w + 2 * r, 0.0);
+    for (int j = 0; j <= 2 * r; ++j) {
+      const double kj = k[j];
+      double* shifted = pad + j;
+      for (int x = 0; x < w; ++x) shifted[x] += kj * src[x];
+    }
+    std::copy(pad + r, pad + r + w, dst);
+    for (int m = 0; m < r; ++m) {
+      dst[0] += pad[m];
+      dst[w - 1] += pad[w + r + m];
     }
   }
 }
 
-// 2D blur (x pass, then y pass) and its adjoint (y, then x).
+// Along y: output row y gathers whole input rows clamp(y + j - r).
+void BlurColumns(const double* in, int w, int h, const std::vector<double>& k,
+                 double* out) {
+  const int r = static_cast<int>(k.size()) / 2;
+  for (int y = 0; y < h; ++y) {
+    double* dst = out + static_cast<size_t>(y) * w;
+    std::fill(dst, dst + w, 0.0);
+    for (int j = 0; j <= 2 * r; ++j) {
+      const double kj = k[j];
+      const double* src =
+          in + static_cast<size_t>(std::clamp(y + j - r, 0, h - 1)) * w;
+      for (int x = 0; x < w; ++x) dst[x] += kj * src[x];
+    }
+  }
+}
+
+// The adjoint of BlurColumns: input row y scatters into the rows it fed.
+void BlurColumnsAdjoint(const double* g_out, int w, int h,
+                        const std::vector<double>& k, double* g_in) {
+  const int r = static_cast<int>(k.size()) / 2;
+  std::fill(g_in, g_in + static_cast<size_t>(w) * h, 0.0);
+  for (int y = 0; y < h; ++y) {
+    const double* src = g_out + static_cast<size_t>(y) * w;
+    for (int j = 0; j <= 2 * r; ++j) {
+      const double kj = k[j];
+      double* dst =
+          g_in + static_cast<size_t>(std::clamp(y + j - r, 0, h - 1)) * w;
+      for (int x = 0; x < w; ++x) dst[x] += kj * src[x];
+    }
+  }
+}
+
+// 2D blur (x pass, then y pass) and its adjoint (y, then x), exact at the
+// borders so that gradients are.
 void Blur(const std::vector<double>& in, int w, int h,
-          const std::vector<double>& k, std::vector<double>* tmp,
+          const std::vector<double>& k, BlurScratch* tmp,
           std::vector<double>* out) {
-  tmp->resize(in.size());
+  tmp->image.resize(in.size());
   out->resize(in.size());
-  Pass1d(in.data(), w, h, 1, w, k, tmp->data());
-  Pass1d(tmp->data(), h, w, w, 1, k, out->data());
+  BlurRows(in.data(), w, h, k, &tmp->line, tmp->image.data());
+  BlurColumns(tmp->image.data(), w, h, k, out->data());
 }
 
 void BlurAdjoint(const std::vector<double>& g_out, int w, int h,
-                 const std::vector<double>& k, std::vector<double>* tmp,
+                 const std::vector<double>& k, BlurScratch* tmp,
                  std::vector<double>* g_in) {
-  tmp->resize(g_out.size());
+  tmp->image.resize(g_out.size());
   g_in->resize(g_out.size());
-  Pass1dAdjoint(g_out.data(), h, w, w, 1, k, tmp->data());
-  Pass1dAdjoint(tmp->data(), w, h, 1, w, k, g_in->data());
+  BlurColumnsAdjoint(g_out.data(), w, h, k, tmp->image.data());
+  BlurRowsAdjoint(tmp->image.data(), w, h, k, &tmp->line, g_in->data());
 }
 
 // An orthonormal opponent colour basis: luminance, red-green,
@@ -128,7 +180,7 @@ void WaterOf(const cv::Mat& mask, size_t pixels, std::vector<double>* out) {
 
 // High-pass y - G * y.
 void HighPass(const std::vector<double>& y, int w, int h,
-              const std::vector<double>& g, std::vector<double>* tmp,
+              const std::vector<double>& g, BlurScratch* tmp,
               std::vector<double>* out) {
   Blur(y, w, h, g, tmp, out);
   for (size_t p = 0; p < y.size(); ++p) (*out)[p] = y[p] - (*out)[p];
@@ -136,7 +188,7 @@ void HighPass(const std::vector<double>& y, int w, int h,
 
 // W * (x^2).
 void Energy(const std::vector<double>& x, int w, int h,
-            const std::vector<double>& window, std::vector<double>* tmp,
+            const std::vector<double>& window, BlurScratch* tmp,
             std::vector<double>* square, std::vector<double>* out) {
   square->resize(x.size());
   for (size_t p = 0; p < x.size(); ++p) (*square)[p] = x[p] * x[p];
@@ -180,6 +232,7 @@ double WaterEnergyLoss::Evaluate(const double* rendered_a,
                                  const cv::Mat& mask_a, const cv::Mat& mask_b,
                                  double scale, double* d_a, double* d_b,
                                  WaterEnergyTerms* terms) {
+  ScopedStage timer(Stage::kLossEnergy);
   CHECK(input_a.size() == input_b.size());
   CHECK(input_a.type() == CV_32FC3 || input_a.type() == CV_64FC3)
       << input_a.type();

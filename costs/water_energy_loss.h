@@ -42,6 +42,14 @@ struct WaterEnergyTerms {
   double detail = 0;  // mean of the two frames'
 };
 
+namespace internal {
+// Scratch of a 2D blur: the image between its two passes, and one padded
+// row.
+struct BlurScratch {
+  std::vector<double> image, line;
+};
+}  // namespace internal
+
 // Evaluates the loss for one pair; reuses its buffers between calls, so
 // not thread-safe.
 class WaterEnergyLoss {
@@ -75,7 +83,8 @@ class WaterEnergyLoss {
   // Per-frame scratch, reused.
   cv::Mat input_a_, input_b_;  // CV_64FC3
   std::vector<double> ya_, yb_, ia_, ib_, dya_, dyb_, mask_, diff_, e_r_,
-      e_i_, d_e_, g_, tmp_, high_, mask_a_, mask_b_;
+      e_i_, d_e_, g_, high_, mask_a_, mask_b_;
+  internal::BlurScratch tmp_;
 };
 
 }  // namespace es

@@ -29,6 +29,7 @@ enum class Stage : int {
   kLossSsim,
   kLossBce,
   kLossResidual,
+  kLossEnergy,
   kAdam,
   kDensifyStats,
   kDensify,
@@ -43,13 +44,13 @@ enum class Stage : int {
 
 inline const char* StageName(Stage s) {
   static const char* const kNames[] = {
-      "other (untimed)",  "projection",          "binning + sort",
-      "forward tiles",    "backward tiles",      "projection backward",
-      "loss: L1",         "loss: SSIM",          "loss: mask BCE",
-      "loss: residual",   "Adam",                "densification stats",
-      "densify + prune",  "fields forward",      "fields backward",
-      "Euler chain",      "composition",         "scene-flow loss",
-      "optical flow + lifting"};
+      "other (untimed)",    "projection",          "binning + sort",
+      "forward tiles",      "backward tiles",      "projection backward",
+      "loss: L1",           "loss: SSIM",          "loss: mask BCE",
+      "loss: residual",     "loss: water energy",  "Adam",
+      "densification stats", "densify + prune",    "fields forward",
+      "fields backward",    "Euler chain",         "composition",
+      "scene-flow loss",    "optical flow + lifting"};
   static_assert(sizeof(kNames) / sizeof(kNames[0]) ==
                     static_cast<size_t>(Stage::kNumStages),
                 "one name per stage");
