@@ -416,7 +416,12 @@ void Forward(const ProjectionInput& in, int begin, int count,
     const F a = g.a[i], b = g.b[i], c = g.c[i];
     const F half = 0.5f * (a - c);
     const F lambda = 0.5f * (a + c) + Sqrt(half * half + b * b);
-    const F radius = __builtin_ceilf(3.0f * Sqrt(lambda));
+    // ceil(3 sqrt(lambda)), capped at 1e9 as the output (then the cast's
+    // truncation is exact and SSE2 needs no ceil instruction).
+    const F reach = 3.0f * Sqrt(lambda);
+    const F capped = Min(reach, 1e9f);
+    const int whole = static_cast<int>(capped);
+    const F radius = static_cast<F>(whole + (static_cast<F>(whole) < capped));
     // The alpha box (raster_project.cc): half-widths sqrt(2 log(o /
     // kMinAlpha) cov_xx), likewise in y, and a one-pixel margin.
     const F level = 2.0f * Log(Max(o / min_alpha, 1.0f));
@@ -437,7 +442,7 @@ void Forward(const ProjectionInput& in, int begin, int count,
     // be 8-bit lanes, which GCC does not mix with these).
     F ok = g.valid[i];
     ok = o >= min_alpha ? ok : 0.0f;
-    ok = Finite(mx) & Finite(my) & Finite(radius) ? ok : 0.0f;
+    ok = Finite(mx) & Finite(my) & Finite(reach) ? ok : 0.0f;
     ok = tx0 < tx1 ? ok : 0.0f;
     ok = ty0 < ty1 ? ok : 0.0f;
     ok = bx0 < bx1 ? ok : 0.0f;
@@ -449,7 +454,7 @@ void Forward(const ProjectionInput& in, int begin, int count,
     mean[0][i] = mx;
     mean[1][i] = my;
     opacity[i] = o;
-    radius_f[i] = Min(radius, 1e9f);
+    radius_f[i] = radius;
     box[0][i] = px0;
     box[1][i] = px1;
     box[2][i] = py0;
@@ -550,7 +555,8 @@ void Backward(const ProjectionInput& in, int begin, int count,
     const F gm0 = pg[0][i], gm1 = pg[1][i];
     F gx = cam.fx / z * gm0;
     F gy = cam.fy / z * gm1;
-    F gz = -(cam.fx * x * gm0 + cam.fy * y * gm1) / z2 + pg[kTileGradHead + 3][i];
+    F gz = -(cam.fx * x * gm0 + cam.fy * y * gm1) / z2 +
+           pg[kTileGradHead + 3][i];
     gz -= cam.fx / z2 * gj00 + cam.fy / z2 * gj11;
     // A coordinate clamped to the FOV passes no gradient to x or y.
     const bool x_free = g.x_free[i] != 0.0f, y_free = g.y_free[i] != 0.0f;

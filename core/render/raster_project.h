@@ -21,8 +21,10 @@ struct ProjectionCamera {
   explicit ProjectionCamera(const Camera& camera);
 };
 
-// Projects Gaussian n; returns false if it is culled (behind the near plane,
-// degenerate, off-screen, too transparent, or non-finite).
+// Projects Gaussian n in double; returns false if it is culled (behind the
+// near plane, degenerate, off-screen, too transparent, or non-finite). The
+// reference the float kernels of project_kernels.h are tested against; the
+// rasterizer runs it with RenderOptions::use_double.
 bool ProjectSplat(const ProjectionCamera& camera, const SplatView& splats,
                   int n, ProjectedSplat* out);
 

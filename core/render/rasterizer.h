@@ -32,8 +32,12 @@ struct SplatView {
 
 struct RenderOptions {
   Eigen::Vector3d background = Eigen::Vector3d::Zero();
-  bool use_double = false;  // compute the inner loops in double (for tests)
-  // Instruction set of the tile kernels (kAuto: the best the CPU has).
+  // Compute the projection (the double reference, raster_project.h) and
+  // the tile loops in double (for tests); float runs the projection
+  // kernels of project_kernels.h.
+  bool use_double = false;
+  // Instruction set of the tile and projection kernels (kAuto: the best
+  // the CPU has).
   SimdLevel simd = SimdLevel::kAuto;
 };
 

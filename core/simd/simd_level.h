@@ -2,9 +2,9 @@
 #define EULERSPLAT_CORE_SIMD_SIMD_LEVEL_H_
 
 // The instruction sets our hot kernels are compiled for (the rasterizer's
-// tile passes, SSIM's blurs): each kernel file is built once per set and
-// the best one the CPU supports is picked at run time, so a default (SSE2)
-// build still runs AVX2 / AVX-512 code where it can.
+// tile passes and projection, SSIM's blurs): each kernel file is built once
+// per set and the best one the CPU supports is picked at run time, so a
+// default (SSE2) build still runs AVX2 / AVX-512 code where it can.
 
 namespace es {
 
