@@ -1,12 +1,14 @@
-// Google Benchmark of the photometric loss (L1 + SSIM) with its image
-// gradient, as training calls it once per iteration: a rendering scored
-// against one of a few targets in turn, in float (training) or double
-// (tests), with the targets' SSIM statistics cached or recomputed.
+// Google Benchmark of the image losses with their image gradients, as
+// training calls them once per iteration:
+// - the photometric loss (L1 + SSIM): a rendering scored against one of a
+//   few targets in turn, in float (training) or double (tests), with the
+//   targets' SSIM statistics cached or recomputed. Args: width, height,
+//   threads, double, cache (1: statistics kept), simd (0 auto, 1 SSE2,
+//   2 AVX2, 3 AVX-512; levels the CPU lacks are skipped);
+// - the water energy loss (motion and detail terms) of a rendered frame
+//   pair against the input pair, with masks. Args: width, height, threads.
 //
 //   build/bin/bench_losses --benchmark_counters_tabular=true
-//
-// Args: width, height, threads, double, cache (1: statistics kept), simd
-// (0 auto, 1 SSE2, 2 AVX2, 3 AVX-512; levels the CPU lacks are skipped).
 
 #include <omp.h>
 
@@ -18,6 +20,7 @@
 
 #include "apps/common/benchmark_main.h"
 #include "costs/photometric_loss.h"
+#include "costs/water_energy_loss.h"
 
 namespace es {
 namespace {
@@ -81,6 +84,38 @@ void Sizes(benchmark::internal::Benchmark* b) {
 }
 
 BENCHMARK(BM_PhotometricLoss)->Apply(Sizes);
+
+void BM_WaterEnergyLoss(benchmark::State& state) {
+  const int width = state.range(0), height = state.range(1);
+  omp_set_num_threads(state.range(2));
+  const cv::Mat input_a = RandomImage(width, height, 20);
+  const cv::Mat input_b = RandomImage(width, height, 21);
+  cv::Mat mask_a(height, width, CV_32FC1), mask_b(height, width, CV_32FC1);
+  cv::RNG(22).fill(mask_a, cv::RNG::UNIFORM, 0.0, 1.0);
+  cv::RNG(23).fill(mask_b, cv::RNG::UNIFORM, 0.0, 1.0);
+  cv::Mat rendered_a, rendered_b;
+  RandomImage(width, height, 2).convertTo(rendered_a, CV_64FC3);
+  RandomImage(width, height, 3).convertTo(rendered_b, CV_64FC3);
+  std::vector<double> grad_a(rendered_a.total() * 3),
+      grad_b(rendered_b.total() * 3);
+  WaterEnergyLoss loss;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(loss.Evaluate(
+        rendered_a.ptr<double>(), rendered_b.ptr<double>(), input_a, input_b,
+        mask_a, mask_b, 1.0, grad_a.data(), grad_b.data()));
+  }
+  omp_set_num_threads(omp_get_num_procs());
+}
+
+BENCHMARK(BM_WaterEnergyLoss)
+    ->ArgNames({"w", "h", "threads"})
+    ->Args({160, 120, 1})
+    ->Args({160, 120, 2})
+    ->Args({320, 240, 1})
+    ->Args({320, 240, 2})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->MeasureProcessCPUTime();
 
 }  // namespace
 }  // namespace es

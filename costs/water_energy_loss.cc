@@ -251,57 +251,75 @@ double WaterEnergyLoss::Evaluate(const double* rendered_a,
   // Each opponent channel on its own, averaged: a change of hue that the
   // input does not have is not counted as the input's change.
   const double channel_scale = scale / kChannels;
+  // (Small images on one thread: there the fork costs more than it saves.)
+  std::array<double, kChannels> motion{}, detail{};
+#pragma omp parallel for schedule(dynamic, 1) if (pixels >= 16384)
+  for (int c = 0; c < kChannels; ++c) {
+    EvaluateChannel(c, rendered_a, rendered_b, w, h, channel_scale,
+                    &channels_[c], &motion[c], &detail[c]);
+  }
   WaterEnergyTerms t;
   for (int c = 0; c < kChannels; ++c) {
-    ChannelOf(rendered_a, pixels, c, &ya_);
-    ChannelOf(rendered_b, pixels, c, &yb_);
-    ChannelOf(input_a_.ptr<double>(), pixels, c, &ia_);
-    ChannelOf(input_b_.ptr<double>(), pixels, c, &ib_);
-    dya_.assign(pixels, 0.0);
-    dyb_.assign(pixels, 0.0);
-    if (options_.motion_weight != 0) {
-      diff_.resize(pixels);
-      for (size_t p = 0; p < pixels; ++p) diff_[p] = ib_[p] - ia_[p];
-      Energy(diff_, w, h, window_kernel_, &tmp_, &g_, &e_i_);
-      for (size_t p = 0; p < pixels; ++p) diff_[p] = yb_[p] - ya_[p];
-      Energy(diff_, w, h, window_kernel_, &tmp_, &g_, &e_r_);
-      t.motion += AmplitudeL1(e_r_, e_i_, mask_,
-                              channel_scale * options_.motion_weight, &d_e_) /
-                  kChannels;
-      BlurAdjoint(d_e_, w, h, window_kernel_, &tmp_, &g_);
-      for (size_t p = 0; p < pixels; ++p) {
-        const double g = 2 * diff_[p] * g_[p];
-        dyb_[p] += g;
-        dya_[p] -= g;
-      }
-    }
-    if (options_.detail_weight != 0) {
-      const double frame_scale = 0.5 * channel_scale * options_.detail_weight;
-      for (int f = 0; f < 2; ++f) {
-        const std::vector<double>& y = f == 0 ? ya_ : yb_;
-        const std::vector<double>& input = f == 0 ? ia_ : ib_;
-        const std::vector<double>& water = f == 0 ? mask_a_ : mask_b_;
-        HighPass(input, w, h, detail_kernel_, &tmp_, &high_);
-        Energy(high_, w, h, window_kernel_, &tmp_, &g_, &e_i_);
-        HighPass(y, w, h, detail_kernel_, &tmp_, &high_);
-        Energy(high_, w, h, window_kernel_, &tmp_, &g_, &e_r_);
-        t.detail += 0.5 *
-                    AmplitudeL1(e_r_, e_i_, water, frame_scale, &d_e_) /
-                    kChannels;
-        BlurAdjoint(d_e_, w, h, window_kernel_, &tmp_, &g_);
-        for (size_t p = 0; p < pixels; ++p) g_[p] *= 2 * high_[p];
-        // d (y - G y) = (I - G^T) applied to the high-pass gradient.
-        BlurAdjoint(g_, w, h, detail_kernel_, &tmp_, &diff_);
-        std::vector<double>& dy = f == 0 ? dya_ : dyb_;
-        for (size_t p = 0; p < pixels; ++p) dy[p] += g_[p] - diff_[p];
-      }
-    }
-    AddChannelGradient(dya_, c, d_a);
-    AddChannelGradient(dyb_, c, d_b);
+    t.motion += motion[c];
+    t.detail += detail[c];
+    AddChannelGradient(channels_[c].dya, c, d_a);
+    AddChannelGradient(channels_[c].dyb, c, d_b);
   }
   if (terms) *terms = t;
   return scale * (options_.motion_weight * t.motion +
                   options_.detail_weight * t.detail);
+}
+
+void WaterEnergyLoss::EvaluateChannel(int c, const double* rendered_a,
+                                      const double* rendered_b, int w, int h,
+                                      double channel_scale,
+                                      internal::ChannelScratch* s,
+                                      double* motion, double* detail) const {
+  const size_t pixels = static_cast<size_t>(w) * h;
+  ChannelOf(rendered_a, pixels, c, &s->ya);
+  ChannelOf(rendered_b, pixels, c, &s->yb);
+  ChannelOf(input_a_.ptr<double>(), pixels, c, &s->ia);
+  ChannelOf(input_b_.ptr<double>(), pixels, c, &s->ib);
+  s->dya.assign(pixels, 0.0);
+  s->dyb.assign(pixels, 0.0);
+  *motion = *detail = 0;
+  if (options_.motion_weight != 0) {
+    s->diff.resize(pixels);
+    for (size_t p = 0; p < pixels; ++p) s->diff[p] = s->ib[p] - s->ia[p];
+    Energy(s->diff, w, h, window_kernel_, &s->blur, &s->g, &s->e_i);
+    for (size_t p = 0; p < pixels; ++p) s->diff[p] = s->yb[p] - s->ya[p];
+    Energy(s->diff, w, h, window_kernel_, &s->blur, &s->g, &s->e_r);
+    *motion = AmplitudeL1(s->e_r, s->e_i, mask_,
+                          channel_scale * options_.motion_weight, &s->d_e) /
+              kChannels;
+    BlurAdjoint(s->d_e, w, h, window_kernel_, &s->blur, &s->g);
+    for (size_t p = 0; p < pixels; ++p) {
+      const double g = 2 * s->diff[p] * s->g[p];
+      s->dyb[p] += g;
+      s->dya[p] -= g;
+    }
+  }
+  if (options_.detail_weight != 0) {
+    const double frame_scale = 0.5 * channel_scale * options_.detail_weight;
+    for (int f = 0; f < 2; ++f) {
+      const std::vector<double>& y = f == 0 ? s->ya : s->yb;
+      const std::vector<double>& input = f == 0 ? s->ia : s->ib;
+      const std::vector<double>& water = f == 0 ? mask_a_ : mask_b_;
+      HighPass(input, w, h, detail_kernel_, &s->blur, &s->high);
+      Energy(s->high, w, h, window_kernel_, &s->blur, &s->g, &s->e_i);
+      HighPass(y, w, h, detail_kernel_, &s->blur, &s->high);
+      Energy(s->high, w, h, window_kernel_, &s->blur, &s->g, &s->e_r);
+      *detail += 0.5 *
+                 AmplitudeL1(s->e_r, s->e_i, water, frame_scale, &s->d_e) /
+                 kChannels;
+      BlurAdjoint(s->d_e, w, h, window_kernel_, &s->blur, &s->g);
+      for (size_t p = 0; p < pixels; ++p) s->g[p] *= 2 * s->high[p];
+      // d (y - G y) = (I - G^T) applied to the high-pass gradient.
+      BlurAdjoint(s->g, w, h, detail_kernel_, &s->blur, &s->diff);
+      std::vector<double>& dy = f == 0 ? s->dya : s->dyb;
+      for (size_t p = 0; p < pixels; ++p) dy[p] += s->g[p] - s->diff[p];
+    }
+  }
 }
 
 }  // namespace es

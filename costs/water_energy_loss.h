@@ -1,6 +1,7 @@
 #ifndef EULERSPLAT_COSTS_WATER_ENERGY_LOSS_H_
 #define EULERSPLAT_COSTS_WATER_ENERGY_LOSS_H_
 
+#include <array>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -48,6 +49,14 @@ namespace internal {
 struct BlurScratch {
   std::vector<double> image, line;
 };
+
+// Scratch of one opponent channel's terms: the channel of the two renders
+// and inputs, its gradient per render, and the blurs' images.
+struct ChannelScratch {
+  std::vector<double> ya, yb, ia, ib, dya, dyb, diff, e_r, e_i, d_e, g,
+      high;
+  BlurScratch blur;
+};
 }  // namespace internal
 
 // Evaluates the loss for one pair; reuses its buffers between calls, so
@@ -78,13 +87,20 @@ class WaterEnergyLoss {
                      const std::vector<double>& mask, double scale,
                      std::vector<double>* d_energy) const;
 
+  // One opponent channel's unweighted motion and detail terms (each
+  // already divided by the channel count) and, into s->dya / s->dyb,
+  // their gradients by the channel of each render, times channel_scale.
+  void EvaluateChannel(int c, const double* rendered_a,
+                       const double* rendered_b, int w, int h,
+                       double channel_scale, internal::ChannelScratch* s,
+                       double* motion, double* detail) const;
+
   WaterEnergyOptions options_;
   std::vector<double> detail_kernel_, window_kernel_;
-  // Per-frame scratch, reused.
+  // Per-frame scratch, reused; the channels are evaluated in parallel.
   cv::Mat input_a_, input_b_;  // CV_64FC3
-  std::vector<double> ya_, yb_, ia_, ib_, dya_, dyb_, mask_, diff_, e_r_,
-      e_i_, d_e_, g_, high_, mask_a_, mask_b_;
-  internal::BlurScratch tmp_;
+  std::vector<double> mask_, mask_a_, mask_b_;
+  std::array<internal::ChannelScratch, 3> channels_;
 };
 
 }  // namespace es

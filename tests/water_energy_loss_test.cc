@@ -5,6 +5,7 @@
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <omp.h>
 #include <opencv2/imgproc.hpp>
 
 #include "tests/central_differences.h"
@@ -182,6 +183,37 @@ TEST(WaterEnergyLossTest, WrongGradientIsCaught) {
       ++wrong;
   }
   EXPECT_GT(wrong, static_cast<int>(ra.size()) / 2);
+}
+
+// From 16384 pixels the three opponent channels run in parallel, each on
+// its own scratch: the loss and its gradients must not depend on how many
+// threads share them.
+TEST(WaterEnergyLossTest, ParallelChannelsGiveTheOneThreadResult) {
+  const int w = 160, h = 120;
+  cv::Mat a(h, w, CV_32FC3), b(h, w, CV_32FC3), ma(h, w, CV_32FC1),
+      mb(h, w, CV_32FC1);
+  cv::RNG rng(13);
+  for (cv::Mat* m : {&a, &b, &ma, &mb})
+    rng.fill(*m, cv::RNG::UNIFORM, 0.0, 1.0);
+  std::vector<double> ra = Flat(a), rb = Flat(b);
+  for (double& v : ra) v = 1.0 - v;  // a render unlike the input
+  auto evaluate = [&](int threads, std::vector<double>* da,
+                      std::vector<double>* db) {
+    omp_set_num_threads(threads);
+    WaterEnergyLoss loss;
+    da->assign(ra.size(), 0.0);
+    db->assign(rb.size(), 0.0);
+    return loss.Evaluate(ra.data(), rb.data(), a, b, ma, mb, 1.0, da->data(),
+                         db->data());
+  };
+  std::vector<double> da1, db1, da3, db3;
+  const double one = evaluate(1, &da1, &db1);
+  const double three = evaluate(3, &da3, &db3);
+  omp_set_num_threads(omp_get_num_procs());
+  EXPECT_GT(one, 0);
+  EXPECT_EQ(one, three);
+  EXPECT_EQ(da1, da3);
+  EXPECT_EQ(db1, db3);
 }
 
 }  // namespace
