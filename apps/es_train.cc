@@ -71,7 +71,10 @@ DEFINE_int32(refresh_interval, 10,
              "Re-derive the dynamic set every this many iterations.");
 DEFINE_double(ssim_weight, 0.2, "SSIM share of the photometric loss.");
 DEFINE_double(mask_weight, 0.5, "Mask BCE weight (0: off).");
-DEFINE_double(residual_weight, 0.001, "Weight of the residual L2 term.");
+DEFINE_double(residual_weight, 0.01,
+              "Weight of the residual L2 term (mean squared D outputs): "
+              "keeps D from fitting each training frame's stochastic "
+              "detail.");
 DEFINE_double(lr_means, 1.6e-5,
               "Initial position learning rate (times the scene extent).");
 DEFINE_double(lr_means_final, 1.6e-6, "Final position learning rate.");
