@@ -48,28 +48,12 @@ using D = double;
 constexpr int kB = kProjectBatch;
 constexpr int kMaxCoeffs = 16;  // SH degree 3
 
-// exp(x) for float x: Cephes' expf polynomial (about 1 ulp) with x clamped
-// to the normal range, written without a library call so it vectorizes.
+#include "core/render/exp_polynomial.inc"
+
+// exp(x) for float x, clamped to the normal range (ExpPolynomial).
 inline F Exp(F x) {
   x = x > -87.0f ? x : -87.0f;
-  x = x < 88.0f ? x : 88.0f;
-  const F shifted = x * 1.44269504088896341f + 12582912.0f;
-  const F n = shifted - 12582912.0f;
-  int32_t n_bits;
-  std::memcpy(&n_bits, &shifted, sizeof(n_bits));
-  n_bits -= 0x4B400000;  // the bits of 12582912.0f
-  const F r = x - n * 0.693359375f + n * 2.12194440e-4f;
-  F p = 1.9875691500e-4f;
-  p = p * r + 1.3981999507e-3f;
-  p = p * r + 8.3334519073e-3f;
-  p = p * r + 4.1665795894e-2f;
-  p = p * r + 1.6666665459e-1f;
-  p = p * r + 5.0000001201e-1f;
-  p = p * r * r + r + 1.0f;
-  const int32_t scale_bits = (n_bits + 127) << 23;
-  F scale;
-  std::memcpy(&scale, &scale_bits, sizeof(scale));
-  return p * scale;
+  return ExpPolynomial(x < 88.0f ? x : 88.0f);
 }
 
 // log(x) for finite normal float x > 0: Cephes' logf (about 1 ulp).

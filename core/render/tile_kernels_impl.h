@@ -45,29 +45,12 @@ constexpr int kNarrow = kTileSize / 2;
 inline int MinInt(int a, int b) { return a < b ? a : b; }
 inline int MaxInt(int a, int b) { return a > b ? a : b; }
 
-// exp(x) for float x <= 0: Cephes' expf polynomial (about 1 ulp), written
-// without a library call so the row loop below vectorizes. Double (the
-// reference precision) keeps the library exp.
+#include "core/render/exp_polynomial.inc"
+
+// exp(x) for float x <= 0 (ExpPolynomial). Double (the reference
+// precision) keeps the library exp.
 inline float ExpNonPositive(float x) {
-  x = x > -87.0f ? x : -87.0f;
-  // Round x / ln 2 to an integer n by the 1.5 * 2^23 trick.
-  const float shifted = x * 1.44269504088896341f + 12582912.0f;
-  const float n = shifted - 12582912.0f;
-  int32_t n_bits;
-  std::memcpy(&n_bits, &shifted, sizeof(n_bits));
-  n_bits -= 0x4B400000;  // the bits of 12582912.0f
-  const float r = x - n * 0.693359375f + n * 2.12194440e-4f;
-  float p = 1.9875691500e-4f;
-  p = p * r + 1.3981999507e-3f;
-  p = p * r + 8.3334519073e-3f;
-  p = p * r + 4.1665795894e-2f;
-  p = p * r + 1.6666665459e-1f;
-  p = p * r + 5.0000001201e-1f;
-  p = p * r * r + r + 1.0f;
-  const int32_t scale_bits = (n_bits + 127) << 23;
-  float scale;
-  std::memcpy(&scale, &scale_bits, sizeof(scale));
-  return p * scale;
+  return ExpPolynomial(x > -87.0f ? x : -87.0f);
 }
 inline double ExpNonPositive(double x) {
   return __builtin_exp(x < 0.0 ? x : 0.0);
