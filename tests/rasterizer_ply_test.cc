@@ -4,7 +4,6 @@
 
 #include <cmath>
 #include <cstdint>
-#include <cstdio>
 #include <fstream>
 #include <string>
 #include <vector>
@@ -13,6 +12,7 @@
 
 #include "core/io/ply_io.h"
 #include "core/render/rasterizer.h"
+#include "tests/temp_dir_test.h"
 
 namespace es {
 namespace {
@@ -56,10 +56,12 @@ void WriteStandardPly(const std::string& path,
 
 float Dc(double color) { return static_cast<float>((color - 0.5) / kShC0); }
 
-class RasterizerPlyTest : public ::testing::Test {
+class RasterizerPlyTest : public TempDirTest {
  protected:
+  // Each test writes its own file: ctest runs the tests in parallel.
   void SetUp() override {
-    path_ = std::string(ES_BINARY_DIR) + "/rasterizer_ply_test.ply";
+    TempDirTest::SetUp();
+    path_ = Path("splats.ply");
     const float log_scale = std::log(0.05f);  // 1 px at z = 5, f = 100
     const float logit = std::log(0.9f / 0.1f);
     PlySplat red = {1, 0, 5, {Dc(1), Dc(0), Dc(0)}, {}, logit, log_scale};
@@ -71,8 +73,6 @@ class RasterizerPlyTest : public ::testing::Test {
     sh.f_rest[2] = 2.0f;
     WriteStandardPly(path_, {red, green, sh});
   }
-  void TearDown() override { std::remove(path_.c_str()); }
-
   // 64 x 48, f = 100, looking down +z from (cam_x, 0, 0); the principal
   // point puts (0, 0, 5) - (cam_x, 0, 0) at pixel centers.
   static Camera MakeCamera(double cam_x) {
