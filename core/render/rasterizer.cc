@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <numeric>
 #include <optional>
 
@@ -46,9 +47,8 @@ void SumShares(const S* share, int slots, int stride, double* out) {
 // (layouts: TilePass).
 template <typename S>
 struct TileData {
-  std::vector<S> geom;
-  std::vector<S> feature;
-  std::vector<int> box;
+  std::vector<S> records;  // from records_begin, on a 64-byte line
+  size_t records_begin = 0;
   std::vector<S> t_final;     // per pixel
   std::vector<S> entry_grad;  // per slot (TilePass::entry_grad)
 };
@@ -243,34 +243,42 @@ void Rasterizer::State::Pack() {
   ScopedStage timer(Stage::kProjection);
   TileData<S>& d = data<S>();
   const int count = static_cast<int>(order.size());
-  d.geom.resize(static_cast<size_t>(kTileGeomStride) * count);
-  d.feature.resize(static_cast<size_t>(num_features) * count);
-  d.box.resize(4 * static_cast<size_t>(count));
+  const int stride = TileRecordStride<S>(num_features);
+  constexpr size_t kLine = 64 / sizeof(S);
+  d.records.resize(static_cast<size_t>(stride) * count + kLine);
+  d.records_begin =
+      (kLine - reinterpret_cast<uintptr_t>(d.records.data()) / sizeof(S) %
+                   kLine) % kLine;
+  S* records = d.records.data() + d.records_begin;
   const int num_extra = splats.num_extra;
 #pragma omp parallel for schedule(static, 1024) \
     if (count > kMinParallelSplats)
   for (int k = 0; k < count; ++k) {
     const int n = order[k];
     const ProjectedSplat& p = projected[n];
-    S* geo = &d.geom[static_cast<size_t>(kTileGeomStride) * k];
+    S* rec = records + static_cast<size_t>(stride) * k;
+    S* box = rec + kTileRecordBox;
+    box[0] = static_cast<S>(p.px0);
+    box[1] = static_cast<S>(p.px1);
+    box[2] = static_cast<S>(p.py0);
+    box[3] = static_cast<S>(p.py1);
+    S* geo = rec + kTileRecordGeom;
     geo[0] = static_cast<S>(p.mean2d[0]);
     geo[1] = static_cast<S>(p.mean2d[1]);
     geo[2] = static_cast<S>(p.conic[0]);
     geo[3] = static_cast<S>(p.conic[1]);
     geo[4] = static_cast<S>(p.conic[2]);
     geo[5] = static_cast<S>(p.opacity);
-    int* box = &d.box[4 * static_cast<size_t>(k)];
-    box[0] = p.px0;
-    box[1] = p.px1;
-    box[2] = p.py0;
-    box[3] = p.py1;
-    S* f = &d.feature[static_cast<size_t>(num_features) * k];
+    S* f = rec + kTileRecordFeature;
     f[0] = static_cast<S>(p.color[0]);
     f[1] = static_cast<S>(p.color[1]);
     f[2] = static_cast<S>(p.color[2]);
     f[3] = static_cast<S>(p.depth);
     for (int e = 0; e < num_extra; ++e) {
       f[4 + e] = static_cast<S>(splats.extra[n * num_extra + e]);
+    }
+    for (int i = kTileRecordFeature + num_features; i < stride; ++i) {
+      rec[i] = S(0);
     }
   }
 }
@@ -286,9 +294,8 @@ TilePass<S> Rasterizer::State::MakeTilePass() {
   p.num_extra = splats.num_extra;
   p.tile_offsets = tile_offsets.data();
   p.tile_entries = tile_entries.data();
-  p.geom = d.geom.data();
-  p.feature = d.feature.data();
-  p.box = d.box.data();
+  p.splat = d.records.data() + d.records_begin;
+  p.record_stride = TileRecordStride<S>(num_features);
   for (int c = 0; c < 3; ++c) p.background[c] = options.background[c];
   p.t_final = d.t_final.data();
   p.last = last.data();

@@ -12,10 +12,14 @@
 namespace es {
 
 // What the tile passes read and write, in the precision S of the inner
-// loops. Per binned Gaussian k (depth order): geom[6k..] mean x, mean y,
-// conic a, b, c, opacity; feature[num_features k..] r, g, b, depth, extras;
-// box[4k..] its pixel box px0, px1, py0, py1. Per tile: tile_entries
-// [tile_offsets[t], tile_offsets[t + 1]) its Gaussians, front to back.
+// loops. Per binned Gaussian k (depth order), one record of record_stride
+// values at splat[record_stride k..] (TileRecordStride; a float record is
+// one 64-byte cache line when the features fit): its pixel box px0, px1,
+// py0, py1 (small integers, exact in S), mean x, mean y, conic a, b, c,
+// opacity, then the features r, g, b, depth, extras. One record rather
+// than three arrays costs one cache miss per entry, not three. Per tile:
+// tile_entries [tile_offsets[t], tile_offsets[t + 1]) its Gaussians, front
+// to back.
 template <typename S>
 struct TilePass {
   int width = 0, height = 0, tiles_x = 0;
@@ -23,9 +27,8 @@ struct TilePass {
   int num_extra = 0;
   const int* tile_offsets = nullptr;
   const int* tile_entries = nullptr;
-  const S* geom = nullptr;
-  const S* feature = nullptr;
-  const int* box = nullptr;
+  const S* splat = nullptr;
+  int record_stride = 0;
   double background[3] = {0, 0, 0};
 
   // Forward outputs (per pixel), and the state Backward reads back.
@@ -52,8 +55,19 @@ struct TilePass {
   int grad_stride = 0;
 };
 
-constexpr int kTileGeomStride = 6;
+// Offsets in a record (TilePass::splat).
+constexpr int kTileRecordBox = 0;
+constexpr int kTileRecordGeom = 4;
+constexpr int kTileRecordFeature = 10;
 constexpr int kTileGradHead = 6;
+
+// A record's length in values of S for num_features features: rounded up
+// to whole 64-byte lines (records start on a line when splat does).
+template <typename S>
+constexpr int TileRecordStride(int num_features) {
+  constexpr int kLine = 64 / static_cast<int>(sizeof(S));
+  return (kTileRecordFeature + num_features + kLine - 1) / kLine * kLine;
+}
 
 // Scalars of per-thread scratch a tile pass needs.
 int TileScratchSize(int num_features);
