@@ -26,21 +26,29 @@ constexpr int kMinParallelSplats = 2048;
 constexpr int kMinParallelBinning = 2048;
 constexpr size_t kMinParallelEntries = 256;
 
-// out[0, stride) = the sum of `slots` gradient shares of `stride` values
-// each, in double; kStride > 0 fixes the stride at compile time, so the
-// sums stay in registers and the loop unrolls.
+// out[0, stride) = the sum, in double, of the gradient shares (`stride`
+// values each, one per tile of the Gaussian's tile rectangle p, row by
+// row) of the tiles that used the Gaussian: those whose last used entry
+// (tile_last_entry) is not in front of its depth index k. kStride > 0
+// fixes the stride at compile time, so the sums stay in registers and the
+// loop unrolls.
 template <int kStride, typename S>
-void SumShares(const S* share, int slots, int stride, double* out) {
-  if constexpr (kStride > 0) {
-    double sum[kStride] = {};
-    for (int s = 0; s < slots; ++s, share += kStride)
-      for (int c = 0; c < kStride; ++c) sum[c] += share[c];
-    for (int c = 0; c < kStride; ++c) out[c] = sum[c];
-  } else {
+void SumShares(const S* share, const ProjectedSplat& p, int k, int tiles_x,
+               const int* tile_last_entry, int stride, double* out) {
+  if constexpr (kStride > 0) stride = kStride;
+  double sum[kStride > 0 ? kStride : 1] = {};
+  double* acc = kStride > 0 ? sum : out;
+  if (kStride == 0)
     for (int c = 0; c < stride; ++c) out[c] = 0;
-    for (int s = 0; s < slots; ++s, share += stride)
-      for (int c = 0; c < stride; ++c) out[c] += share[c];
+  for (int ty = p.tile_y0; ty < p.tile_y1; ++ty) {
+    const int* last = tile_last_entry + ty * tiles_x;
+    for (int tx = p.tile_x0; tx < p.tile_x1; ++tx, share += stride) {
+      if (k > last[tx]) continue;
+      for (int c = 0; c < stride; ++c) acc[c] += share[c];
+    }
   }
+  if constexpr (kStride > 0)
+    for (int c = 0; c < kStride; ++c) out[c] = sum[c];
 }
 
 // The per-Gaussian data of the tile pass, in the precision of its loops
@@ -80,6 +88,7 @@ struct Rasterizer::State {
   std::vector<SortItem> sort_items;
   RadixSortScratch<SortItem> sort_scratch;
   std::vector<int> order;                 // visible input indices, by depth
+  std::vector<int> depth_rank;            // per input Gaussian: k, order[k] = n
   std::vector<int> tile_offsets;          // per tile, into tile_entries
   std::vector<int> tile_entries;          // indices into `order`
   // Per entry of tile_entries, its slot of the backward's gradient shares.
@@ -91,6 +100,7 @@ struct Rasterizer::State {
   std::vector<int> cursor;                // per thread and tile, binning
   std::vector<BinItem> bin_items;         // per binned Gaussian k
   std::vector<int> last;                  // per pixel: entries used + 1
+  std::vector<int> tile_last_entry;       // per tile (TilePass), backward
   TileData<float> float_data;
   TileData<double> double_data;
   std::vector<float> float_scratch;   // per thread
@@ -178,9 +188,11 @@ void Rasterizer::State::Project() {
   const size_t count = sort_items.size();
   order.resize(count);
   bin_items.resize(count);
+  depth_rank.resize(n);
   for (size_t k = 0; k < count; ++k) {
     order[k] = sort_items[k].index;
     bin_items[k] = sort_items[k].bin;
+    depth_rank[order[k]] = static_cast<int>(k);
   }
 }
 
@@ -343,6 +355,9 @@ void Rasterizer::State::BackwardTiles(const RenderGradients& ig) {
   pass.entry_slot = entry_slot.data();
   pass.entry_grad = entry_grad.data();
   pass.grad_stride = grad_stride;
+  tile_last_entry.resize(static_cast<size_t>(camera->tiles_x) *
+                         camera->tiles_y);
+  pass.tile_last_entry = tile_last_entry.data();
   const auto backward = TileKernels<S>(options.simd, num_features - 4).backward;
   const int per_thread = TileScratchSize(num_features);
   std::vector<S>& all_scratch = scratch<S>();
@@ -396,14 +411,19 @@ void Rasterizer::State::ProjectBackward(const std::vector<S>& entry_grad,
       double* g2 = &grad2d[static_cast<size_t>(grad_stride) * n];
       const S* share =
           &entry_grad[static_cast<size_t>(grad_stride) * slot_offsets[n]];
-      const int slots = slot_offsets[n + 1] - slot_offsets[n];
+      const ProjectedSplat& p = projected[n];
+      const int k = depth_rank[n];
+      const int* tile_last = tile_last_entry.data();
+      const int tiles_x = camera->tiles_x;
       // No extra channel or one (the dynamic probability): fixed strides.
       if (grad_stride == kGradHead + 4) {
-        SumShares<kGradHead + 4>(share, slots, grad_stride, g2);
+        SumShares<kGradHead + 4>(share, p, k, tiles_x, tile_last,
+                                 grad_stride, g2);
       } else if (grad_stride == kGradHead + 5) {
-        SumShares<kGradHead + 5>(share, slots, grad_stride, g2);
+        SumShares<kGradHead + 5>(share, p, k, tiles_x, tile_last,
+                                 grad_stride, g2);
       } else {
-        SumShares<0>(share, slots, grad_stride, g2);
+        SumShares<0>(share, p, k, tiles_x, tile_last, grad_stride, g2);
       }
       for (int e = 0; e < num_extra; ++e) {
         grads->extra[n * num_extra + e] = g2[kGradHead + 4 + e];

@@ -654,6 +654,7 @@ void BackwardGaussian(const TilePass<S>& p, const TileRect& r, const Span& s,
 template <typename S, int kExtra>
 void BackwardTile(const TilePass<S>& p, int tile, S* scratch) {
   const int begin = p.tile_offsets[tile], end = p.tile_offsets[tile + 1];
+  p.tile_last_entry[tile] = -1;
   if (begin == end) return;
   const TileRect r(tile, p.tiles_x, p.width, p.height);
   BackwardTileState<S> st;
@@ -672,12 +673,9 @@ void BackwardTile(const TilePass<S>& p, int tile, S* scratch) {
   const auto slot = [&](int e) {
     return p.entry_grad + static_cast<size_t>(stride) * p.entry_slot[e];
   };
-  // Entries behind every pixel's last one took no part.
-  for (int e = begin + max_last; e < end; ++e) {
-    S* out = slot(e);
-    for (int c = 0; c < stride; ++c) out[c] = S(0);
-  }
+  // Entries behind every pixel's last one took no part (not written).
   const int first = begin + max_last - 1;
+  if (max_last > 0) p.tile_last_entry[tile] = p.tile_entries[first];
   for (int e = first; e > MaxInt(begin - 1, first - kPrefetchAhead); --e)
     PrefetchRecord(p, e);
   for (int e = first; e >= begin; --e) {
