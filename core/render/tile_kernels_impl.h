@@ -211,9 +211,12 @@ inline S SumLanes(S* a) {
 // per row cost a chain of horizontal maxes per row). Written without
 // branches so it vectorizes.
 template <typename S>
-inline void CompositeRow(int n, const S* raw, const S* f, int rank, S* t,
-                         S* done, int* last, S* acc0, S* acc1, S* acc2,
-                         S* acc3, S* w, S* stopped) {
+inline void CompositeRow(int n, const S* raw, const S* f, int rank,
+                         S* __restrict t, S* __restrict done,
+                         int* __restrict last, S* __restrict acc0,
+                         S* __restrict acc1, S* __restrict acc2,
+                         S* __restrict acc3, S* __restrict w,
+                         S* __restrict stopped) {
   const S max_alpha = static_cast<S>(kMaxAlpha);
   const S min_alpha = static_cast<S>(kMinAlpha);
   const S min_t = static_cast<S>(kMinTransmittance);
@@ -235,10 +238,19 @@ inline void CompositeRow(int n, const S* raw, const S* f, int rank, S* t,
     acc2[i] += wi * f2;
     acc3[i] += wi * f3;
     w[i] = wi;
-    t[i] = use ? next_t : ti;
-    last[i] = use ? rank : li;
-    done[i] = stop ? S(1) : d;
-    stopped[i] = stop ? S(1) : stopped[i];
+    // Every lane is stored, as minima and maxima equal to the selects
+    // (use ? next_t : ti with next_t <= ti <= 1, use ? rank : li with
+    // li < rank, ...): GCC turns `x[i] = c ? v : x[i]` into a masked
+    // store, which the next Gaussian's load of the same pixels cannot take
+    // its value from (a stall on each row).
+    const S t_use = use ? next_t : S(2);
+    t[i] = t_use < ti ? t_use : ti;
+    const int use_rank = use ? rank : 0;
+    last[i] = li > use_rank ? li : use_rank;
+    const S stop_flag = stop ? S(1) : S(0);
+    done[i] = d > stop_flag ? d : stop_flag;
+    const S stopped_i = stopped[i];
+    stopped[i] = stopped_i > stop_flag ? stopped_i : stop_flag;
   }
 }
 
@@ -533,9 +545,10 @@ inline void OneMinusReciprocal(int n, const S* alpha, S* inv) {
 // receives the weights for the extra channels.
 template <int kN, typename S>
 inline void BackwardRow(int n, const S* raw, const Footprint<S>& g,
-                        const S* f, int rank, int y, const int* last, S* t,
-                        S* suffix, const S* g0, const S* g1, const S* g2,
-                        const S* g3, const S* g_extra_dot, S* w,
+                        const S* f, int rank, int y, const int* last,
+                        S* __restrict t, S* __restrict suffix,
+                        const S* g0, const S* g1, const S* g2, const S* g3,
+                        const S* g_extra_dot, S* __restrict w,
                         LaneGradient<S>* lanes) {
   const S max_alpha = static_cast<S>(kMaxAlpha);
   const S min_alpha = static_cast<S>(kMinAlpha);
@@ -550,20 +563,21 @@ inline void BackwardRow(int n, const S* raw, const Footprint<S>& g,
     alpha[i] = live ? (r < max_alpha ? r : max_alpha) : S(0);
   }
   OneMinusReciprocal<kN>(n, alpha, inv);
-  S* s0 = lanes->term[0];
-  S* sy = lanes->term[1];
-  S* syy = lanes->term[2];
-  S* op = lanes->term[3];
-  S* a0 = lanes->term[4];
-  S* a1 = lanes->term[5];
-  S* a2 = lanes->term[6];
-  S* a3 = lanes->term[7];
+  S* __restrict s0 = lanes->term[0];
+  S* __restrict sy = lanes->term[1];
+  S* __restrict syy = lanes->term[2];
+  S* __restrict op = lanes->term[3];
+  S* __restrict a0 = lanes->term[4];
+  S* __restrict a1 = lanes->term[5];
+  S* __restrict a2 = lanes->term[6];
+  S* __restrict a3 = lanes->term[7];
 #pragma omp simd
   for (int i = 0; i < n; ++i) {
     const S r = raw[i];
     const bool live = (r >= min_alpha) & (rank < last[i]);
     const S a = alpha[i];
     const S inv_one_minus = inv[i];
+    const S si = suffix[i];
     const S t_front = t[i] * inv_one_minus;  // T in front of this Gaussian
     const S wi = a * t_front;
     w[i] = wi;
@@ -577,8 +591,8 @@ inline void BackwardRow(int n, const S* raw, const Footprint<S>& g,
         g0[i] * f0 + g1[i] * f1 + g2[i] * f2 + g3[i] * f3 + g_extra_dot[i];
     // out = sum_i f_i a_i T_i + bg T_N: d out / d a_i = f_i T_i -
     // (everything behind i, background and 1 - alpha included) / (1 - a_i).
-    const S g_alpha = g_dot_f * t_front - suffix[i] * inv_one_minus;
-    suffix[i] += live ? g_dot_f * wi : S(0);
+    const S g_alpha = g_dot_f * t_front - si * inv_one_minus;
+    suffix[i] = si + (live ? g_dot_f * wi : S(0));
     t[i] = t_front;
     // No gradient through the 0.99 clamp. d alpha / d opacity =
     // exp(-sigma) = r / opacity (the division in Sum).
