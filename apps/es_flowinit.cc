@@ -41,6 +41,14 @@ DEFINE_bool(use_test_frames, false,
 DEFINE_string(flow, "dis",
               "Optical flow method: dis, dis_fast, dis_ultrafast, farneback, "
               "and with OpenCV contrib deepflow, tvl1, pcaflow.");
+DEFINE_string(flow_image, "fluctuation",
+              "What the flow is computed on: frame (the video frames) or "
+              "fluctuation (each frame minus the static model's render of "
+              "it, so the still part the water is blended with is gone).");
+DEFINE_bool(white_background, false,
+            "The static model was trained on white (es_static "
+            "--white_background): --flow_image fluctuation subtracts its "
+            "render on the same background.");
 DEFINE_string(water_source, "auto",
               "Water pixels from: masks (masks/), model (the static model's "
               "rendered dynamic probability), auto (masks if present).");
@@ -152,6 +160,8 @@ double Eta(double seconds, int done, int total) {
 es::SceneFlowOptions SceneFlowOptionsFromFlags() {
   es::SceneFlowOptions o;
   o.method = es::ParseFlowMethod(FLAGS_flow);
+  o.image = es::ParseFlowImage(FLAGS_flow_image);
+  if (FLAGS_white_background) o.render.background.setOnes();
   o.water = es::ParseWaterSource(FLAGS_water_source);
   o.lifting.stride = FLAGS_stride;
   o.lifting.second_end = es::ParseSecondEnd(FLAGS_second_end);
@@ -272,6 +282,7 @@ void WriteFlowMetrics(const std::string& path, double seconds,
       {"target_rms", fit.target_rms},
       {"initial_rmse", fit.initial_rmse},
       {"flow", FLAGS_flow},
+      {"flow_image", FLAGS_flow_image},
       {"second_end", FLAGS_second_end},
       {"frame_gap", FLAGS_frame_gap},
       {"tv_weight", FLAGS_tv_weight},
@@ -377,7 +388,8 @@ int main(int argc, char** argv) {
       "Stage 2: motion-field initialization from optical flow.\n"
       "  es_flowinit --scene DIR [--static DIR/static.ply] [--out DIR]\n"
       "              [--flow dis|farneback|...] [--solver adam|lbfgs|lm]\n"
-      "Lifts the optical flow of training frames --frame_gap apart to 3D "
+      "Lifts the optical flow of training frames --frame_gap apart (by "
+      "default of each frame minus the static model's render of it) to 3D "
       "with the static model's depth, keeps water pixels (masks/ or the "
       "model's dynamic channel), pretrains V on them and writes <out>/"
       "motion_field.bin, scene_flow_samples.bin (the samples; es_train "

@@ -386,7 +386,7 @@ void FlowStage(const Pipeline& run) {
        std::to_string(p.motion_width), "--dynamic_threshold",
        Number(FLAGS_dynamic_threshold), "--log_every",
        LogEvery(p.flow_iterations)},
-      false);
+      true);
   if (RunStage("es_flowinit", args) != 0) {
     std::printf("[flow init] failed (see above): joint training learns V "
                 "from scratch\n");

@@ -339,6 +339,65 @@ TEST(FlowLiftingTest, ParsesSecondEnd) {
   EXPECT_THROW(ParseSecondEnd("ray"), InputError);
 }
 
+TEST(FlowLiftingTest, FluctuationOfTheRenderedImageIsGray) {
+  RenderResult render;
+  render.width = 2;
+  render.height = 1;
+  render.rgb = {0.2, 0.4, 0.6, 0.9, 0.1, 0.0};
+  cv::Mat frame(1, 2, CV_32FC3);
+  frame.at<cv::Vec3f>(0, 0) = cv::Vec3f(0.2f, 0.4f, 0.6f);
+  frame.at<cv::Vec3f>(0, 1) = cv::Vec3f(0.1f, 0.3f, 0.0f);  // clamps
+  const cv::Mat f = Fluctuation(frame, render);
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_NEAR(f.at<cv::Vec3f>(0, 0)[c], 0.5f, 1e-6);
+  }
+  EXPECT_NEAR(f.at<cv::Vec3f>(0, 1)[0], 0.0f, 1e-6);
+  EXPECT_NEAR(f.at<cv::Vec3f>(0, 1)[1], 0.7f, 1e-6);
+  EXPECT_NEAR(f.at<cv::Vec3f>(0, 1)[2], 0.5f, 1e-6);
+}
+
+// Half-transparent water, a texture moving by a known shift, over still
+// scenery; the static model's render is the scenery behind the water's
+// time average. The flow of the frames is pulled toward the scenery's
+// zero motion; the flow of the fluctuation follows the water.
+TEST(FlowLiftingTest, FluctuationFlowFollowsWaterOverStillScenery) {
+  const int w = 160, h = 120;
+  const cv::Mat scenery = TwoScaleTexture(w, h, 3, 11);
+  const cv::Mat water = TwoScaleTexture(w, h, 3, 12);
+  const cv::Mat truth(h, w, CV_32FC2, cv::Scalar(1.5f, -1.0f));
+  const cv::Mat first = 0.5 * scenery + 0.5 * WarpByFlow(water, truth);
+  const cv::Mat second = 0.5 * scenery + 0.5 * water;
+  const cv::Scalar water_mean = cv::mean(water);
+  RenderResult still;
+  still.width = w;
+  still.height = h;
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      for (int c = 0; c < 3; ++c) {
+        still.rgb.push_back(0.5 * scenery.at<cv::Vec3f>(y, x)[c] +
+                            0.5 * water_mean[c]);
+      }
+    }
+  }
+  cv::Mat valid(h, w, CV_8UC1, cv::Scalar(0));
+  valid(cv::Rect(12, 12, w - 24, h - 24)) = 255;
+  OpticalFlow flow(FlowMethod::kDisMedium);
+  const double on_frames = MeanEndpointError(
+      flow.ComputePair(first, second).forward, truth, valid);
+  const double on_fluctuation = MeanEndpointError(
+      flow.ComputePair(Fluctuation(first, still), Fluctuation(second, still))
+          .forward,
+      truth, valid);
+  EXPECT_LT(on_fluctuation, 0.2);
+  EXPECT_GT(on_frames, 2 * on_fluctuation);
+}
+
+TEST(FlowLiftingTest, ParsesFlowImage) {
+  EXPECT_EQ(ParseFlowImage("frame"), FlowImage::kFrame);
+  EXPECT_EQ(ParseFlowImage("fluctuation"), FlowImage::kFluctuation);
+  EXPECT_THROW(ParseFlowImage("residual"), InputError);
+}
+
 TEST(FlowLiftingTest, DepthMapDividesByAlphaAndMasksEmptyPixels) {
   RenderResult render;
   render.width = 2;

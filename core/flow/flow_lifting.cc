@@ -92,6 +92,26 @@ double SecondsSince(std::chrono::steady_clock::time_point start) {
 
 }  // namespace
 
+cv::Mat Fluctuation(const cv::Mat& frame, const RenderResult& render) {
+  CHECK_EQ(frame.type(), CV_32FC3);
+  CHECK_EQ(frame.cols, render.width);
+  CHECK_EQ(frame.rows, render.height);
+  cv::Mat out(frame.rows, frame.cols, CV_32FC3);
+  for (int y = 0; y < frame.rows; ++y) {
+    const cv::Vec3f* in = frame.ptr<cv::Vec3f>(y);
+    cv::Vec3f* o = out.ptr<cv::Vec3f>(y);
+    const double* rgb =
+        render.rgb.data() + 3 * static_cast<size_t>(y) * frame.cols;
+    for (int x = 0; x < frame.cols; ++x) {
+      for (int c = 0; c < 3; ++c) {
+        const double v = in[x][c] - rgb[3 * x + c] + 0.5;
+        o[x][c] = static_cast<float>(std::clamp(v, 0.0, 1.0));
+      }
+    }
+  }
+  return out;
+}
+
 cv::Mat FloatImage(const RenderResult& render,
                    const std::vector<double>& map) {
   CHECK_EQ(map.size(), static_cast<size_t>(render.height) * render.width);
@@ -205,6 +225,13 @@ SecondEnd ParseSecondEnd(const std::string& name) {
                    "'; available: plane, depth");
 }
 
+FlowImage ParseFlowImage(const std::string& name) {
+  if (name == "frame") return FlowImage::kFrame;
+  if (name == "fluctuation") return FlowImage::kFluctuation;
+  throw InputError("unknown flow image '" + name +
+                   "'; available: frame, fluctuation");
+}
+
 WaterSource ParseWaterSource(const std::string& name) {
   if (name == "auto") return WaterSource::kAuto;
   if (name == "masks") return WaterSource::kMasks;
@@ -266,12 +293,12 @@ SceneFlowResult LiftSceneFlow(const Scene& scene, const GaussianSet& model,
 
   struct RenderedFrame {
     int index = -1;
-    cv::Mat depth, water;
+    cv::Mat depth, water, flow_input;
   };
   auto render_frame = [&](int i) {
     const auto start = Clock::now();
     const Frame& frame = scene.frames[i];
-    rasterizer.Forward(frame.camera, splats, RenderOptions(), &render);
+    rasterizer.Forward(frame.camera, splats, options.render, &render);
     RenderedFrame r;
     r.index = i;
     r.depth = FloatImage(render, ExpectedDepth(render, options.min_alpha));
@@ -279,6 +306,9 @@ SceneFlowResult LiftSceneFlow(const Scene& scene, const GaussianSet& model,
                   ? frame.mask
                   : FloatImage(render,
                                NormalizedExtra(render, 0, options.min_alpha));
+    r.flow_input = options.image == FlowImage::kFluctuation
+                       ? Fluctuation(frame.image, render)
+                       : frame.image;
     result.render_seconds += SecondsSince(start);
     return r;
   };
@@ -305,7 +335,7 @@ SceneFlowResult LiftSceneFlow(const Scene& scene, const GaussianSet& model,
 
     auto start = Clock::now();
     const FlowPair pair =
-        flow.ComputePair(scene.frames[i].image, scene.frames[j].image);
+        flow.ComputePair(first.flow_input, second.flow_input);
     result.flow_seconds += SecondsSince(start);
 
     start = Clock::now();

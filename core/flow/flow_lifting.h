@@ -96,8 +96,28 @@ enum class WaterSource {
 // Flag spellings auto, masks, model; Parse throws InputError on others.
 WaterSource ParseWaterSource(const std::string& name);
 
+// What the optical flow is computed on.
+enum class FlowImage {
+  kFrame,        // the video frames
+  // Each frame minus the static model's render of it (plus gray): the
+  // time-averaged part, water blobs and the scenery seen through them,
+  // is gone, so the flow follows the moving texture alone instead of
+  // being pulled toward the still background it is blended with.
+  kFluctuation,
+};
+// Flag spellings frame, fluctuation; Parse throws InputError on others.
+FlowImage ParseFlowImage(const std::string& name);
+
+// kFluctuation's image: frame - render.rgb + 0.5 per channel, clamped to
+// [0, 1] (CV_32FC3; frame is CV_32FC3 RGB of the render's size).
+cv::Mat Fluctuation(const cv::Mat& frame, const RenderResult& render);
+
 struct SceneFlowOptions {
   FlowMethod method = FlowMethod::kDisMedium;
+  FlowImage image = FlowImage::kFrame;
+  // The static model's render: its background must be the training one
+  // for kFluctuation.
+  RenderOptions render;
   LiftingOptions lifting;
   double min_alpha = 0.5;  // depth is valid where the rendered alpha exceeds
   WaterSource water = WaterSource::kAuto;
