@@ -281,6 +281,7 @@ void Rasterizer::State::Pack() {
     geo[3] = static_cast<S>(p.conic[1]);
     geo[4] = static_cast<S>(p.conic[2]);
     geo[5] = static_cast<S>(p.opacity);
+    rec[kTileRecordCutoff] = static_cast<S>(TileSigmaCutoff(p.opacity));
     S* f = rec + kTileRecordFeature;
     f[0] = static_cast<S>(p.color[0]);
     f[1] = static_cast<S>(p.color[1]);

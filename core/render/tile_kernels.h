@@ -6,6 +6,8 @@
 // tile_kernels_impl.h) and picked at run time from what the CPU supports,
 // so a default (SSE2) build still runs AVX2 / AVX-512 code where it can.
 
+#include <cmath>
+
 #include "core/render/raster_constants.h"
 #include "core/simd/simd_level.h"
 
@@ -16,7 +18,8 @@ namespace es {
 // values at splat[record_stride k..] (TileRecordStride; a float record is
 // one 64-byte cache line when the features fit): its pixel box px0, px1,
 // py0, py1 (small integers, exact in S), mean x, mean y, conic a, b, c,
-// opacity, then the features r, g, b, depth, extras. One record rather
+// opacity, the sigma cutoff (TileSigmaCutoff), then the features r, g, b,
+// depth, extras. One record rather
 // than three arrays costs one cache miss per entry, not three. Per tile:
 // tile_entries [tile_offsets[t], tile_offsets[t + 1]) its Gaussians, front
 // to back.
@@ -64,8 +67,19 @@ struct TilePass {
 // Offsets in a record (TilePass::splat).
 constexpr int kTileRecordBox = 0;
 constexpr int kTileRecordGeom = 4;
-constexpr int kTileRecordFeature = 10;
+constexpr int kTileRecordCutoff = 10;
+constexpr int kTileRecordFeature = 11;
 constexpr int kTileGradHead = 6;
+
+// Where sigma = 0.5 d^T conic d exceeds this, alpha = opacity exp(-sigma)
+// is below kMinAlpha by a margin (0.1 in sigma, far above the rounding of
+// sigma in float): the tile passes skip a row whose least sigma over its
+// pixels is above it (a row of the pixel box the ellipse misses, as a
+// needle's box has many). Such pixels take no part in either pass, so the
+// skip changes no value.
+inline double TileSigmaCutoff(double opacity) {
+  return std::log(opacity / kMinAlpha) + 0.1;
+}
 
 // A record's length in values of S for num_features features: rounded up
 // to whole 64-byte lines (records start on a line when splat does).

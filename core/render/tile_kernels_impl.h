@@ -64,10 +64,31 @@ inline double ExpNonPositive(double x) {
 template <typename S>
 struct Footprint {
   S mx, my, ca, cb, cc, opacity;
+  S cutoff;  // TileSigmaCutoff
+  S slope;   // dx of a row's least sigma per dy: -b / a
   explicit Footprint(const S* geo)
       : mx(geo[0]), my(geo[1]), ca(geo[2]), cb(geo[3]), cc(geo[4]),
-        opacity(geo[5]) {}
+        opacity(geo[5]), cutoff(geo[kTileRecordCutoff - kTileRecordGeom]),
+        slope(ca > S(0) ? -cb / ca : S(0)) {}
 };
+
+// Whether row y can hold a pixel in [lo, hi) where the Gaussian reaches
+// kMinAlpha: whether sigma's least value on the row's segment (the
+// continuous one, so at most its pixels' least) is not above the cutoff.
+// Rows it rules out have no pixel with alpha >= kMinAlpha; both passes
+// skip them.
+template <typename S>
+inline bool RowReached(const Footprint<S>& g, int y, int lo, int hi) {
+  if (!(g.ca > S(0))) return true;
+  const S dy = static_cast<S>(y) + S(0.5) - g.my;
+  const S dx_lo = static_cast<S>(lo) + S(0.5) - g.mx;
+  const S dx_hi = static_cast<S>(hi) - S(0.5) - g.mx;
+  S dx = g.slope * dy;
+  dx = dx < dx_lo ? dx_lo : (dx > dx_hi ? dx_hi : dx);
+  const S sigma =
+      S(0.5) * g.ca * dx * dx + g.cb * dy * dx + S(0.5) * g.cc * dy * dy;
+  return !(sigma > g.cutoff);
+}
 
 // The part of a tile one Gaussian's pixel box covers: pixels [x0, x1) x
 // [y0, y1) (empty when x0 >= x1 or y0 >= y1).
@@ -340,7 +361,8 @@ long long ForwardTile(const TilePass<S>& p, int tile, S* scratch) {
       constexpr int kN = decltype(width)::value;
       const int n = kN > 0 ? kN : row.n;
       for (int y = s.y0; y < s.y1; ++y) {
-        if (!row_live[y - r.y0]) continue;
+        if (!row_live[y - r.y0] || !RowReached(g, y, row.lo, row.hi))
+          continue;
         RowAlphas<kN>(g, y, row, raw);
         const int q = r.Offset(row.x0, y);
         CompositeRow(n, raw, f, e - begin + 1, t + q, done + q,
@@ -578,7 +600,9 @@ inline void BackwardRow(int n, const S* raw, const Footprint<S>& g,
     const S a = alpha[i];
     const S inv_one_minus = inv[i];
     const S si = suffix[i];
-    const S t_front = t[i] * inv_one_minus;  // T in front of this Gaussian
+    // T in front of this Gaussian (exactly T where it took no part: a
+    // reciprocal estimate of 1 may come out a rounding below 1).
+    const S t_front = live ? t[i] * inv_one_minus : t[i];
     const S wi = a * t_front;
     w[i] = wi;
     // Selects, not products with wi = 0, so a non-finite gradient of a
@@ -617,7 +641,8 @@ inline void BackwardRows(const TilePass<S>& p, const TileRect& r,
   for (int i = 0; i < kTileSize; ++i) g_extra_dot[i] = S(0);
   for (int y = s.y0; y < s.y1; ++y) {
     // No pixel of the row used this Gaussian: T and suffix stay as they are.
-    if (rank >= st->row_last[y - r.y0]) continue;
+    if (rank >= st->row_last[y - r.y0] || !RowReached(g, y, row.lo, row.hi))
+      continue;
     RowAlphas<kN>(g, y, row, raw);
     const int q = r.Offset(row.x0, y);
     const S* gf = st->g_feat + q;
