@@ -188,11 +188,9 @@ void Rasterizer::State::Project() {
   const size_t count = sort_items.size();
   order.resize(count);
   bin_items.resize(count);
-  depth_rank.resize(n);
   for (size_t k = 0; k < count; ++k) {
     order[k] = sort_items[k].index;
     bin_items[k] = sort_items[k].bin;
-    depth_rank[order[k]] = static_cast<int>(k);
   }
 }
 
@@ -262,11 +260,13 @@ void Rasterizer::State::Pack() {
       (kLine - reinterpret_cast<uintptr_t>(d.records.data()) / sizeof(S) %
                    kLine) % kLine;
   S* records = d.records.data() + d.records_begin;
+  depth_rank.resize(splats.count);
   const int num_extra = splats.num_extra;
 #pragma omp parallel for schedule(static, 1024) \
     if (count > kMinParallelSplats)
   for (int k = 0; k < count; ++k) {
     const int n = order[k];
+    depth_rank[n] = k;
     const ProjectedSplat& p = projected[n];
     S* rec = records + static_cast<size_t>(stride) * k;
     S* box = rec + kTileRecordBox;
@@ -281,7 +281,7 @@ void Rasterizer::State::Pack() {
     geo[3] = static_cast<S>(p.conic[1]);
     geo[4] = static_cast<S>(p.conic[2]);
     geo[5] = static_cast<S>(p.opacity);
-    rec[kTileRecordCutoff] = static_cast<S>(TileSigmaCutoff(p.opacity));
+    rec[kTileRecordCutoff] = TileSigmaCutoff(static_cast<S>(p.opacity));
     S* f = rec + kTileRecordFeature;
     f[0] = static_cast<S>(p.color[0]);
     f[1] = static_cast<S>(p.color[1]);

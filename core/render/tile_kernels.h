@@ -77,8 +77,11 @@ constexpr int kTileGradHead = 6;
 // pixels is above it (a row of the pixel box the ellipse misses, as a
 // needle's box has many). Such pixels take no part in either pass, so the
 // skip changes no value.
-inline double TileSigmaCutoff(double opacity) {
-  return std::log(opacity / kMinAlpha) + 0.1;
+// In the precision of the tile pass (a float log is all a 0.1 margin
+// needs, and cheaper per Gaussian).
+template <typename S>
+inline S TileSigmaCutoff(S opacity) {
+  return std::log(opacity) + static_cast<S>(-std::log(kMinAlpha) + 0.1);
 }
 
 // A record's length in values of S for num_features features: rounded up
