@@ -19,10 +19,9 @@ namespace es {
 // one 64-byte cache line when the features fit): its pixel box px0, px1,
 // py0, py1 (small integers, exact in S), mean x, mean y, conic a, b, c,
 // opacity, the sigma cutoff (TileSigmaCutoff), then the features r, g, b,
-// depth, extras. One record rather
-// than three arrays costs one cache miss per entry, not three. Per tile:
-// tile_entries [tile_offsets[t], tile_offsets[t + 1]) its Gaussians, front
-// to back.
+// depth, extras: one cache miss per entry, where three arrays cost three.
+// Per tile: tile_entries [tile_offsets[t], tile_offsets[t + 1]) its
+// Gaussians, front to back.
 template <typename S>
 struct TilePass {
   int width = 0, height = 0, tiles_x = 0;
@@ -76,9 +75,8 @@ constexpr int kTileGradHead = 6;
 // sigma in float): the tile passes skip a row whose least sigma over its
 // pixels is above it (a row of the pixel box the ellipse misses, as a
 // needle's box has many). Such pixels take no part in either pass, so the
-// skip changes no value.
-// In the precision of the tile pass (a float log is all a 0.1 margin
-// needs, and cheaper per Gaussian).
+// skip changes no value. In the precision of the pass: a float log is all
+// a 0.1 margin needs, and cheaper.
 template <typename S>
 inline S TileSigmaCutoff(S opacity) {
   return std::log(opacity) + static_cast<S>(-std::log(kMinAlpha) + 0.1);
