@@ -11,7 +11,10 @@
 #include <ceres/jet.h>
 #include <gtest/gtest.h>
 
+#include "core/render/raster_constants.h"
+#include "core/render/raster_project.h"
 #include "core/render/rasterizer.h"
+#include "core/render/tile_kernels.h"
 #include "tests/reference_rasterizer.h"
 
 namespace es {
@@ -213,6 +216,124 @@ TEST_P(ReferenceBackwardTest, MatchesReferenceJetGradients) {
 
 INSTANTIATE_TEST_SUITE_P(ShDegrees, ReferenceBackwardTest,
                          ::testing::Values(0, 1, 2, 3));
+
+// Needles at many angles across tile borders, and round footprints
+// centred on tile corners: most rows of their pixel boxes within a tile
+// miss the ellipse, rows the tile passes skip (RowReached). Their
+// images and gradients must stay those of the per-pixel reference, with
+// the kernels of every instruction set.
+TestScene NeedleScene() {
+  TestScene s;
+  s.camera = reference::TestCamera(64, 48);
+  s.sh_degree = 0;
+  s.num_extra = 1;
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> uni(0.0, 1.0);
+  const double f = s.camera.fx;
+  const Eigen::Matrix3d to_world = s.camera.R().transpose();
+  for (int i = 0; i < 12; ++i) {
+    // Centres on tile corners and edges (tiles of kTileSize pixels).
+    const double u = kTileSize * (1 + i % 3) + (i % 2 ? 0.3 : -2.6);
+    const double v = kTileSize * (1 + (i / 3) % 2) + 3.7 * uni(rng) - 1.8;
+    const double z = 3 + uni(rng);
+    const bool round = i % 4 == 3;
+    // Needles: sigma 5-7 px long, 0.3-0.6 px across; round: 4-5 px.
+    const double long_px = round ? 4 + uni(rng) : 5 + 2 * uni(rng);
+    const double thin_px = round ? long_px : 0.3 + 0.3 * uni(rng);
+    const Eigen::Vector3d scale(long_px * z / f, thin_px * z / f,
+                                thin_px * z / f);
+    // Rotated in the image plane: the camera's z axis in the world.
+    const double angle = 0.15 + 0.53 * i;
+    const Eigen::Quaterniond q(
+        to_world * Eigen::AngleAxisd(angle, Eigen::Vector3d::UnitZ())
+                       .toRotationMatrix());
+    s.Add(s.camera.Unproject(u, v, z), scale,
+          Eigen::Vector4d(q.w(), q.x(), q.y(), q.z()), 0.5 + 2 * uni(rng));
+  }
+  for (int n = 0; n < s.count; ++n) {
+    for (int c = 0; c < 3; ++c) s.sh[3 * n + c] = uni(rng) * 2 - 1;
+    s.extra[n] = uni(rng);
+  }
+  return s;
+}
+
+// Rows of pixel boxes within tiles where no pixel reaches kMinAlpha (the
+// Gaussian's sigma above log(opacity / kMinAlpha) at every pixel), in
+// double from the projection: what the scene gives the row skip to do.
+int RowsMissingTheEllipse(const TestScene& s) {
+  const ProjectionCamera cam(s.camera);
+  const SplatView view = s.View();
+  int rows = 0;
+  for (int n = 0; n < s.count; ++n) {
+    ProjectedSplat p;
+    if (!ProjectSplat(cam, view, n, &p)) continue;
+    const double level = std::log(p.opacity / kMinAlpha);
+    for (int ty = p.tile_y0; ty < p.tile_y1; ++ty) {
+      for (int tx = p.tile_x0; tx < p.tile_x1; ++tx) {
+        const int x0 = std::max(p.px0, tx * kTileSize);
+        const int x1 = std::min(p.px1, (tx + 1) * kTileSize);
+        const int y0 = std::max(p.py0, ty * kTileSize);
+        const int y1 = std::min(p.py1, (ty + 1) * kTileSize);
+        for (int y = y0; y < y1; ++y) {
+          bool reached = false;
+          for (int x = x0; x < x1; ++x) {
+            const double dx = x + 0.5 - p.mean2d[0];
+            const double dy = y + 0.5 - p.mean2d[1];
+            const double sigma =
+                0.5 * (p.conic[0] * dx * dx + p.conic[2] * dy * dy) +
+                p.conic[1] * dx * dy;
+            reached |= sigma <= level;
+          }
+          rows += x1 > x0 && !reached;
+        }
+      }
+    }
+  }
+  return rows;
+}
+
+TEST(RowSkipTest, NeedlesAndTileCornersMatchReference) {
+  const TestScene s = NeedleScene();
+  EXPECT_GT(RowsMissingTheEllipse(s), 150);
+  const auto ref = reference::Render(s.camera, s.As<double>(), kBackground);
+  double peak = 0;
+  for (double a : ref.alpha) peak = std::max(peak, a);
+  EXPECT_GT(peak, 0.5);  // the needles render
+  const Weights w = RandomWeights(s, 5);
+  const SplatGradients ref_grads = ReferenceGradients(s, w);
+  for (SimdLevel level :
+       {SimdLevel::kSse2, SimdLevel::kAvx2, SimdLevel::kAvx512}) {
+    if (!SimdLevelSupported(level)) continue;
+    for (bool use_double : {true, false}) {
+      SCOPED_TRACE(std::string(SimdLevelName(level)) +
+                   (use_double ? " double" : " float"));
+      RenderOptions o = Options(use_double);
+      o.simd = level;
+      Rasterizer r;
+      RenderResult out;
+      r.Forward(s.camera, s.View(), o, &out);
+      // A row wrongly skipped loses at least kMinAlpha of a colour.
+      const double tol = use_double ? 1e-10 : 2e-5;
+      double max_diff = 0;
+      EXPECT_EQ(CountMismatches(out.rgb, ref.rgb, tol, &max_diff), 0);
+      EXPECT_EQ(CountMismatches(out.alpha, ref.alpha, tol, &max_diff), 0);
+      EXPECT_EQ(CountMismatches(out.extra, ref.extra, tol, &max_diff), 0);
+      SplatGradients g;
+      r.Backward({w.rgb.data(), w.alpha.data(), w.depth.data(),
+                  w.extra.data()},
+                 &g);
+      const double gtol = use_double ? 1e-9 : 2e-3;
+      ExpectGradientsClose(g.means, ref_grads.means, gtol, "means");
+      ExpectGradientsClose(g.log_scales, ref_grads.log_scales, gtol,
+                           "log_scales");
+      ExpectGradientsClose(g.quats, ref_grads.quats, gtol, "quats");
+      ExpectGradientsClose(g.opacity_logits, ref_grads.opacity_logits, gtol,
+                           "opacity_logits");
+      ExpectGradientsClose(g.sh, ref_grads.sh, gtol, "sh");
+      ExpectGradientsClose(g.extra, ref_grads.extra, gtol, "extra");
+    }
+  }
+}
 
 }  // namespace
 }  // namespace es

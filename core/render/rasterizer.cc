@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <numeric>
 #include <optional>
 
@@ -25,30 +26,37 @@ constexpr int kMinParallelSplats = 2048;
 constexpr int kMinParallelBinning = 2048;
 constexpr size_t kMinParallelEntries = 256;
 
-// out[0, stride) = the sum of `slots` gradient shares of `stride` values
-// each, in double; kStride > 0 fixes the stride at compile time, so the
-// sums stay in registers and the loop unrolls.
+// out[0, stride) = the sum, in double, of the gradient shares (`stride`
+// values each, one per tile of the Gaussian's tile rectangle p, row by
+// row) of the tiles that used the Gaussian: those whose last used entry
+// (tile_last_entry) is not in front of its depth index k. kStride > 0
+// fixes the stride at compile time, so the sums stay in registers and the
+// loop unrolls.
 template <int kStride, typename S>
-void SumShares(const S* share, int slots, int stride, double* out) {
-  if constexpr (kStride > 0) {
-    double sum[kStride] = {};
-    for (int s = 0; s < slots; ++s, share += kStride)
-      for (int c = 0; c < kStride; ++c) sum[c] += share[c];
-    for (int c = 0; c < kStride; ++c) out[c] = sum[c];
-  } else {
+void SumShares(const S* share, const ProjectedSplat& p, int k, int tiles_x,
+               const int* tile_last_entry, int stride, double* out) {
+  if constexpr (kStride > 0) stride = kStride;
+  double sum[kStride > 0 ? kStride : 1] = {};
+  double* acc = kStride > 0 ? sum : out;
+  if (kStride == 0)
     for (int c = 0; c < stride; ++c) out[c] = 0;
-    for (int s = 0; s < slots; ++s, share += stride)
-      for (int c = 0; c < stride; ++c) out[c] += share[c];
+  for (int ty = p.tile_y0; ty < p.tile_y1; ++ty) {
+    const int* last = tile_last_entry + ty * tiles_x;
+    for (int tx = p.tile_x0; tx < p.tile_x1; ++tx, share += stride) {
+      if (k > last[tx]) continue;
+      for (int c = 0; c < stride; ++c) acc[c] += share[c];
+    }
   }
+  if constexpr (kStride > 0)
+    for (int c = 0; c < kStride; ++c) out[c] = sum[c];
 }
 
 // The per-Gaussian data of the tile pass, in the precision of its loops
 // (layouts: TilePass).
 template <typename S>
 struct TileData {
-  std::vector<S> geom;
-  std::vector<S> feature;
-  std::vector<int> box;
+  std::vector<S> records;  // from records_begin, on a 64-byte line
+  size_t records_begin = 0;
   std::vector<S> t_final;     // per pixel
   std::vector<S> entry_grad;  // per slot (TilePass::entry_grad)
 };
@@ -80,6 +88,7 @@ struct Rasterizer::State {
   std::vector<SortItem> sort_items;
   RadixSortScratch<SortItem> sort_scratch;
   std::vector<int> order;                 // visible input indices, by depth
+  std::vector<int> depth_rank;            // per input Gaussian: k, order[k] = n
   std::vector<int> tile_offsets;          // per tile, into tile_entries
   std::vector<int> tile_entries;          // indices into `order`
   // Per entry of tile_entries, its slot of the backward's gradient shares.
@@ -91,6 +100,7 @@ struct Rasterizer::State {
   std::vector<int> cursor;                // per thread and tile, binning
   std::vector<BinItem> bin_items;         // per binned Gaussian k
   std::vector<int> last;                  // per pixel: entries used + 1
+  std::vector<int> tile_last_entry;       // per tile (TilePass), backward
   TileData<float> float_data;
   TileData<double> double_data;
   std::vector<float> float_scratch;   // per thread
@@ -243,34 +253,45 @@ void Rasterizer::State::Pack() {
   ScopedStage timer(Stage::kProjection);
   TileData<S>& d = data<S>();
   const int count = static_cast<int>(order.size());
-  d.geom.resize(static_cast<size_t>(kTileGeomStride) * count);
-  d.feature.resize(static_cast<size_t>(num_features) * count);
-  d.box.resize(4 * static_cast<size_t>(count));
+  const int stride = TileRecordStride<S>(num_features);
+  constexpr size_t kLine = 64 / sizeof(S);
+  d.records.resize(static_cast<size_t>(stride) * count + kLine);
+  d.records_begin =
+      (kLine - reinterpret_cast<uintptr_t>(d.records.data()) / sizeof(S) %
+                   kLine) % kLine;
+  S* records = d.records.data() + d.records_begin;
+  depth_rank.resize(splats.count);
   const int num_extra = splats.num_extra;
 #pragma omp parallel for schedule(static, 1024) \
     if (count > kMinParallelSplats)
   for (int k = 0; k < count; ++k) {
     const int n = order[k];
+    depth_rank[n] = k;
     const ProjectedSplat& p = projected[n];
-    S* geo = &d.geom[static_cast<size_t>(kTileGeomStride) * k];
+    S* rec = records + static_cast<size_t>(stride) * k;
+    S* box = rec + kTileRecordBox;
+    box[0] = static_cast<S>(p.px0);
+    box[1] = static_cast<S>(p.px1);
+    box[2] = static_cast<S>(p.py0);
+    box[3] = static_cast<S>(p.py1);
+    S* geo = rec + kTileRecordGeom;
     geo[0] = static_cast<S>(p.mean2d[0]);
     geo[1] = static_cast<S>(p.mean2d[1]);
     geo[2] = static_cast<S>(p.conic[0]);
     geo[3] = static_cast<S>(p.conic[1]);
     geo[4] = static_cast<S>(p.conic[2]);
     geo[5] = static_cast<S>(p.opacity);
-    int* box = &d.box[4 * static_cast<size_t>(k)];
-    box[0] = p.px0;
-    box[1] = p.px1;
-    box[2] = p.py0;
-    box[3] = p.py1;
-    S* f = &d.feature[static_cast<size_t>(num_features) * k];
+    rec[kTileRecordCutoff] = TileSigmaCutoff(static_cast<S>(p.opacity));
+    S* f = rec + kTileRecordFeature;
     f[0] = static_cast<S>(p.color[0]);
     f[1] = static_cast<S>(p.color[1]);
     f[2] = static_cast<S>(p.color[2]);
     f[3] = static_cast<S>(p.depth);
     for (int e = 0; e < num_extra; ++e) {
       f[4 + e] = static_cast<S>(splats.extra[n * num_extra + e]);
+    }
+    for (int i = kTileRecordFeature + num_features; i < stride; ++i) {
+      rec[i] = S(0);
     }
   }
 }
@@ -286,9 +307,8 @@ TilePass<S> Rasterizer::State::MakeTilePass() {
   p.num_extra = splats.num_extra;
   p.tile_offsets = tile_offsets.data();
   p.tile_entries = tile_entries.data();
-  p.geom = d.geom.data();
-  p.feature = d.feature.data();
-  p.box = d.box.data();
+  p.splat = d.records.data() + d.records_begin;
+  p.record_stride = TileRecordStride<S>(num_features);
   for (int c = 0; c < 3; ++c) p.background[c] = options.background[c];
   p.t_final = d.t_final.data();
   p.last = last.data();
@@ -336,6 +356,9 @@ void Rasterizer::State::BackwardTiles(const RenderGradients& ig) {
   pass.entry_slot = entry_slot.data();
   pass.entry_grad = entry_grad.data();
   pass.grad_stride = grad_stride;
+  tile_last_entry.resize(static_cast<size_t>(camera->tiles_x) *
+                         camera->tiles_y);
+  pass.tile_last_entry = tile_last_entry.data();
   const auto backward = TileKernels<S>(options.simd, num_features - 4).backward;
   const int per_thread = TileScratchSize(num_features);
   std::vector<S>& all_scratch = scratch<S>();
@@ -389,14 +412,19 @@ void Rasterizer::State::ProjectBackward(const std::vector<S>& entry_grad,
       double* g2 = &grad2d[static_cast<size_t>(grad_stride) * n];
       const S* share =
           &entry_grad[static_cast<size_t>(grad_stride) * slot_offsets[n]];
-      const int slots = slot_offsets[n + 1] - slot_offsets[n];
+      const ProjectedSplat& p = projected[n];
+      const int k = depth_rank[n];
+      const int* tile_last = tile_last_entry.data();
+      const int tiles_x = camera->tiles_x;
       // No extra channel or one (the dynamic probability): fixed strides.
       if (grad_stride == kGradHead + 4) {
-        SumShares<kGradHead + 4>(share, slots, grad_stride, g2);
+        SumShares<kGradHead + 4>(share, p, k, tiles_x, tile_last,
+                                 grad_stride, g2);
       } else if (grad_stride == kGradHead + 5) {
-        SumShares<kGradHead + 5>(share, slots, grad_stride, g2);
+        SumShares<kGradHead + 5>(share, p, k, tiles_x, tile_last,
+                                 grad_stride, g2);
       } else {
-        SumShares<0>(share, slots, grad_stride, g2);
+        SumShares<0>(share, p, k, tiles_x, tile_last, grad_stride, g2);
       }
       for (int e = 0; e < num_extra; ++e) {
         grads->extra[n * num_extra + e] = g2[kGradHead + 4 + e];

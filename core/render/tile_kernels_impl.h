@@ -23,6 +23,10 @@
 #include <cstring>
 #include <type_traits>
 
+#if defined(__AVX2__)
+#include <immintrin.h>
+#endif
+
 #include "core/render/raster_constants.h"
 #include "core/render/tile_kernels.h"
 
@@ -60,10 +64,31 @@ inline double ExpNonPositive(double x) {
 template <typename S>
 struct Footprint {
   S mx, my, ca, cb, cc, opacity;
+  S cutoff;  // TileSigmaCutoff
+  S slope;   // dx of a row's least sigma per dy: -b / a
   explicit Footprint(const S* geo)
       : mx(geo[0]), my(geo[1]), ca(geo[2]), cb(geo[3]), cc(geo[4]),
-        opacity(geo[5]) {}
+        opacity(geo[5]), cutoff(geo[kTileRecordCutoff - kTileRecordGeom]),
+        slope(ca > S(0) ? -cb / ca : S(0)) {}
 };
+
+// Whether row y can hold a pixel in [lo, hi) where the Gaussian reaches
+// kMinAlpha: whether sigma's least value on the row's segment (the
+// continuous one, so at most its pixels' least) is not above the cutoff.
+// Rows it rules out have no pixel with alpha >= kMinAlpha; both passes
+// skip them.
+template <typename S>
+inline bool RowReached(const Footprint<S>& g, int y, int lo, int hi) {
+  if (!(g.ca > S(0))) return true;
+  const S dy = static_cast<S>(y) + S(0.5) - g.my;
+  const S dx_lo = static_cast<S>(lo) + S(0.5) - g.mx;
+  const S dx_hi = static_cast<S>(hi) - S(0.5) - g.mx;
+  S dx = g.slope * dy;
+  dx = dx < dx_lo ? dx_lo : (dx > dx_hi ? dx_hi : dx);
+  const S sigma =
+      S(0.5) * g.ca * dx * dx + g.cb * dy * dx + S(0.5) * g.cc * dy * dy;
+  return !(sigma > g.cutoff);
+}
 
 // The part of a tile one Gaussian's pixel box covers: pixels [x0, x1) x
 // [y0, y1) (empty when x0 >= x1 or y0 >= y1).
@@ -79,9 +104,13 @@ struct TileRect {
         x1(MinInt(x0 + kTileSize, width)),
         y0((tile / tiles_x) * kTileSize),
         y1(MinInt(y0 + kTileSize, height)) {}
-  Span Clip(const int* box) const {
-    return {MaxInt(x0, box[0]), MinInt(x1, box[1]), MaxInt(y0, box[2]),
-            MinInt(y1, box[3])};
+  // box: a record's pixel box (whole numbers in S).
+  template <typename S>
+  Span Clip(const S* box) const {
+    return {MaxInt(x0, static_cast<int>(box[0])),
+            MinInt(x1, static_cast<int>(box[1])),
+            MaxInt(y0, static_cast<int>(box[2])),
+            MinInt(y1, static_cast<int>(box[3]))};
   }
   // Offset of pixel (x, y) in the tile's per-pixel arrays.
   int Offset(int x, int y) const { return (y - y0) * kTileSize + (x - x0); }
@@ -145,6 +174,25 @@ inline int NumExtra(const TilePass<S>& p) {
   return kExtra >= 0 ? kExtra : p.num_extra;
 }
 
+// Binned Gaussian k's record (TilePass::splat).
+template <typename S>
+inline const S* Record(const TilePass<S>& p, int k) {
+  return p.splat + static_cast<size_t>(p.record_stride) * k;
+}
+
+// How many entries ahead of the one in hand the tile loops prefetch: the
+// records are scattered over the depth order (a tile's Gaussians are a
+// sparse subset), so each is a cache miss unless asked for early.
+constexpr int kPrefetchAhead = 6;
+
+// Asks for the cache lines of entry e's record.
+template <typename S>
+inline void PrefetchRecord(const TilePass<S>& p, int e) {
+  const char* rec = reinterpret_cast<const char*>(Record(p, p.tile_entries[e]));
+  const int bytes = p.record_stride * static_cast<int>(sizeof(S));
+  for (int b = 0; b < bytes; b += 64) __builtin_prefetch(rec + b);
+}
+
 // Whether a pixel of a tile row has not stopped yet (done[i] is 0 or 1).
 template <typename S>
 inline bool RowLive(const S* done) {
@@ -184,9 +232,12 @@ inline S SumLanes(S* a) {
 // per row cost a chain of horizontal maxes per row). Written without
 // branches so it vectorizes.
 template <typename S>
-inline void CompositeRow(int n, const S* raw, const S* f, int rank, S* t,
-                         S* done, int* last, S* acc0, S* acc1, S* acc2,
-                         S* acc3, S* w, S* stopped) {
+inline void CompositeRow(int n, const S* raw, const S* f, int rank,
+                         S* __restrict t, S* __restrict done,
+                         int* __restrict last, S* __restrict acc0,
+                         S* __restrict acc1, S* __restrict acc2,
+                         S* __restrict acc3, S* __restrict w,
+                         S* __restrict stopped) {
   const S max_alpha = static_cast<S>(kMaxAlpha);
   const S min_alpha = static_cast<S>(kMinAlpha);
   const S min_t = static_cast<S>(kMinTransmittance);
@@ -208,10 +259,19 @@ inline void CompositeRow(int n, const S* raw, const S* f, int rank, S* t,
     acc2[i] += wi * f2;
     acc3[i] += wi * f3;
     w[i] = wi;
-    t[i] = use ? next_t : ti;
-    last[i] = use ? rank : li;
-    done[i] = stop ? S(1) : d;
-    stopped[i] = stop ? S(1) : stopped[i];
+    // Every lane is stored, as minima and maxima equal to the selects
+    // (use ? next_t : ti with next_t <= ti <= 1, use ? rank : li with
+    // li < rank, ...): GCC turns `x[i] = c ? v : x[i]` into a masked
+    // store, which the next Gaussian's load of the same pixels cannot take
+    // its value from (a stall on each row).
+    const S t_use = use ? next_t : S(2);
+    t[i] = t_use < ti ? t_use : ti;
+    const int use_rank = use ? rank : 0;
+    last[i] = li > use_rank ? li : use_rank;
+    const S stop_flag = stop ? S(1) : S(0);
+    done[i] = d > stop_flag ? d : stop_flag;
+    const S stopped_i = stopped[i];
+    stopped[i] = stopped_i > stop_flag ? stopped_i : stop_flag;
   }
 }
 
@@ -285,20 +345,24 @@ long long ForwardTile(const TilePass<S>& p, int tile, S* scratch) {
   }
   long long evaluations = 0;
   const int begin = p.tile_offsets[tile], end = p.tile_offsets[tile + 1];
+  for (int e = begin; e < MinInt(end, begin + kPrefetchAhead); ++e)
+    PrefetchRecord(p, e);
   for (int e = begin; e < end && live_rows > 0; ++e) {
-    const int k = p.tile_entries[e];
-    const Span s = r.Clip(&p.box[4 * static_cast<size_t>(k)]);
+    if (e + kPrefetchAhead < end) PrefetchRecord(p, e + kPrefetchAhead);
+    const S* rec = Record(p, p.tile_entries[e]);
+    const Span s = r.Clip(rec + kTileRecordBox);
     if (s.empty()) continue;
     evaluations += static_cast<long long>(s.x1 - s.x0) * (s.y1 - s.y0);
-    const Footprint<S> g(&p.geom[static_cast<size_t>(kTileGeomStride) * k]);
-    const S* f = &p.feature[static_cast<size_t>(nf) * k];
+    const Footprint<S> g(rec + kTileRecordGeom);
+    const S* f = rec + kTileRecordFeature;
     const RowRange row = RowOf(r, s);
     for (int i = 0; i < kTileSize; ++i) stop_lanes[i] = S(0);
     WithRowWidth(row, [&](auto width) {
       constexpr int kN = decltype(width)::value;
       const int n = kN > 0 ? kN : row.n;
       for (int y = s.y0; y < s.y1; ++y) {
-        if (!row_live[y - r.y0]) continue;
+        if (!row_live[y - r.y0] || !RowReached(g, y, row.lo, row.hi))
+          continue;
         RowAlphas<kN>(g, y, row, raw);
         const int q = r.Offset(row.x0, y);
         CompositeRow(n, raw, f, e - begin + 1, t + q, done + q,
@@ -417,64 +481,129 @@ int LoadTileGradients(const TilePass<S>& p, const TileRect& r,
 
 // One Gaussian's 2D gradient over a tile, kept per lane of a row: the row
 // loops add lane by lane (no horizontal sum per row) and Sum() adds the
-// lanes once per Gaussian and tile.
+// lanes once per Gaussian and tile. A lane is one column of the tile, so
+// its dx is the same on every row: the geometry terms keep only the sums
+// of g_sigma, dy g_sigma and dy^2 g_sigma over the rows (three per lane,
+// not five), and Sum() applies dx and the conic once.
 template <typename S>
 struct LaneGradient {
-  static constexpr int kTerms = kTileGradHead + 4;  // geometry, r, g, b, depth
+  // sum g_sigma, sum dy g_sigma, sum dy^2 g_sigma, sum g_alpha exp(-sigma),
+  // then the feature weights sum g_c w for r, g, b, depth.
+  static constexpr int kTerms = 8;
   S term[kTerms][kTileSize];
-  S used[kTileSize];
 
   void Clear() {
     for (int c = 0; c < kTerms; ++c)
       for (int i = 0; i < kTileSize; ++i) term[c][i] = S(0);
-    for (int i = 0; i < kTileSize; ++i) used[i] = S(0);
   }
-  // Sums the lanes into out[kTerms] (the lanes are overwritten); returns
-  // whether any pixel used the Gaussian.
-  bool Sum(S* out) {
-    for (int c = 0; c < kTerms; ++c) out[c] = SumLanes(term[c]);
-    return SumLanes(used) > S(0);
+  // Writes the Gaussian's kTileGradHead + 4 gradient values (geometry,
+  // opacity, r, g, b, depth) to out; dx0 is lane 0's x offset from the
+  // mean. The lanes are overwritten.
+  void Sum(const Footprint<S>& g, S dx0, S* out) {
+    S* s0 = term[0];
+    S* sy = term[1];
+    S mx[kTileSize], my[kTileSize], ca[kTileSize], cb[kTileSize];
+#pragma omp simd
+    for (int i = 0; i < kTileSize; ++i) {
+      const S dx = dx0 + static_cast<S>(i);
+      const S dx_s0 = dx * s0[i];
+      mx[i] = -(g.ca * dx_s0 + g.cb * sy[i]);
+      my[i] = -(g.cb * dx_s0 + g.cc * sy[i]);
+      ca[i] = S(0.5) * dx * dx_s0;
+      cb[i] = dx * sy[i];
+    }
+    out[0] = SumLanes(mx);
+    out[1] = SumLanes(my);
+    out[2] = SumLanes(ca);
+    out[3] = SumLanes(cb);
+    out[4] = S(0.5) * SumLanes(term[2]);
+    out[5] = SumLanes(term[3]) / g.opacity;
+    for (int c = 0; c < 4; ++c) out[kTileGradHead + c] = SumLanes(term[4 + c]);
   }
 };
 
-// Backward of CompositeRow, back to front, for n pixels of row y starting
-// at pixel x0: recovers T in front of the Gaussian (T / (1 - alpha)),
-// adds the Gaussian's gradients lane by lane into *lanes and updates the
-// per-pixel suffix (d loss / d everything behind). g0..g3 are the pixels'
-// gradients for r, g, b, depth and g_extra_dot their extra gradients
-// dotted with this Gaussian's extras; w receives the weights for the extra
-// channels.
-template <typename S>
+// inv[i] = 1 / (1 - alpha[i]) for the n = kN lanes of a row (alpha in
+// [0, 0.99]). A vector division of 16 floats is one of the slowest
+// instructions of the row; with AVX-512 / AVX2 the reciprocal estimate and
+// one Newton step give it to about 2 ulp, well inside the float
+// tolerance. Elsewhere (double, SSE2, or a variable width) a division.
+template <int kN, typename S>
+inline void OneMinusReciprocal(int n, const S* alpha, S* inv) {
+#if defined(__AVX2__)
+  if constexpr (std::is_same<S, float>::value && kN % 8 == 0 && kN > 0) {
+#if defined(__AVX512F__)
+    if constexpr (kN == 16) {
+      const __m512 x = _mm512_sub_ps(_mm512_set1_ps(1.0f),
+                                     _mm512_loadu_ps(alpha));
+      // maskz: GCC 12 warns on the plain form's undefined source.
+      const __m512 r = _mm512_maskz_rcp14_ps(0xFFFF, x);
+      // r (2 - x r)
+      _mm512_storeu_ps(
+          inv, _mm512_mul_ps(r, _mm512_fnmadd_ps(x, r, _mm512_set1_ps(2.0f))));
+      return;
+    }
+#endif
+    for (int i = 0; i < kN; i += 8) {
+      const __m256 x = _mm256_sub_ps(_mm256_set1_ps(1.0f),
+                                     _mm256_loadu_ps(alpha + i));
+      const __m256 r = _mm256_rcp_ps(x);
+      _mm256_storeu_ps(inv + i,
+                       _mm256_mul_ps(r, _mm256_fnmadd_ps(
+                                            x, r, _mm256_set1_ps(2.0f))));
+    }
+    return;
+  }
+#endif
+#pragma omp simd
+  for (int i = 0; i < n; ++i) inv[i] = S(1) / (S(1) - alpha[i]);
+}
+
+// Backward of CompositeRow, back to front, for the n = kN (0: row.n)
+// pixels of row y starting at pixel x0: recovers T in front of the
+// Gaussian (T / (1 - alpha)), adds the Gaussian's gradients lane by lane
+// into *lanes and updates the per-pixel suffix (d loss / d everything
+// behind). g0..g3 are the pixels' gradients for r, g, b, depth and
+// g_extra_dot their extra gradients dotted with this Gaussian's extras; w
+// receives the weights for the extra channels.
+template <int kN, typename S>
 inline void BackwardRow(int n, const S* raw, const Footprint<S>& g,
-                        const S* f, int rank, int x0, int y, const int* last,
-                        S* t, S* suffix, const S* g0, const S* g1,
-                        const S* g2, const S* g3, const S* g_extra_dot, S* w,
+                        const S* f, int rank, int y, const int* last,
+                        S* __restrict t, S* __restrict suffix,
+                        const S* g0, const S* g1, const S* g2, const S* g3,
+                        const S* g_extra_dot, S* __restrict w,
                         LaneGradient<S>* lanes) {
   const S max_alpha = static_cast<S>(kMaxAlpha);
   const S min_alpha = static_cast<S>(kMinAlpha);
   const S f0 = f[0], f1 = f[1], f2 = f[2], f3 = f[3];
-  const S inv_opacity = S(1) / g.opacity;
   const S dy = static_cast<S>(y) + S(0.5) - g.my;
-  const S dx0 = static_cast<S>(x0) + S(0.5) - g.mx;
-  S* mx = lanes->term[0];
-  S* my = lanes->term[1];
-  S* ca = lanes->term[2];
-  S* cb = lanes->term[3];
-  S* cc = lanes->term[4];
-  S* op = lanes->term[5];
-  S* a0 = lanes->term[6];
-  S* a1 = lanes->term[7];
-  S* a2 = lanes->term[8];
-  S* a3 = lanes->term[9];
-  S* used = lanes->used;
+  const S dy2 = dy * dy;
+  S alpha[kTileSize], inv[kTileSize];
 #pragma omp simd
   for (int i = 0; i < n; ++i) {
     const S r = raw[i];
     const bool live = (r >= min_alpha) & (rank < last[i]);
-    const S alpha = live ? (r < max_alpha ? r : max_alpha) : S(0);
-    const S inv_one_minus = S(1) / (S(1) - alpha);
-    const S t_front = t[i] * inv_one_minus;  // T in front of this Gaussian
-    const S wi = alpha * t_front;
+    alpha[i] = live ? (r < max_alpha ? r : max_alpha) : S(0);
+  }
+  OneMinusReciprocal<kN>(n, alpha, inv);
+  S* __restrict s0 = lanes->term[0];
+  S* __restrict sy = lanes->term[1];
+  S* __restrict syy = lanes->term[2];
+  S* __restrict op = lanes->term[3];
+  S* __restrict a0 = lanes->term[4];
+  S* __restrict a1 = lanes->term[5];
+  S* __restrict a2 = lanes->term[6];
+  S* __restrict a3 = lanes->term[7];
+#pragma omp simd
+  for (int i = 0; i < n; ++i) {
+    const S r = raw[i];
+    const bool live = (r >= min_alpha) & (rank < last[i]);
+    const S a = alpha[i];
+    const S inv_one_minus = inv[i];
+    const S si = suffix[i];
+    // T in front of this Gaussian (exactly T where it took no part: a
+    // reciprocal estimate of 1 may come out a rounding below 1).
+    const S t_front = live ? t[i] * inv_one_minus : t[i];
+    const S wi = a * t_front;
     w[i] = wi;
     // Selects, not products with wi = 0, so a non-finite gradient of a
     // pixel the Gaussian does not reach cannot leak into its sums.
@@ -486,20 +615,17 @@ inline void BackwardRow(int n, const S* raw, const Footprint<S>& g,
         g0[i] * f0 + g1[i] * f1 + g2[i] * f2 + g3[i] * f3 + g_extra_dot[i];
     // out = sum_i f_i a_i T_i + bg T_N: d out / d a_i = f_i T_i -
     // (everything behind i, background and 1 - alpha included) / (1 - a_i).
-    const S g_alpha = g_dot_f * t_front - suffix[i] * inv_one_minus;
-    suffix[i] += live ? g_dot_f * wi : S(0);
+    const S g_alpha = g_dot_f * t_front - si * inv_one_minus;
+    suffix[i] = si + (live ? g_dot_f * wi : S(0));
     t[i] = t_front;
-    // No gradient through the 0.99 clamp.
+    // No gradient through the 0.99 clamp. d alpha / d opacity =
+    // exp(-sigma) = r / opacity (the division in Sum).
     const bool unclamped = live & (r <= max_alpha);
-    const S g_sigma = unclamped ? -g_alpha * alpha : S(0);
-    op[i] += unclamped ? g_alpha * r * inv_opacity : S(0);
-    const S dx = dx0 + static_cast<S>(i);
-    ca[i] += S(0.5) * dx * dx * g_sigma;
-    cb[i] += dx * dy * g_sigma;
-    cc[i] += S(0.5) * dy * dy * g_sigma;
-    mx[i] -= (g.ca * dx + g.cb * dy) * g_sigma;
-    my[i] -= (g.cb * dx + g.cc * dy) * g_sigma;
-    used[i] += live ? S(1) : S(0);
+    const S g_sigma = unclamped ? -g_alpha * a : S(0);
+    op[i] += unclamped ? g_alpha * r : S(0);
+    s0[i] += g_sigma;
+    sy[i] += dy * g_sigma;
+    syy[i] += dy2 * g_sigma;
   }
 }
 
@@ -515,7 +641,8 @@ inline void BackwardRows(const TilePass<S>& p, const TileRect& r,
   for (int i = 0; i < kTileSize; ++i) g_extra_dot[i] = S(0);
   for (int y = s.y0; y < s.y1; ++y) {
     // No pixel of the row used this Gaussian: T and suffix stay as they are.
-    if (rank >= st->row_last[y - r.y0]) continue;
+    if (rank >= st->row_last[y - r.y0] || !RowReached(g, y, row.lo, row.hi))
+      continue;
     RowAlphas<kN>(g, y, row, raw);
     const int q = r.Offset(row.x0, y);
     const S* gf = st->g_feat + q;
@@ -526,9 +653,10 @@ inline void BackwardRows(const TilePass<S>& p, const TileRect& r,
       for (int i = 0; i < n; ++i)
         g_extra_dot[i] = (c == 4 ? S(0) : g_extra_dot[i]) + gc[i] * fc;
     }
-    BackwardRow(n, raw, g, f, rank, row.x0, y, st->last + q, st->t + q,
-                st->suffix + q, gf, gf + kTilePixels, gf + 2 * kTilePixels,
-                gf + 3 * kTilePixels, g_extra_dot, w, lanes);
+    BackwardRow<kN>(n, raw, g, f, rank, y, st->last + q, st->t + q,
+                    st->suffix + q, gf, gf + kTilePixels,
+                    gf + 2 * kTilePixels, gf + 3 * kTilePixels, g_extra_dot,
+                    w, lanes);
     for (int c = 4; c < nf; ++c) {
       const S* gc = gf + c * kTilePixels;
       S* lane = st->lane_extra + (c - 4) * kTileSize;
@@ -539,15 +667,15 @@ inline void BackwardRows(const TilePass<S>& p, const TileRect& r,
   }
 }
 
-// Walks one Gaussian (entry `rank` of the tile's list) back over its span
-// of the tile, summing its gradient into st->grad. Returns whether any
-// pixel used it.
+// Walks one Gaussian (entry `rank` of the tile's list, record rec) back
+// over its span of the tile, writing its gradient to st->grad (zeros where
+// no pixel used it: every lane term is then exactly zero).
 template <typename S, int kExtra>
-bool BackwardGaussian(const TilePass<S>& p, const TileRect& r, const Span& s,
-                      int k, int rank, BackwardTileState<S>* st) {
-  const int num_extra = NumExtra<kExtra>(p), nf = 4 + num_extra;
-  const Footprint<S> g(&p.geom[static_cast<size_t>(kTileGeomStride) * k]);
-  const S* f = &p.feature[static_cast<size_t>(nf) * k];
+void BackwardGaussian(const TilePass<S>& p, const TileRect& r, const Span& s,
+                      const S* rec, int rank, BackwardTileState<S>* st) {
+  const int num_extra = NumExtra<kExtra>(p);
+  const Footprint<S> g(rec + kTileRecordGeom);
+  const S* f = rec + kTileRecordFeature;
   const RowRange row = RowOf(r, s);
   LaneGradient<S> lanes;
   lanes.Clear();
@@ -558,14 +686,14 @@ bool BackwardGaussian(const TilePass<S>& p, const TileRect& r, const Span& s,
     return 0;
   });
   for (int c = 0; c < num_extra; ++c)
-    st->grad[LaneGradient<S>::kTerms + c] =
-        SumLanes(st->lane_extra + c * kTileSize);
-  return lanes.Sum(st->grad);
+    st->grad[kTileGradHead + 4 + c] = SumLanes(st->lane_extra + c * kTileSize);
+  lanes.Sum(g, static_cast<S>(row.x0) + S(0.5) - g.mx, st->grad);
 }
 
 template <typename S, int kExtra>
 void BackwardTile(const TilePass<S>& p, int tile, S* scratch) {
   const int begin = p.tile_offsets[tile], end = p.tile_offsets[tile + 1];
+  p.tile_last_entry[tile] = -1;
   if (begin == end) return;
   const TileRect r(tile, p.tiles_x, p.width, p.height);
   BackwardTileState<S> st;
@@ -584,18 +712,25 @@ void BackwardTile(const TilePass<S>& p, int tile, S* scratch) {
   const auto slot = [&](int e) {
     return p.entry_grad + static_cast<size_t>(stride) * p.entry_slot[e];
   };
-  // Entries behind every pixel's last one took no part.
-  for (int e = begin + max_last; e < end; ++e) {
-    S* out = slot(e);
-    for (int c = 0; c < stride; ++c) out[c] = S(0);
-  }
-  for (int e = begin + max_last - 1; e >= begin; --e) {
-    const int k = p.tile_entries[e];
-    const Span s = r.Clip(&p.box[4 * static_cast<size_t>(k)]);
+  // Entries behind every pixel's last one took no part (not written).
+  const int first = begin + max_last - 1;
+  if (max_last > 0) p.tile_last_entry[tile] = p.tile_entries[first];
+  for (int e = first; e > MaxInt(begin - 1, first - kPrefetchAhead); --e)
+    PrefetchRecord(p, e);
+  for (int e = first; e >= begin; --e) {
+    if (e - kPrefetchAhead >= begin) {
+      PrefetchRecord(p, e - kPrefetchAhead);
+      __builtin_prefetch(slot(e - kPrefetchAhead), 1);
+    }
+    const S* rec = Record(p, p.tile_entries[e]);
+    const Span s = r.Clip(rec + kTileRecordBox);
     S* out = slot(e);
     st.grad = out;
-    if (s.empty() || !BackwardGaussian<S, kExtra>(p, r, s, k, e - begin, &st))
+    if (s.empty()) {
       for (int c = 0; c < stride; ++c) out[c] = S(0);
+    } else {
+      BackwardGaussian<S, kExtra>(p, r, s, rec, e - begin, &st);
+    }
   }
 }
 
