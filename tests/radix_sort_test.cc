@@ -17,9 +17,9 @@ struct Item {
   int index;
 };
 
-std::vector<Item> Sorted(std::vector<Item> v) {
+std::vector<Item> Sorted(std::vector<Item> v, int threads = 1) {
   RadixSortScratch<Item> scratch;
-  RadixSortByKey(&v, &scratch);
+  RadixSortByKey(&v, &scratch, threads);
   return v;
 }
 
@@ -50,7 +50,12 @@ TEST(RadixSortTest, DepthsSortLikeStableSortWithTiesInIndexOrder) {
     if (i % 7 == 0) depth = 4.0;
     items.push_back({NonNegativeDoubleKey(depth), i});
   }
-  ExpectSame(Sorted(items), Expected(items));
+  const std::vector<Item> expected = Expected(items);
+  // Split into runs, ties across the runs' borders keep their order too.
+  for (int threads : {1, 2, 3}) {
+    SCOPED_TRACE(threads);
+    ExpectSame(Sorted(items, threads), expected);
+  }
 }
 
 TEST(RadixSortTest, FullKeysSharedDigitsAndTinyInputs) {
@@ -58,12 +63,15 @@ TEST(RadixSortTest, FullKeysSharedDigitsAndTinyInputs) {
   std::vector<Item> items;
   for (int i = 0; i < 5000; ++i) items.push_back({rng(), i});
   ExpectSame(Sorted(items), Expected(items));
+  ExpectSame(Sorted(items, 2), Expected(items));
   // Keys that differ only in their top digit, or only in the lowest.
   for (int i = 0; i < 5000; ++i)
     items[i].key = (i % 2 ? 1ull << 63 : 0) | (i % 5 == 0 ? 1 : 0);
   ExpectSame(Sorted(items), Expected(items));
+  ExpectSame(Sorted(items, 2), Expected(items));
   ExpectSame(Sorted({}), {});
   ExpectSame(Sorted({{3, 0}}), {{3, 0}});
+  ExpectSame(Sorted({{3, 0}, {1, 1}}, 4), {{1, 1}, {3, 0}});
   ExpectSame(Sorted({{3, 0}, {3, 1}, {2, 2}}), {{2, 2}, {3, 0}, {3, 1}});
 }
 

@@ -86,6 +86,7 @@ struct Rasterizer::State {
     BinItem bin;
   };
   std::vector<SortItem> sort_items;
+  std::vector<long long> run_counts;  // per thread: kept, tiles (prefix)
   RadixSortScratch<SortItem> sort_scratch;
   std::vector<int> order;                 // visible input indices, by depth
   std::vector<int> depth_rank;            // per input Gaussian: k, order[k] = n
@@ -171,24 +172,54 @@ void Rasterizer::State::Project() {
   }
   ScopedStage sort_timer(Stage::kBinSort);
   // Front to back; ties broken by index so the order is deterministic.
-  sort_items.clear();
+  // Each thread takes one contiguous run of the input: it counts its kept
+  // Gaussians and their tiles, then writes its sort items and slots after
+  // the runs in front of it (the same for any thread count).
+  const int threads = n > kMinParallelSplats ? omp_get_max_threads() : 1;
   slot_offsets.resize(n + 1);
-  int slots = 0;
-  for (int i = 0; i < n; ++i) {
-    slot_offsets[i] = slots;
-    if (!keep[i]) continue;
-    const ProjectedSplat& p = projected[i];
-    const BinItem bin = {p.tile_x0, p.tile_x1, p.tile_y0, p.tile_y1, slots};
-    sort_items.push_back({NonNegativeDoubleKey(p.depth), i, bin});
-    slots += (p.tile_x1 - p.tile_x0) * (p.tile_y1 - p.tile_y0);
+  run_counts.assign(2 * (threads + 1), 0);
+#pragma omp parallel num_threads(threads)
+  {
+    const int t = omp_get_thread_num(), nt = omp_get_num_threads();
+    const int i0 = static_cast<int>(static_cast<long long>(n) * t / nt);
+    const int i1 = static_cast<int>(static_cast<long long>(n) * (t + 1) / nt);
+    long long kept = 0, tiles = 0;
+    for (int i = i0; i < i1; ++i) {
+      if (!keep[i]) continue;
+      const ProjectedSplat& p = projected[i];
+      ++kept;
+      tiles += (p.tile_x1 - p.tile_x0) * (p.tile_y1 - p.tile_y0);
+    }
+    run_counts[2 * (t + 1)] = kept;
+    run_counts[2 * (t + 1) + 1] = tiles;
+#pragma omp barrier
+#pragma omp single
+    {
+      for (int r = 1; r <= nt; ++r) {
+        run_counts[2 * r] += run_counts[2 * (r - 1)];
+        run_counts[2 * r + 1] += run_counts[2 * (r - 1) + 1];
+      }
+      sort_items.resize(run_counts[2 * nt]);
+      slot_offsets[n] = static_cast<int>(run_counts[2 * nt + 1]);
+    }
+    size_t item = run_counts[2 * t];
+    int slots = static_cast<int>(run_counts[2 * t + 1]);
+    for (int i = i0; i < i1; ++i) {
+      slot_offsets[i] = slots;
+      if (!keep[i]) continue;
+      const ProjectedSplat& p = projected[i];
+      const BinItem bin = {p.tile_x0, p.tile_x1, p.tile_y0, p.tile_y1, slots};
+      sort_items[item++] = {NonNegativeDoubleKey(p.depth), i, bin};
+      slots += (p.tile_x1 - p.tile_x0) * (p.tile_y1 - p.tile_y0);
+    }
   }
-  slot_offsets[n] = slots;
   // Stable, and the items are in index order: ties stay in index order.
-  RadixSortByKey(&sort_items, &sort_scratch);
-  const size_t count = sort_items.size();
+  RadixSortByKey(&sort_items, &sort_scratch, threads);
+  const int count = static_cast<int>(sort_items.size());
   order.resize(count);
   bin_items.resize(count);
-  for (size_t k = 0; k < count; ++k) {
+#pragma omp parallel for schedule(static) num_threads(threads)
+  for (int k = 0; k < count; ++k) {
     order[k] = sort_items[k].index;
     bin_items[k] = sort_items[k].bin;
   }
