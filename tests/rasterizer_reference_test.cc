@@ -121,6 +121,14 @@ struct Weights {
   std::vector<double> rgb, alpha, depth, extra;
 };
 
+// The rasterizer's gradients of the last Forward for loss weights w.
+SplatGradients BackwardWith(Rasterizer* r, const Weights& w) {
+  SplatGradients g;
+  r->Backward({w.rgb.data(), w.alpha.data(), w.depth.data(), w.extra.data()},
+              &g);
+  return g;
+}
+
 Weights RandomWeights(const TestScene& s, unsigned seed) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> uni(-1, 1);
@@ -184,6 +192,19 @@ void ExpectGradientsClose(const std::vector<double>& fast,
   }
 }
 
+// Every parameter type's gradient within rel_tol of the reference's.
+void ExpectAllGradientsClose(const SplatGradients& fast,
+                             const SplatGradients& ref, double rel_tol) {
+  ExpectGradientsClose(fast.means, ref.means, rel_tol, "means");
+  ExpectGradientsClose(fast.log_scales, ref.log_scales, rel_tol,
+                       "log_scales");
+  ExpectGradientsClose(fast.quats, ref.quats, rel_tol, "quats");
+  ExpectGradientsClose(fast.opacity_logits, ref.opacity_logits, rel_tol,
+                       "opacity_logits");
+  ExpectGradientsClose(fast.sh, ref.sh, rel_tol, "sh");
+  ExpectGradientsClose(fast.extra, ref.extra, rel_tol, "extra");
+}
+
 class ReferenceBackwardTest : public ::testing::TestWithParam<int> {};
 
 TEST_P(ReferenceBackwardTest, MatchesReferenceJetGradients) {
@@ -198,19 +219,10 @@ TEST_P(ReferenceBackwardTest, MatchesReferenceJetGradients) {
     Rasterizer r;
     RenderResult out;
     r.Forward(s.camera, s.View(), Options(use_double), &out);
-    SplatGradients g;
-    r.Backward({w.rgb.data(), w.alpha.data(), w.depth.data(),
-                w.extra.data()},
-               &g);
+    const SplatGradients g = BackwardWith(&r, w);
     // Float: per-pixel float rounding, and T recovered by division.
     const double tol = use_double ? 1e-9 : 2e-3;
-    ExpectGradientsClose(g.means, ref.means, tol, "means");
-    ExpectGradientsClose(g.log_scales, ref.log_scales, tol, "log_scales");
-    ExpectGradientsClose(g.quats, ref.quats, tol, "quats");
-    ExpectGradientsClose(g.opacity_logits, ref.opacity_logits, tol,
-                         "opacity_logits");
-    ExpectGradientsClose(g.sh, ref.sh, tol, "sh");
-    ExpectGradientsClose(g.extra, ref.extra, tol, "extra");
+    ExpectAllGradientsClose(g, ref, tol);
   }
 }
 
@@ -318,19 +330,9 @@ TEST(RowSkipTest, NeedlesAndTileCornersMatchReference) {
       EXPECT_EQ(CountMismatches(out.rgb, ref.rgb, tol, &max_diff), 0);
       EXPECT_EQ(CountMismatches(out.alpha, ref.alpha, tol, &max_diff), 0);
       EXPECT_EQ(CountMismatches(out.extra, ref.extra, tol, &max_diff), 0);
-      SplatGradients g;
-      r.Backward({w.rgb.data(), w.alpha.data(), w.depth.data(),
-                  w.extra.data()},
-                 &g);
+      const SplatGradients g = BackwardWith(&r, w);
       const double gtol = use_double ? 1e-9 : 2e-3;
-      ExpectGradientsClose(g.means, ref_grads.means, gtol, "means");
-      ExpectGradientsClose(g.log_scales, ref_grads.log_scales, gtol,
-                           "log_scales");
-      ExpectGradientsClose(g.quats, ref_grads.quats, gtol, "quats");
-      ExpectGradientsClose(g.opacity_logits, ref_grads.opacity_logits, gtol,
-                           "opacity_logits");
-      ExpectGradientsClose(g.sh, ref_grads.sh, gtol, "sh");
-      ExpectGradientsClose(g.extra, ref_grads.extra, gtol, "extra");
+      ExpectAllGradientsClose(g, ref_grads, gtol);
     }
   }
 }
