@@ -94,6 +94,7 @@ if ! skipped iterations; then
         --iterations "$joint_its" --no_flow_init --checkpoint_interval 0 \
         --eval_interval 0 --log_interval 0 --profile "${extra[@]}" \
         --motion_energy_weight 0 --detail_energy_weight 0 \
+        --densify_water_interval 0 \
         > "$work/es_train_$mode.log" 2>&1 || { tail -5 "$work/es_train_$mode.log"; exit 1; }
     echo "  es_train $mode: $(profile_ms "$work/es_train_$mode.log") ms/iteration (load $l)"
   done
