@@ -158,6 +158,25 @@ TEST(ResidualFieldTest, DependsOnCycleIndexAndNumber) {
   EXPECT_GT(dp, 1e-6);
 }
 
+TEST(ResidualFieldTest, WithoutCycleFrequenciesIsPeriodic) {
+  // es_train --residual_cycle_frequencies 0: D ignores the cycle number.
+  ResidualFieldOptions options;
+  options.triplane = SmallPlanes(PlaneCombination::kSum);
+  options.mlp_width = 16;
+  options.last_layer_init_scale = 1.0;
+  options.p_frequencies = 0;
+  ResidualField field(options);
+  EXPECT_EQ(field.mlp().input_dim(), 4 + 8);
+  const double x0[6] = {0.1, 0.2, 0.3, 0.1, 0.2, 0.3};
+  const int t[2] = {2, 2};
+  const int p[2] = {0, 3};
+  std::vector<double> out(2 * kResidualDim);
+  FieldWorkspace ws;
+  field.Evaluate(field.params(), 2, x0, t, p, out.data(), &ws);
+  for (int k = 0; k < kResidualDim; ++k)
+    EXPECT_EQ(out[k], out[kResidualDim + k]);
+}
+
 TEST(ResidualFieldTest, DefaultFieldStartsNearZero) {
   ResidualField field{ResidualFieldOptions()};
   EXPECT_EQ(field.mlp().input_dim(), 16 + 8 + 8);
