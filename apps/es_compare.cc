@@ -17,7 +17,7 @@
 
 #include "apps/common/app_main.h"
 #include "apps/common/flag_checks.h"
-#include "apps/common/realism_report.h"
+#include "apps/common/eval_report.h"
 #include "apps/common/scaled_scene.h"
 #include "core/io/input_error.h"
 #include "core/io/json_file.h"
@@ -127,22 +127,13 @@ int Run() {
   const nlohmann::ordered_json json = {
       {"scene", FLAGS_scene},
       {"other", FLAGS_other},
-      {"held_out",
-       {{"frames", metrics.frames},
-        {"psnr", metrics.psnr},
-        {"ssim", metrics.ssim},
-        {"psnr_water", metrics.psnr_water},
-        {"ssim_water", metrics.ssim_water}}},
+      {"held_out", es::HeldOutJson(metrics)},
       {"realism", es::RealismJson(realism)}};
   const std::string path = FLAGS_out + "/compare.json";
   es::WriteJsonFile(path, json);
   std::printf("%s against %s (%zu frames)\n", FLAGS_other.c_str(),
               FLAGS_scene.c_str(), scene.frames.size());
-  std::printf("  held-out (%d frames)   PSNR %6.2f dB   SSIM %.4f\n",
-              metrics.frames, metrics.psnr, metrics.ssim);
-  std::printf("  water region          PSNR %6.2f dB   SSIM %.4f%s\n",
-              metrics.psnr_water, metrics.ssim_water,
-              scene.has_masks ? "" : "   (no masks)");
+  es::PrintHeldOutRows(metrics, scene.has_masks);
   std::printf("  realism (ratios: 1 = like the scene; distance: 0 = same "
               "statistics)\n");
   es::PrintRealismRow("  water", realism.water);

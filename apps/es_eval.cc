@@ -18,7 +18,7 @@
 
 #include "apps/common/app_main.h"
 #include "apps/common/flag_checks.h"
-#include "apps/common/realism_report.h"
+#include "apps/common/eval_report.h"
 #include "apps/common/scaled_scene.h"
 #include "core/io/input_error.h"
 #include "core/io/json_file.h"
@@ -182,12 +182,7 @@ nlohmann::ordered_json EvalJson(const es::LoopModel& model,
       {"gaussians", model.gaussians.size()},
       {"dynamic_gaussians", model.num_dynamic()},
       {"cycle_length", model.cycle_length},
-      {"held_out",
-       {{"frames", e.held_out.frames},
-        {"psnr", e.held_out.psnr},
-        {"ssim", e.held_out.ssim},
-        {"psnr_water", e.held_out.psnr_water},
-        {"ssim_water", e.held_out.ssim_water}}},
+      {"held_out", es::HeldOutJson(e.held_out)},
       {"motion_gt", nullptr},
       {"realism", es::RealismJson(e.realism)},
       {"loop_seam",
@@ -227,11 +222,7 @@ void PrintSummary(const es::LoopModel& model, const es::Scene& scene,
   std::printf("%s: %d Gaussians (%d dynamic), L = %d\n",
               FLAGS_model.c_str(), model.gaussians.size(),
               model.num_dynamic(), model.cycle_length);
-  std::printf("  held-out (%d frames)   PSNR %6.2f dB   SSIM %.4f\n",
-              e.held_out.frames, e.held_out.psnr, e.held_out.ssim);
-  std::printf("  water region          PSNR %6.2f dB   SSIM %.4f%s\n",
-              e.held_out.psnr_water, e.held_out.ssim_water,
-              scene.has_masks ? "" : "   (no masks)");
+  es::PrintHeldOutRows(e.held_out, scene.has_masks);
   if (e.has_motion_gt) {
     std::printf("  motion vs truth       EPE %.4g (%.1f%% of mean speed "
                 "%.4g, speed ratio %.2f) at %d points\n",

@@ -1,8 +1,23 @@
-#include "apps/common/realism_report.h"
+#include "apps/common/eval_report.h"
 
 #include <cstdio>
 
 namespace es {
+
+nlohmann::ordered_json HeldOutJson(const LoopMetrics& m) {
+  return {{"frames", m.frames},
+          {"psnr", m.psnr},
+          {"ssim", m.ssim},
+          {"psnr_water", m.psnr_water},
+          {"ssim_water", m.ssim_water}};
+}
+
+void PrintHeldOutRows(const LoopMetrics& m, bool has_masks) {
+  std::printf("  held-out (%d frames)   PSNR %6.2f dB   SSIM %.4f\n",
+              m.frames, m.psnr, m.ssim);
+  std::printf("  water region          PSNR %6.2f dB   SSIM %.4f%s\n",
+              m.psnr_water, m.ssim_water, has_masks ? "" : "   (no masks)");
+}
 
 nlohmann::ordered_json RealismRegionJson(const RealismRegion& r) {
   return {{"pixels", r.pixels},
