@@ -20,6 +20,7 @@
 #include "apps/common/raster_bench_scene.h"
 #include "core/render/cuda/device_buffer.h"
 #include "core/render/cuda/device_rasterizer.h"
+#include "core/render/cuda/device_splats.h"
 
 namespace es {
 namespace cuda {
@@ -32,24 +33,9 @@ std::vector<float> AsFloat(const std::vector<double>& v) {
 void Run(benchmark::State& state, bool backward) {
   const int width = state.range(0), height = state.range(1);
   const BenchScene scene = MakeScene(width, height, state.range(2));
-  const GaussianSet& g = scene.gaussians;
-  DeviceBuffer<double> means, log_scales, quats, logits, sh, extra;
-  means.Upload(g.means);
-  log_scales.Upload(g.log_scales);
-  quats.Upload(g.quats);
-  logits.Upload(g.opacity_logits);
-  sh.Upload(g.sh);
-  extra.Upload(scene.extra);
-  DeviceSplatView view;
-  view.count = g.size();
-  view.sh_degree = g.sh_degree;
-  view.means = means.data();
-  view.log_scales = log_scales.data();
-  view.quats = quats.data();
-  view.opacity_logits = logits.data();
-  view.sh = sh.data();
-  view.num_extra = 1;
-  view.extra = extra.data();
+  DeviceSplats splats;
+  splats.Upload(scene.View());
+  const DeviceSplatView view = splats.View();
 
   const BenchImageGrads grads(width * height);
   DeviceBuffer<float> d_rgb, d_alpha, d_depth, d_extra;
@@ -57,29 +43,23 @@ void Run(benchmark::State& state, bool backward) {
   d_alpha.Upload(AsFloat(grads.alpha));
   d_depth.Upload(AsFloat(grads.depth));
   d_extra.Upload(AsFloat(grads.extra));
-  DeviceBuffer<double> g_means(g.means.size()), g_scales(g.log_scales.size()),
-      g_quats(g.quats.size()), g_logits(g.opacity_logits.size()),
-      g_sh(g.sh.size()), g_extra(scene.extra.size());
+  DeviceGradientArrays splat_grads;
+  splat_grads.Resize(view.count, view.sh_degree, view.num_extra);
   const DeviceImageGradients image_grads = {d_rgb.data(), d_alpha.data(),
                                             d_depth.data(), d_extra.data()};
-  const DeviceSplatGradients splat_grads = {
-      g_means.data(), g_scales.data(), g_quats.data(),
-      g_logits.data(), g_sh.data(),    g_extra.data()};
 
   DeviceRasterizer rasterizer;
   const Eigen::Vector3d background(0, 0, 0);
   // One untimed pass: buffers are allocated once, as in training.
   rasterizer.ForwardDevice(scene.camera, view, background);
-  if (backward) rasterizer.BackwardDevice(image_grads, splat_grads);
+  if (backward) rasterizer.BackwardDevice(image_grads, splat_grads.View());
   float sink = 0;
   for (auto _ : state) {
     const DeviceImages& images =
         rasterizer.ForwardDevice(scene.camera, view, background);
-    if (backward) rasterizer.BackwardDevice(image_grads, splat_grads);
+    if (backward) rasterizer.BackwardDevice(image_grads, splat_grads.View());
     // Waits for the device: the iteration's work is done.
-    CopyToHost(&sink, backward ? static_cast<const void*>(g_means.data())
-                               : images.rgb,
-               sizeof(sink));
+    CopyToHost(&sink, images.rgb, sizeof(sink));
   }
   benchmark::DoNotOptimize(sink);
   state.counters["visible"] = rasterizer.num_visible();

@@ -12,6 +12,7 @@
 #include <limits>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -19,6 +20,7 @@
 #include "apps/common/raster_bench_scene.h"
 #include "core/render/cuda/device_buffer.h"
 #include "core/render/cuda/device_rasterizer.h"
+#include "core/render/cuda/device_splats.h"
 #include "core/render/cuda/raster_kernels.h"
 #include "core/render/project_kernels.h"
 #include "core/render/raster_project.h"
@@ -99,15 +101,17 @@ void ExpectImagesClose(const RenderResult& got, const RenderResult& want) {
 void ExpectGradientsClose(const SplatGradients& got,
                           const SplatGradients& want, double tol,
                           double max_fraction) {
-  const double cap = 0.05;
-  ExpectClose(got.means, want.means, tol, max_fraction, cap, "means");
-  ExpectClose(got.log_scales, want.log_scales, tol, max_fraction, cap,
-              "log_scales");
-  ExpectClose(got.quats, want.quats, tol, max_fraction, cap, "quats");
-  ExpectClose(got.opacity_logits, want.opacity_logits, tol, max_fraction,
-              cap, "opacity_logits");
-  ExpectClose(got.sh, want.sh, tol, max_fraction, cap, "sh");
-  ExpectClose(got.extra, want.extra, tol, max_fraction, cap, "extra");
+  using Array = std::vector<double> SplatGradients::*;
+  const std::pair<const char*, Array> kArrays[] = {
+      {"means", &SplatGradients::means},
+      {"log_scales", &SplatGradients::log_scales},
+      {"quats", &SplatGradients::quats},
+      {"opacity_logits", &SplatGradients::opacity_logits},
+      {"sh", &SplatGradients::sh},
+      {"extra", &SplatGradients::extra}};
+  for (const auto& [name, array] : kArrays) {
+    ExpectClose(got.*array, want.*array, tol, max_fraction, 0.05, name);
+  }
 }
 
 // Random image gradients of a loss.
@@ -175,23 +179,13 @@ void ExpectFramesMatch(const Frames& f, double fraction = 0.002) {
 
 // A scene's splat arrays on the device, and the projection's view of them.
 struct DeviceScene {
-  DeviceBuffer<double> means, log_scales, quats, opacity_logits, sh, extra;
+  DeviceSplats splats;
   ProjectionInput in;
   explicit DeviceScene(const TestScene& s) {
-    means.Upload(s.means);
-    log_scales.Upload(s.log_scales);
-    quats.Upload(s.quats);
-    opacity_logits.Upload(s.opacity_logits);
-    sh.Upload(s.sh);
-    extra.Upload(s.extra);
-    SplatView v = s.View();
-    v.means = means.data();
-    v.log_scales = log_scales.data();
-    v.quats = quats.data();
-    v.opacity_logits = opacity_logits.data();
-    v.sh = sh.data();
-    in = MakeProjectionInput(ProjectionCamera(s.camera), v);
+    splats.Upload(s.View());
+    in = DeviceProjectionInput(s.camera, splats.View());
   }
+  const double* extra() const { return splats.View().extra; }
 };
 
 // The CPU float projection of every Gaussian of s.
@@ -251,7 +245,7 @@ TEST(CudaProjectTest, ForwardMatchesCpuKernels) {
     DeviceBuffer<ProjectedGaussian> projected(s.count);
     DeviceBuffer<float> features(static_cast<size_t>(nf) * s.count);
     DeviceBuffer<int> tiles(s.count), visible(1);
-    ProjectForward(d.in, s.count, s.num_extra, d.extra.data(),
+    ProjectForward(d.in, s.count, s.num_extra, d.extra(),
                    projected.data(), features.data(), tiles.data(),
                    visible.data());
     const std::vector<ProjectedGaussian> got = projected.Download();
@@ -365,34 +359,31 @@ TEST(CudaProjectTest, BackwardMatchesCpuKernels) {
     DeviceBuffer<float> features(static_cast<size_t>(4 + s.num_extra) *
                                  s.count);
     DeviceBuffer<int> tiles(s.count), visible(1);
-    ProjectForward(d.in, s.count, s.num_extra, d.extra.data(),
+    ProjectForward(d.in, s.count, s.num_extra, d.extra(),
                    dev_projected.data(), features.data(), tiles.data(),
                    visible.data());
     DeviceBuffer<double> dev_grad2d;
     dev_grad2d.Upload(grad2d);
+    DeviceGradientArrays arrays;
+    arrays.Resize(s.count, s.sh_degree, s.num_extra);
+    const DeviceSplatGradients g = arrays.View();
     // Garbage first: every value must be written.
-    const auto filled = [](size_t n) {
-      DeviceBuffer<double> b;
-      b.Upload(std::vector<double>(n, 12345.0));
-      return b;
-    };
-    DeviceBuffer<double> g_means = filled(got.means.size()),
-                         g_scales = filled(got.log_scales.size()),
-                         g_quats = filled(got.quats.size()),
-                         g_logits = filled(got.opacity_logits.size()),
-                         g_sh = filled(got.sh.size()),
-                         g_extra = filled(got.extra.size());
+    const std::pair<double*, size_t> outputs[] = {
+        {g.means, got.means.size()},
+        {g.log_scales, got.log_scales.size()},
+        {g.quats, got.quats.size()},
+        {g.opacity_logits, got.opacity_logits.size()},
+        {g.sh, got.sh.size()},
+        {g.extra, got.extra.size()}};
+    for (const auto& [array, size] : outputs) {
+      const std::vector<double> garbage(size, 12345.0);
+      CopyToDevice(array, garbage.data(), size * sizeof(double));
+    }
     ProjectBackward(d.in, s.count, s.num_extra, tiles.data(),
                     dev_grad2d.data(),
-                    {g_means.data(), g_scales.data(), g_quats.data(),
-                     g_logits.data(), g_sh.data()},
-                    g_extra.data());
-    got.means = g_means.Download();
-    got.log_scales = g_scales.Download();
-    got.quats = g_quats.Download();
-    got.opacity_logits = g_logits.Download();
-    got.sh = g_sh.Download();
-    got.extra = g_extra.Download();
+                    {g.means, g.log_scales, g.quats, g.opacity_logits, g.sh},
+                    g.extra);
+    arrays.Download(&got);
     for (int n = 0; n < s.count; ++n) {
       if (keep[n]) continue;  // the CPU kernel leaves culled rows alone
       for (int k = 0; k < 3; ++k) want.means[3 * n + k] = 0;
@@ -540,16 +531,7 @@ TEST(CudaFrameTest, DeviceInterfaceMatchesHostInterface) {
   host.Backward(w.View(), &host_grads);
 
   const DeviceScene d(s);
-  DeviceSplatView view;
-  view.count = s.count;
-  view.sh_degree = s.sh_degree;
-  view.means = d.means.data();
-  view.log_scales = d.log_scales.data();
-  view.quats = d.quats.data();
-  view.opacity_logits = d.opacity_logits.data();
-  view.sh = d.sh.data();
-  view.num_extra = 1;
-  view.extra = d.extra.data();
+  const DeviceSplatView view = d.splats.View();
   DeviceRasterizer device;
   const DeviceImages& images = device.ForwardDevice(s.camera, view,
                                                     kBackground);
@@ -567,22 +549,14 @@ TEST(CudaFrameTest, DeviceInterfaceMatchesHostInterface) {
                             d_alpha = as_float(w.alpha),
                             d_depth = as_float(w.depth),
                             d_extra = as_float(w.extra);
-  DeviceBuffer<double> means(host_grads.means.size()),
-      scales(host_grads.log_scales.size()), quats(host_grads.quats.size()),
-      logits(host_grads.opacity_logits.size()), sh(host_grads.sh.size()),
-      extra(host_grads.extra.size());
+  DeviceGradientArrays arrays;
+  arrays.Resize(s.count, s.sh_degree, s.num_extra);
   device.BackwardDevice({d_rgb.data(), d_alpha.data(), d_depth.data(),
                          d_extra.data()},
-                        {means.data(), scales.data(), quats.data(),
-                         logits.data(), sh.data(), extra.data()});
+                        arrays.View());
   // Atomic sums may add in another order: float rounding apart.
   SplatGradients got;
-  got.means = means.Download();
-  got.log_scales = scales.Download();
-  got.quats = quats.Download();
-  got.opacity_logits = logits.Download();
-  got.sh = sh.Download();
-  got.extra = extra.Download();
+  arrays.Download(&got);
   ExpectGradientsClose(got, host_grads, 1e-5, 0.0);
 }
 

@@ -5,7 +5,6 @@
 #include "core/model/gaussians.h"
 #include "core/render/cuda/device_buffer.h"
 #include "core/render/cuda/raster_kernels.h"
-#include "core/render/raster_project.h"
 
 namespace es {
 namespace cuda {
@@ -53,11 +52,9 @@ struct DeviceRasterizer::State {
   DeviceBuffer<double> grad2d;
 
   // Copies of host inputs and outputs (the host interface).
-  DeviceBuffer<double> means, log_scales, quats, opacity_logits, sh,
-      extra_in;
+  DeviceSplats host_splats;
   DeviceBuffer<float> d_rgb, d_alpha, d_depth, d_extra;
-  DeviceBuffer<double> g_means, g_log_scales, g_quats, g_opacity_logits,
-      g_sh, g_extra;
+  DeviceGradientArrays host_grads;
 
   TileArgs MakeTileArgs() {
     TileArgs a;
@@ -94,15 +91,7 @@ const DeviceImages& DeviceRasterizer::ForwardDevice(
   s.has_forward = false;
   s.has_backward = false;
   s.splats = splats;
-  SplatView view;
-  view.count = splats.count;
-  view.sh_degree = splats.sh_degree;
-  view.means = splats.means;
-  view.log_scales = splats.log_scales;
-  view.quats = splats.quats;
-  view.opacity_logits = splats.opacity_logits;
-  view.sh = splats.sh;
-  s.input = MakeProjectionInput(ProjectionCamera(camera), view);
+  s.input = DeviceProjectionInput(camera, splats);
 
   const int n = splats.count;
   const int nf = 4 + splats.num_extra;
@@ -129,7 +118,8 @@ const DeviceImages& DeviceRasterizer::ForwardDevice(
   s.t_final.Resize(pixels);
   s.last.Resize(pixels);
   TileArgs a = s.MakeTileArgs();
-  for (int c = 0; c < 3; ++c) a.background[c] = static_cast<float>(background[c]);
+  for (int c = 0; c < 3; ++c)
+    a.background[c] = static_cast<float>(background[c]);
   a.rgb = s.rgb.data();
   a.alpha = s.alpha.data();
   a.depth = s.depth.data();
@@ -174,24 +164,8 @@ void DeviceRasterizer::Forward(const Camera& camera, const SplatView& splats,
                                RenderResult* result) {
   CHECK(splats.sh_degree >= 0 && splats.sh_degree <= kMaxShDegree);
   State& s = *state_;
-  const size_t n = splats.count;
-  s.means.Upload(splats.means, 3 * n);
-  s.log_scales.Upload(splats.log_scales, 3 * n);
-  s.quats.Upload(splats.quats, 4 * n);
-  s.opacity_logits.Upload(splats.opacity_logits, n);
-  s.sh.Upload(splats.sh, 3 * NumShCoeffs(splats.sh_degree) * n);
-  s.extra_in.Upload(splats.extra, splats.num_extra * n);
-  DeviceSplatView view;
-  view.count = splats.count;
-  view.sh_degree = splats.sh_degree;
-  view.means = s.means.data();
-  view.log_scales = s.log_scales.data();
-  view.quats = s.quats.data();
-  view.opacity_logits = s.opacity_logits.data();
-  view.sh = s.sh.data();
-  view.num_extra = splats.num_extra;
-  view.extra = s.extra_in.data();
-  ForwardDevice(camera, view, options.background);
+  s.host_splats.Upload(splats);
+  ForwardDevice(camera, s.host_splats.View(), options.background);
   result->width = camera.width;
   result->height = camera.height;
   DownloadAsDouble(s.rgb, &result->rgb);
@@ -212,23 +186,9 @@ void DeviceRasterizer::Backward(const RenderGradients& image_grads,
   ig.d_depth = UploadAsFloat(image_grads.d_depth, pixels, &s.d_depth);
   ig.d_extra =
       UploadAsFloat(image_grads.d_extra, num_extra * pixels, &s.d_extra);
-  const size_t n = s.splats.count;
-  const size_t sh_size = 3 * NumShCoeffs(s.splats.sh_degree) * n;
-  s.g_means.Resize(3 * n);
-  s.g_log_scales.Resize(3 * n);
-  s.g_quats.Resize(4 * n);
-  s.g_opacity_logits.Resize(n);
-  s.g_sh.Resize(sh_size);
-  s.g_extra.Resize(num_extra * n);
-  BackwardDevice(ig, {s.g_means.data(), s.g_log_scales.data(),
-                      s.g_quats.data(), s.g_opacity_logits.data(),
-                      s.g_sh.data(), s.g_extra.data()});
-  grads->means = s.g_means.Download();
-  grads->log_scales = s.g_log_scales.Download();
-  grads->quats = s.g_quats.Download();
-  grads->opacity_logits = s.g_opacity_logits.Download();
-  grads->sh = s.g_sh.Download();
-  grads->extra = s.g_extra.Download();
+  s.host_grads.Resize(s.splats.count, s.splats.sh_degree, num_extra);
+  BackwardDevice(ig, s.host_grads.View());
+  s.host_grads.Download(grads);
 }
 
 int DeviceRasterizer::num_visible() const { return state_->num_visible; }

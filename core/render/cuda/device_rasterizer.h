@@ -15,23 +15,11 @@
 
 #include "core/model/camera.h"
 #include "core/render/cuda/cuda_error.h"
+#include "core/render/cuda/device_splats.h"
 #include "core/render/rasterizer.h"
 
 namespace es {
 namespace cuda {
-
-// Device arrays of the splat attributes, in SplatView's layouts (double).
-struct DeviceSplatView {
-  int count = 0;
-  int sh_degree = 0;
-  const double* means = nullptr;           // 3N
-  const double* log_scales = nullptr;      // 3N
-  const double* quats = nullptr;           // 4N, w x y z
-  const double* opacity_logits = nullptr;  // N
-  const double* sh = nullptr;              // 3KN, [n][k][rgb]
-  int num_extra = 0;                       // at most kMaxDeviceExtra (4)
-  const double* extra = nullptr;           // N * num_extra, [n][e]
-};
 
 // The images of the last forward, in device memory owned by the
 // rasterizer: RenderResult's layouts and meanings, in float.
@@ -49,17 +37,6 @@ struct DeviceImageGradients {
   const float* d_alpha = nullptr;
   const float* d_depth = nullptr;
   const float* d_extra = nullptr;
-};
-
-// Device arrays the backward writes (SplatGradients' layouts and sizes,
-// double); every value is written.
-struct DeviceSplatGradients {
-  double* means = nullptr;
-  double* log_scales = nullptr;
-  double* quats = nullptr;
-  double* opacity_logits = nullptr;
-  double* sh = nullptr;
-  double* extra = nullptr;  // may be nullptr when num_extra is 0
 };
 
 // Like Rasterizer, Backward must follow Forward on the same object, with
