@@ -26,7 +26,9 @@ DEPS=(libeigen3-dev libgoogle-glog-dev libgoogle-glog0v6 libgflags-dev
       libbenchmark1debian)
 
 case "${1:-}" in
-  -h|--help) awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "$0"; exit 0 ;;
+  -h|--help)
+    awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "$0"
+    exit 0 ;;
   --bundle)
     mkdir -p .cuda_deps
     (cd .cuda_deps && apt-get download "${DEPS[@]}") || exit 1
@@ -50,7 +52,8 @@ trap finish EXIT
 
 note "== cuda_check at $(git rev-parse --short HEAD 2>/dev/null || echo '?')"
 if command -v nvidia-smi > /dev/null; then
-  note "GPU: $(nvidia-smi --query-gpu=name,compute_cap,driver_version,memory.total --format=csv,noheader 2>&1)"
+  note "GPU: $(nvidia-smi --format=csv,noheader \
+    --query-gpu=name,compute_cap,driver_version,memory.total 2>&1)"
 else
   note "GPU: nvidia-smi not found"
 fi
@@ -69,21 +72,25 @@ for p in "${DEPS[@]}"; do
 done
 if ((${#missing[@]})); then
   if compgen -G ".cuda_deps/*.deb" > /dev/null; then
-    note "deps: unpacking .cuda_deps/ into /tmp/es_deps (missing: ${missing[*]})"
+    note "deps: unpacking .cuda_deps/ into /tmp/es_deps" \
+         "(missing: ${missing[*]})"
     rm -rf /tmp/es_deps; mkdir -p /tmp/es_deps
     for f in .cuda_deps/*.deb; do
       if command -v dpkg > /dev/null; then
         dpkg -x "$f" /tmp/es_deps
       else  # a .deb is an ar archive around data.tar.*
         ar p "$f" "$(ar t "$f" | grep '^data\.tar')" > /tmp/es_deps/data.tar
-        tar -xf /tmp/es_deps/data.tar -C /tmp/es_deps && rm /tmp/es_deps/data.tar
+        tar -xf /tmp/es_deps/data.tar -C /tmp/es_deps
+        rm /tmp/es_deps/data.tar
       fi
     done
     cmake_args+=(-DCMAKE_PREFIX_PATH=/tmp/es_deps/usr
                  -DCMAKE_MODULE_PATH=/tmp/es_deps/usr/share/glog/cmake)
-    export LD_LIBRARY_PATH="/tmp/es_deps/usr/lib/x86_64-linux-gnu${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
+    lib=/tmp/es_deps/usr/lib/x86_64-linux-gnu
+    export LD_LIBRARY_PATH="$lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
   else
-    note "deps: missing ${missing[*]} and no .cuda_deps/ (run --bundle where the mirror is reachable and carry .cuda_deps); trying the system anyway"
+    note "deps: missing ${missing[*]} and no .cuda_deps/ (run --bundle" \
+         "where the mirror is reachable, carry .cuda_deps); trying anyway"
   fi
 else
   note "deps: from the system"
@@ -108,7 +115,8 @@ note "built in $((SECONDS - start)) s"
 
 # Tests.
 note "== tests"
-(cd "$build" && ctest --output-on-failure --timeout 300 -j4) \
+# ES_CUDA_SYNC=1: a fault inside a kernel names that kernel.
+(cd "$build" && ES_CUDA_SYNC=1 ctest --output-on-failure --timeout 300 -j4) \
   > "$logs/tests.txt" 2>&1
 tests_status=$?
 grep -E "tests passed|tests failed|Total Test time" "$logs/tests.txt" |
@@ -160,5 +168,6 @@ timeout 200 "$build/bin/bench_cuda_rasterizer" \
 note "bench exit status $?"
 tee -a "$summary" < "$logs/bench.txt"
 
-note "== done in $((SECONDS - start)) s; tests $([[ $tests_status == 0 ]] && echo passed || echo FAILED)"
+verdict=$([[ $tests_status == 0 ]] && echo passed || echo FAILED)
+note "== done in $((SECONDS - start)) s; tests $verdict"
 exit "$tests_status"

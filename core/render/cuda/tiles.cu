@@ -235,7 +235,8 @@ __global__ void __launch_bounds__(kBatch)
       for (int c = 0; c < kGradValues; ++c) {
         if (c >= stride) continue;
         const float sum = WarpSum(grad[c]);
-        if (lane == 0 && sum != 0.0f) atomicAdd(out + c, static_cast<double>(sum));
+        if (lane == 0 && sum != 0.0f)
+          atomicAdd(out + c, static_cast<double>(sum));
       }
     }
   }
