@@ -95,6 +95,8 @@ if ((${#missing[@]})); then
 else
   note "deps: from the system"
 fi
+# CMake 4 refuses package files that ask for policies older than 3.5.
+cmake_args+=(-DCMAKE_POLICY_VERSION_MINIMUM=3.5)
 command -v ninja > /dev/null && cmake_args+=(-G Ninja)
 command -v ccache > /dev/null &&
   cmake_args+=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache
