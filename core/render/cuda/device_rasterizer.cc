@@ -31,6 +31,7 @@ struct DeviceRasterizer::State {
   bool has_forward = false;
   bool has_backward = false;
   ProjectionInput input;  // camera, with the device splat pointers
+  float background[3] = {0, 0, 0};
   DeviceSplatView splats;
   int num_visible = 0;
   int num_entries = 0;
@@ -63,6 +64,7 @@ struct DeviceRasterizer::State {
     a.tiles_x = input.tiles_x;
     a.tiles_y = input.tiles_y;
     a.num_extra = splats.num_extra;
+    for (int c = 0; c < 3; ++c) a.background[c] = background[c];
     a.ranges = ranges.data();
     a.gaussians = gaussians.data();
     a.projected = projected.data();
@@ -92,6 +94,8 @@ const DeviceImages& DeviceRasterizer::ForwardDevice(
   s.has_backward = false;
   s.splats = splats;
   s.input = DeviceProjectionInput(camera, splats);
+  for (int c = 0; c < 3; ++c)
+    s.background[c] = static_cast<float>(background[c]);
 
   const int n = splats.count;
   const int nf = 4 + splats.num_extra;
@@ -118,8 +122,6 @@ const DeviceImages& DeviceRasterizer::ForwardDevice(
   s.t_final.Resize(pixels);
   s.last.Resize(pixels);
   TileArgs a = s.MakeTileArgs();
-  for (int c = 0; c < 3; ++c)
-    a.background[c] = static_cast<float>(background[c]);
   a.rgb = s.rgb.data();
   a.alpha = s.alpha.data();
   a.depth = s.depth.data();
