@@ -131,48 +131,54 @@ struct ImageWeights {
   }
 };
 
-// One frame through both rasterizers, forward and backward.
+// One frame through a rasterizer, forward and backward.
+struct FrameOutput {
+  RenderResult images;
+  SplatGradients grads;
+  int visible = 0;
+  std::vector<int> radii;
+  std::vector<double> mean2d;
+};
+
+// R: Rasterizer or DeviceRasterizer (the same interface).
+template <typename R>
+FrameOutput RenderWith(const Camera& camera, const SplatView& view,
+                       const ImageWeights& w) {
+  R r;
+  FrameOutput out;
+  r.Forward(camera, view, FloatOptions(), &out.images);
+  r.Backward(w.View(), &out.grads);
+  out.visible = r.num_visible();
+  r.Radii(&out.radii);
+  r.Mean2dGradients(&out.mean2d);
+  return out;
+}
+
 struct Frames {
-  RenderResult cpu, gpu;
-  SplatGradients cpu_grads, gpu_grads;
-  int cpu_visible = 0, gpu_visible = 0;
-  std::vector<int> cpu_radii, gpu_radii;
-  std::vector<double> cpu_mean2d, gpu_mean2d;
+  FrameOutput cpu, gpu;
 };
 
 Frames RenderBoth(const Camera& camera, const SplatView& view,
                   unsigned seed) {
-  Frames f;
   const ImageWeights w(camera.width * camera.height, view.num_extra, seed);
-  Rasterizer cpu;
-  cpu.Forward(camera, view, FloatOptions(), &f.cpu);
-  cpu.Backward(w.View(), &f.cpu_grads);
-  f.cpu_visible = cpu.num_visible();
-  cpu.Radii(&f.cpu_radii);
-  cpu.Mean2dGradients(&f.cpu_mean2d);
-  DeviceRasterizer gpu;
-  gpu.Forward(camera, view, FloatOptions(), &f.gpu);
-  gpu.Backward(w.View(), &f.gpu_grads);
-  f.gpu_visible = gpu.num_visible();
-  gpu.Radii(&f.gpu_radii);
-  gpu.Mean2dGradients(&f.gpu_mean2d);
-  return f;
+  return {RenderWith<Rasterizer>(camera, view, w),
+          RenderWith<DeviceRasterizer>(camera, view, w)};
 }
 
 // Radii and culling may differ where a float bound lands on a whole
 // number (the library exp and log against the CPU's polynomials): at most
 // `fraction` of the Gaussians, as for the gradient entries.
 void ExpectFramesMatch(const Frames& f, double fraction = 0.002) {
-  const size_t count = f.cpu_radii.size();
-  EXPECT_LE(std::abs(f.gpu_visible - f.cpu_visible), fraction * count);
-  ASSERT_EQ(f.gpu_radii.size(), count);
+  const size_t count = f.cpu.radii.size();
+  EXPECT_LE(std::abs(f.gpu.visible - f.cpu.visible), fraction * count);
+  ASSERT_EQ(f.gpu.radii.size(), count);
   size_t radii_off = 0;
   for (size_t n = 0; n < count; ++n)
-    radii_off += f.gpu_radii[n] != f.cpu_radii[n];
+    radii_off += f.gpu.radii[n] != f.cpu.radii[n];
   EXPECT_LE(radii_off, fraction * count);
-  ExpectImagesClose(f.gpu, f.cpu);
-  ExpectGradientsClose(f.gpu_grads, f.cpu_grads, 2e-3, fraction);
-  ExpectClose(f.gpu_mean2d, f.cpu_mean2d, 2e-3, fraction, 0.05, "mean2d");
+  ExpectImagesClose(f.gpu.images, f.cpu.images);
+  ExpectGradientsClose(f.gpu.grads, f.cpu.grads, 2e-3, fraction);
+  ExpectClose(f.gpu.mean2d, f.cpu.mean2d, 2e-3, fraction, 0.05, "mean2d");
 }
 
 // ------------------------------------------------------------ the kernels
@@ -458,7 +464,7 @@ TEST(CudaBinTest, NoGaussiansAndNoVisibleOnes) {
   TestScene empty = RandomScene(1, 0, 0, 0);
   Frames f = RenderBoth(empty.camera, empty.View(), 1);
   ExpectFramesMatch(f);
-  for (double v : f.gpu.alpha) EXPECT_EQ(v, 0.0);
+  for (double v : f.gpu.images.alpha) EXPECT_EQ(v, 0.0);
   // Every Gaussian behind the camera.
   TestScene behind = RandomScene(2, 0, 1, 1);
   for (int i = 0; i < 20; ++i) {
@@ -466,9 +472,10 @@ TEST(CudaBinTest, NoGaussiansAndNoVisibleOnes) {
                Eigen::Vector3d(0.1, 0.1, 0.1), Eigen::Vector4d(1, 0, 0, 0), 2);
   }
   f = RenderBoth(behind.camera, behind.View(), 2);
-  EXPECT_EQ(f.gpu_visible, 0);
+  EXPECT_EQ(f.gpu.visible, 0);
   ExpectFramesMatch(f);
-  for (int c = 0; c < 3; ++c) EXPECT_FLOAT_EQ(f.gpu.rgb[c], kBackground[c]);
+  for (int c = 0; c < 3; ++c)
+    EXPECT_FLOAT_EQ(f.gpu.images.rgb[c], kBackground[c]);
 }
 
 // ---------------------------------------------------------- whole frames
@@ -490,7 +497,7 @@ TEST_P(CudaFrameTest, OpaqueStackMatchesCpu) {
   const TestScene s = StackedScene(4, GetParam());
   const Frames f = RenderBoth(s.camera, s.View(), 5);
   double peak = 0;
-  for (double a : f.cpu.alpha) peak = std::max(peak, a);
+  for (double a : f.cpu.images.alpha) peak = std::max(peak, a);
   EXPECT_GT(peak, 0.99) << "the stack should run the transmittance out";
   ExpectFramesMatch(f);
 }
