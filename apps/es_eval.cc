@@ -18,6 +18,7 @@
 
 #include "apps/common/app_main.h"
 #include "apps/common/flag_checks.h"
+#include "apps/common/eval_report.h"
 #include "apps/common/scaled_scene.h"
 #include "core/io/input_error.h"
 #include "core/io/json_file.h"
@@ -52,6 +53,11 @@ DEFINE_bool(realism_breakdown, false, "Also measure realism on three "
             "realism_breakdown; costs three more renders of the video.");
 DEFINE_int32(realism_patches, 4096, "Random patches per region for the "
              "realism distribution distances (more: less sampling noise).");
+DEFINE_double(realism_water_margin, 0.02, "The realism figures' water "
+              "region is the water mask dilated by this fraction of the "
+              "image diagonal, so that masks of single droplets do not "
+              "select where the input has spray (0: the mask itself, the "
+              "figures before 2026-12-02).");
 
 namespace {
 
@@ -85,6 +91,8 @@ void CheckFlags() {
   if (FLAGS_realism_patches < 16) {
     throw es::InputError("--realism_patches must be >= 16");
   }
+  es::RequireInRange("realism_water_margin", FLAGS_realism_water_margin, 0,
+                     0.5);
 }
 
 int AnchorFrame(const es::Scene& scene) {
@@ -131,6 +139,7 @@ Evaluation Evaluate(const es::LoopModel& model, const es::Scene& scene,
        start);
   es::RealismOptions realism;
   realism.patch_samples = FLAGS_realism_patches;
+  realism.water_margin = FLAGS_realism_water_margin;
   const std::vector<cv::Mat> rendered =
       es::RenderAtInputCameras(model, scene.frames, options);
   e.realism = es::EvaluateRealism(rendered, scene.frames, realism);
@@ -165,18 +174,6 @@ Evaluation Evaluate(const es::LoopModel& model, const es::Scene& scene,
   return e;
 }
 
-nlohmann::ordered_json RealismJson(const es::RealismRegion& r) {
-  return {{"pixels", r.pixels},
-          {"detail_ratio", r.detail_ratio},
-          {"band_ratio", r.band_ratio},
-          {"motion_ratio", r.motion_ratio},
-          {"real_detail", r.real_detail},
-          {"real_motion", r.real_motion},
-          {"patches", r.patches},
-          {"distance_2d", r.distance_2d},
-          {"distance_3d", r.distance_3d}};
-}
-
 nlohmann::ordered_json EvalJson(const es::LoopModel& model,
                                 const Evaluation& e) {
   nlohmann::ordered_json json = {
@@ -185,17 +182,9 @@ nlohmann::ordered_json EvalJson(const es::LoopModel& model,
       {"gaussians", model.gaussians.size()},
       {"dynamic_gaussians", model.num_dynamic()},
       {"cycle_length", model.cycle_length},
-      {"held_out",
-       {{"frames", e.held_out.frames},
-        {"psnr", e.held_out.psnr},
-        {"ssim", e.held_out.ssim},
-        {"psnr_water", e.held_out.psnr_water},
-        {"ssim_water", e.held_out.ssim_water}}},
+      {"held_out", es::HeldOutJson(e.held_out)},
       {"motion_gt", nullptr},
-      {"realism",
-       {{"water", RealismJson(e.realism.water)},
-        {"static", RealismJson(e.realism.static_region)},
-        {"frame", RealismJson(e.realism.frame)}}},
+      {"realism", es::RealismJson(e.realism)},
       {"loop_seam",
        {{"anchor_frame", e.anchor_frame},
         {"cycles", FLAGS_seam_cycles},
@@ -214,9 +203,7 @@ nlohmann::ordered_json EvalJson(const es::LoopModel& model,
   if (!e.breakdown.empty()) {
     nlohmann::ordered_json breakdown;
     for (const auto& [name, r] : e.breakdown) {
-      breakdown[name] = {{"water", RealismJson(r.water)},
-                         {"static", RealismJson(r.static_region)},
-                         {"frame", RealismJson(r.frame)}};
+      breakdown[name] = es::RealismJson(r);
     }
     json["realism_breakdown"] = breakdown;
   }
@@ -230,27 +217,12 @@ nlohmann::ordered_json EvalJson(const es::LoopModel& model,
   return json;
 }
 
-void PrintRealism(const char* name, const es::RealismRegion& r) {
-  if (r.pixels == 0) {
-    std::printf("  %-21s n/a (no masks)\n", name);
-    return;
-  }
-  std::printf("  %-21s detail %.2f  motion %.2f  distance 2D %.4f  "
-              "3D %.4f\n",
-              name, r.detail_ratio, r.motion_ratio, r.distance_2d,
-              r.distance_3d);
-}
-
 void PrintSummary(const es::LoopModel& model, const es::Scene& scene,
                   const Evaluation& e) {
   std::printf("%s: %d Gaussians (%d dynamic), L = %d\n",
               FLAGS_model.c_str(), model.gaussians.size(),
               model.num_dynamic(), model.cycle_length);
-  std::printf("  held-out (%d frames)   PSNR %6.2f dB   SSIM %.4f\n",
-              e.held_out.frames, e.held_out.psnr, e.held_out.ssim);
-  std::printf("  water region          PSNR %6.2f dB   SSIM %.4f%s\n",
-              e.held_out.psnr_water, e.held_out.ssim_water,
-              scene.has_masks ? "" : "   (no masks)");
+  es::PrintHeldOutRows(e.held_out, scene.has_masks);
   if (e.has_motion_gt) {
     std::printf("  motion vs truth       EPE %.4g (%.1f%% of mean speed "
                 "%.4g, speed ratio %.2f) at %d points\n",
@@ -262,11 +234,11 @@ void PrintSummary(const es::LoopModel& model, const es::Scene& scene,
   }
   std::printf("  realism vs the input (ratios: 1 = like the input; "
               "distance: 0 = same statistics)\n");
-  PrintRealism("  water", e.realism.water);
-  PrintRealism("  static (control)", e.realism.static_region);
-  PrintRealism("  whole frame", e.realism.frame);
+  es::PrintRealismRow("  water", e.realism.water);
+  es::PrintRealismRow("  static (control)", e.realism.static_region);
+  es::PrintRealismRow("  whole frame", e.realism.frame);
   for (const auto& [name, r] : e.breakdown) {
-    PrintRealism(("  water, " + name).c_str(), r.water);
+    es::PrintRealismRow(("  water, " + name).c_str(), r.water);
   }
   std::printf("  loop seam             %.3f (boundary %.4g / within %.4g; "
               "~1 = seamless)\n",

@@ -25,6 +25,11 @@ DEFINE_int32(frames, 120, "Number of frames.");
 DEFINE_int32(width, 320, "Image width in pixels.");
 DEFINE_int32(height, 240, "Image height in pixels.");
 DEFINE_uint64(seed, 1, "Random seed; the same seed gives the same bytes.");
+DEFINE_uint64(water_seed, 0, "> 0: seeds only the water's particles, so "
+              "the scene keeps its scenery, cameras, flow and split and "
+              "shows another realization of the same stochastic water (an "
+              "oracle to calibrate PSNR and realism: es_compare); 0: "
+              "derived from --seed.");
 DEFINE_double(stochasticity, 1.0,
               "Per-particle random perturbation of the flow (0: every "
               "particle follows the analytic field exactly).");
@@ -54,6 +59,7 @@ int main(int argc, char** argv) {
         s.width = FLAGS_width;
         s.height = FLAGS_height;
         s.seed = FLAGS_seed;
+        s.water_seed = FLAGS_water_seed;
         s.stochasticity = FLAGS_stochasticity;
         s.detail = FLAGS_detail;
         s.substeps = FLAGS_substeps;

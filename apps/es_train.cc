@@ -100,6 +100,12 @@ DEFINE_int32(residual_resolution, 128, "D triplane resolution.");
 DEFINE_int32(residual_channels, 16, "D triplane channels.");
 DEFINE_int32(residual_width, 128, "D MLP width.");
 DEFINE_int32(residual_depth, 2, "D MLP hidden layers.");
+DEFINE_int32(residual_cycle_frequencies, 4,
+             "Frequencies of D's cycle-number encoding. 0: D depends on the "
+             "cycle index only, so it is periodic and the loop shows exactly "
+             "what training fits (with > 0 the loop evaluates every "
+             "Gaussian's D at cycle number 0, which each Gaussian saw in a "
+             "different stretch of the video).");
 DEFINE_bool(white_background, false, "Render on white instead of black.");
 DEFINE_double(particle_pixels, 0,
               "> 0: before training, split every water Gaussian larger "
@@ -185,6 +191,8 @@ JointTrainerOptions OptionsFromFlags() {
   RequireAtLeast("residual_width", FLAGS_residual_width, 1);
   RequireAtLeast("motion_depth", FLAGS_motion_depth, 0);
   RequireAtLeast("residual_depth", FLAGS_residual_depth, 0);
+  RequireAtLeast("residual_cycle_frequencies",
+                 FLAGS_residual_cycle_frequencies, 0);
   RequireNonNegative("particle_pixels", FLAGS_particle_pixels);
   RequireNonNegative("max_dynamic_pixels", FLAGS_max_dynamic_pixels);
   RequireAtLeast("max_particle_children", FLAGS_max_particle_children, 1);
@@ -246,6 +254,7 @@ JointTrainerOptions OptionsFromFlags() {
   o.residual.triplane.channels = FLAGS_residual_channels;
   o.residual.mlp_width = FLAGS_residual_width;
   o.residual.mlp_depth = FLAGS_residual_depth;
+  o.residual.p_frequencies = FLAGS_residual_cycle_frequencies;
   if (FLAGS_white_background) o.background.setOnes();
   return o;
 }

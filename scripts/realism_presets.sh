@@ -4,7 +4,10 @@
 # 0.3), trains `full` and `static_only` from one shared Stage-1 model per
 # scene and seed list (scripts/ablations.sh), then checks the realism
 # targets per preset (scripts/realism_targets.py -> OUT/targets.md).
-# Re-running skips what is done.
+# Also draws each scene's water twice more (es_synth --water_seed 2, 3)
+# and measures those draws like a model (es_compare -> OUT/<preset>/oracle):
+# the figures of a perfect model of the water's statistics. Re-running
+# skips what is done.
 #
 #   scripts/realism_presets.sh [--out DIR] [--seeds "0 1 2"]
 #       [--presets "waterfall stream fountain droplets"]
@@ -23,7 +26,7 @@ while [[ $# -gt 0 ]]; do
     --presets) presets=$2; shift 2 ;;
     --train_flags) train_flags=$2; shift 2 ;;
     --) shift; break ;;
-    -h|--help) sed -n '2,11p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,14p' "$0"; exit 0 ;;
     *) echo "realism_presets.sh: unknown argument '$1' (see --help)" >&2
        exit 2 ;;
   esac
@@ -41,6 +44,18 @@ for preset in $presets; do
     build/bin/es_synth --out "$scene" --preset "$preset" --frames 60 \
       --width 160 --height 120 --detail 0.3 --num_points 2000
   fi
+  for draw in 2 3; do
+    other=$out/scenes/${preset}_water$draw
+    if [[ ! -d $other/sparse/0 ]]; then
+      build/bin/es_synth --out "$other" --preset "$preset" --frames 60 \
+        --width 160 --height 120 --detail 0.3 --num_points 2000 \
+        --water_seed "$draw"
+    fi
+    if [[ ! -f $out/$preset/oracle/w$draw/compare.json ]]; then
+      build/bin/es_compare --scene "$scene" --other "$other" \
+        --out "$out/$preset/oracle/w$draw"
+    fi
+  done
   bash scripts/ablations.sh --scene "$scene" --out "$out/$preset" \
     --seeds "$seeds" --variants "full static_only" \
     --train_flags "$train_flags" -- "$@"

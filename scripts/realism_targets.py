@@ -2,7 +2,10 @@
 """Checks the realism targets per preset from scripts/realism_presets.sh
 runs: OUT/<preset>/{full,static_only}/seed*/eval/eval.json and
 OUT/<preset>/static/flow_metrics.json -> OUT/targets.md (mean over seeds;
-a target holds when the mean meets it).
+a target holds when the mean meets it). Where OUT/<preset>/oracle/*/
+compare.json exist (es_compare of other draws of the scene's water), a
+second table gives the same figures for those draws: what a model scores
+that gets the water's statistics right but not its droplets.
 
     scripts/realism_targets.py OUT PRESET...
 """
@@ -30,6 +33,29 @@ def check(ok):
     return "n/a" if ok is None else ("yes" if ok else "**no**")
 
 
+def table(header, rows):
+    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    return lines + ["| " + " | ".join(r) + " |" for r in rows]
+
+
+def oracle_row(preset, draws, static):
+    """The targets' figures for other draws of the water against the same
+    static-only runs."""
+    w = lambda e, k: e["realism"]["water"][k]
+    gain = mean([d["held_out"]["psnr_water"] for d in draws]) - mean(
+        [s["held_out"]["psnr_water"] for s in static])
+    d2 = mean([w(d, "distance_2d") for d in draws]) / mean(
+        [w(s, "distance_2d") for s in static])
+    d3 = mean([w(d, "distance_3d") for d in draws]) / mean(
+        [w(s, "distance_3d") for s in static])
+    return [preset, str(len(draws)),
+            fmt(mean([w(d, "detail_ratio") for d in draws])),
+            fmt(mean([w(d, "motion_ratio") for d in draws])),
+            fmt(mean([d["realism"]["static"]["detail_ratio"]
+                      for d in draws])),
+            f"{gain:+.2f} dB", f"{d2:.2f} / {d3:.2f}"]
+
+
 def main():
     if len(sys.argv) > 1 and sys.argv[1] in ("-h", "--help"):
         print(__doc__.strip())
@@ -42,7 +68,7 @@ def main():
               "water PSNR full - static (>= 1.5)",
               "water dist. 2D / 3D full / static (<= 0.5)",
               "rel. EPE flow init -> joint", "loop seam (<= 1.3)"]
-    rows = []
+    rows, oracle_rows = [], []
     for preset in sys.argv[2:]:
         full = evals(out, preset, "full")
         static = evals(out, preset, "static_only")
@@ -79,8 +105,18 @@ def main():
             f"{fmt(init_epe, '{:.3f}')} -> {fmt(joint_epe, '{:.3f}')} "
             f"{check(epe_ok)}",
             f"{fmt(seam)} {check(seam is not None and seam <= 1.3)}"])
-    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
-    lines += ["| " + " | ".join(r) + " |" for r in rows]
+        draws = [json.loads(r.read_text()) for r in
+                 sorted((out / preset / "oracle").glob("*/compare.json"))]
+        if draws:
+            oracle_rows.append(oracle_row(preset, draws, static))
+    lines = table(header, rows)
+    if oracle_rows:
+        lines += ["", "Another draw of the same water (es_compare):", ""]
+        lines += table(["preset", "draws", "water detail", "water motion",
+                        "static detail",
+                        "water PSNR draw - static_only",
+                        "water dist. 2D / 3D draw / static_only"],
+                       oracle_rows)
     (out / "targets.md").write_text("\n".join(lines) + "\n")
     print("\n".join(lines))
 

@@ -104,7 +104,8 @@ SynthScene GenerateSynthScene(const SynthSettings& settings,
                      settings.height, SynthRandom::Derive(seed, kCameraSeed));
 
   WaterSimOptions water_options = preset.water;
-  water_options.seed = SynthRandom::Derive(seed, kWaterSeed);
+  water_options.seed = SynthRandom::Derive(
+      settings.water_seed > 0 ? settings.water_seed : seed, kWaterSeed);
   water_options.stochasticity = settings.stochasticity;
   water_options.substeps = settings.substeps;
   WaterSim water(preset.flow, water_options);

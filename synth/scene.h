@@ -26,6 +26,10 @@ struct SynthSettings {
   int frames = 120;
   int width = 320, height = 240;
   uint64_t seed = 1;
+  // Seeds only the water's particles when > 0 (default: derived from
+  // seed): the same scenery, cameras and flow with another realization of
+  // the stochastic water.
+  uint64_t water_seed = 0;
   double stochasticity = 1.0;  // 0: every particle follows the field exactly
   double detail = 1.0;         // Gaussian count scale (see MakeSynthPreset)
   int substeps = 4;            // RK4 steps per frame

@@ -68,6 +68,7 @@ std::string SynthSettingsJson(const SynthScene& scene) {
     << "  \"width\": " << s.width << ",\n"
     << "  \"height\": " << s.height << ",\n"
     << "  \"seed\": " << s.seed << ",\n"
+    << "  \"water_seed\": " << s.water_seed << ",\n"
     << "  \"stochasticity\": " << s.stochasticity << ",\n"
     << "  \"detail\": " << s.detail << ",\n"
     << "  \"substeps\": " << s.substeps << ",\n"

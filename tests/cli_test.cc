@@ -45,7 +45,8 @@ Result RunCommand(const std::string& command) {
 const std::vector<std::string> kApps = {
     "es_static", "es_flowinit", "es_train",     "es_animate",
     "es_eval",   "es_render",   "es_synth",     "es_contact_sheet",
-    "es_plot",   "eulersplat",  "bench_static", "es_export"};
+    "es_plot",   "eulersplat",  "bench_static", "es_export",
+    "es_compare"};
 
 class CliTest : public ::testing::Test {
  protected:
@@ -207,6 +208,44 @@ TEST_F(CliTest, CycleLengthLongerThanTheVideoIsRefused) {
       "--scene " + scene_.string() + " --out " + out + " --cycle_length 1000",
       "--cycle_length=1000: must be <= 8");
   EXPECT_FALSE(fs::exists(fs::path(out) / "static"));
+}
+
+TEST_F(CliTest, CompareRefusesAnotherVideoThatDoesNotMatch) {
+  const fs::path shorter = root_ / "shorter";
+  const Result r =
+      RunCommand((kBin / "es_synth").string() + " --out " + shorter.string() +
+                 " --frames 6 --width 32 --height 24 --detail 0.02"
+                 " --num_points 50");
+  ASSERT_EQ(r.status, 0) << r.output;
+  ExpectRefused("es_compare",
+                "--scene " + scene_.string() + " --other " +
+                    shorter.string() + " --out " + (root_ / "cmp").string(),
+                shorter.string() + ": 6 frames, but " + scene_.string() +
+                    " has 8");
+  const fs::path seed = root_ / "other_seed";
+  ASSERT_EQ(RunCommand((kBin / "es_synth").string() + " --out " +
+                       seed.string() +
+                       " --frames 8 --width 32 --height 24 --detail 0.02"
+                       " --num_points 50 --seed 5")
+                .status,
+            0);
+  ExpectRefused("es_compare",
+                "--scene " + scene_.string() + " --other " + seed.string() +
+                    " --out " + (root_ / "cmp").string(),
+                "camera differs");
+  // Another draw of the same water matches and is measured.
+  const fs::path draw = root_ / "draw";
+  ASSERT_EQ(RunCommand((kBin / "es_synth").string() + " --out " +
+                       draw.string() +
+                       " --frames 8 --width 32 --height 24 --detail 0.02"
+                       " --num_points 50 --water_seed 5")
+                .status,
+            0);
+  const Result ok = RunCommand(
+      (kBin / "es_compare").string() + " --scene " + scene_.string() +
+      " --other " + draw.string() + " --out " + (root_ / "cmp").string());
+  EXPECT_EQ(ok.status, 0) << ok.output;
+  EXPECT_TRUE(fs::exists(root_ / "cmp" / "compare.json"));
 }
 
 TEST_F(CliTest, UnwritableOutputIsRefusedBeforeTraining) {

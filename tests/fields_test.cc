@@ -101,11 +101,17 @@ TEST(MotionFieldTest, OutputScalesWithTheBox) {
   for (int j = 0; j < 3; ++j) EXPECT_NEAR(v_large[j], 10.0 * v_small[j], 1e-12);
 }
 
-TEST(ResidualFieldTest, GradientsMatchCentralDifferences) {
+// A small residual field whose outputs are far from zero.
+ResidualFieldOptions SmallResidual(PlaneCombination combination) {
   ResidualFieldOptions options;
-  options.triplane = SmallPlanes(PlaneCombination::kProduct);
+  options.triplane = SmallPlanes(combination);
   options.mlp_width = 16;
   options.last_layer_init_scale = 1.0;
+  return options;
+}
+
+TEST(ResidualFieldTest, GradientsMatchCentralDifferences) {
+  ResidualFieldOptions options = SmallResidual(PlaneCombination::kProduct);
   options.position_scale = 0.2;
   ResidualField field(options);
   field.SetBox(kBoxMin, kBoxMax);
@@ -137,11 +143,7 @@ TEST(ResidualFieldTest, GradientsMatchCentralDifferences) {
 }
 
 TEST(ResidualFieldTest, DependsOnCycleIndexAndNumber) {
-  ResidualFieldOptions options;
-  options.triplane = SmallPlanes(PlaneCombination::kSum);
-  options.mlp_width = 16;
-  options.last_layer_init_scale = 1.0;
-  ResidualField field(options);
+  ResidualField field(SmallResidual(PlaneCombination::kSum));
   EXPECT_EQ(field.mlp().input_dim(), 4 + 8 + 8);
   const double x0[9] = {0.1, 0.2, 0.3, 0.1, 0.2, 0.3, 0.1, 0.2, 0.3};
   const int t[3] = {2, 3, 2};
@@ -156,6 +158,22 @@ TEST(ResidualFieldTest, DependsOnCycleIndexAndNumber) {
   }
   EXPECT_GT(dt, 1e-6);
   EXPECT_GT(dp, 1e-6);
+}
+
+TEST(ResidualFieldTest, WithoutCycleFrequenciesIsPeriodic) {
+  // es_train --residual_cycle_frequencies 0: D ignores the cycle number.
+  ResidualFieldOptions options = SmallResidual(PlaneCombination::kSum);
+  options.p_frequencies = 0;
+  ResidualField field(options);
+  EXPECT_EQ(field.mlp().input_dim(), 4 + 8);
+  const double x0[6] = {0.1, 0.2, 0.3, 0.1, 0.2, 0.3};
+  const int t[2] = {2, 2};
+  const int p[2] = {0, 3};
+  std::vector<double> out(2 * kResidualDim);
+  FieldWorkspace ws;
+  field.Evaluate(field.params(), 2, x0, t, p, out.data(), &ws);
+  for (int k = 0; k < kResidualDim; ++k)
+    EXPECT_EQ(out[k], out[kResidualDim + k]);
 }
 
 TEST(ResidualFieldTest, DefaultFieldStartsNearZero) {

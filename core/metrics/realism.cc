@@ -46,7 +46,25 @@ Pyramid BuildPyramid(const cv::Mat& frame, int levels) {
   return p;
 }
 
-// Region masks (CV_8U, 255 = inside) of one frame at every level.
+// The water region of one frame (CV_8U, 255 = water): the mask > 0.5,
+// dilated by `margin` times the image diagonal.
+cv::Mat WaterRegion(const cv::Mat& mask, double margin) {
+  cv::Mat m;
+  mask.convertTo(m, CV_32F, mask.depth() == CV_8U ? 1.0 / 255 : 1.0);
+  cv::Mat water = m > 0.5f;
+  const int radius = static_cast<int>(
+      std::lround(margin * std::hypot(mask.cols, mask.rows)));
+  if (radius > 0) {
+    cv::dilate(water, water,
+               cv::getStructuringElement(
+                   cv::MORPH_ELLIPSE,
+                   cv::Size(2 * radius + 1, 2 * radius + 1)));
+  }
+  return water;
+}
+
+// Region masks (CV_8U, 255 = inside) of one frame at every level, from
+// its water region.
 using LevelMasks = std::vector<cv::Mat>;
 
 std::array<LevelMasks, kRegions> RegionMasks(const cv::Mat& mask,
@@ -57,7 +75,7 @@ std::array<LevelMasks, kRegions> RegionMasks(const cv::Mat& mask,
     out[2].push_back(cv::Mat(size, CV_8U, cv::Scalar(255)));
     if (mask.empty()) continue;
     cv::Mat m;
-    mask.convertTo(m, CV_32F, mask.depth() == CV_8U ? 1.0 / 255 : 1.0);
+    mask.convertTo(m, CV_32F, 1.0 / 255);
     if (l > 0) cv::resize(m, m, size, 0, 0, cv::INTER_AREA);
     cv::Mat water = m > 0.5f;
     out[0].push_back(water);
@@ -84,12 +102,8 @@ std::vector<Patch> DrawPatches(const std::vector<cv::Mat>& masks, int region,
        ++a) {
     const Patch p{t_of(*rng), x_of(*rng), y_of(*rng)};
     if (region != 2) {
-      const cv::Mat& m = masks[p.t];
-      const double v = m.depth() == CV_8U ? m.at<uint8_t>(p.y, p.x) / 255.0
-                                          : m.depth() == CV_32F
-                                                ? m.at<float>(p.y, p.x)
-                                                : m.at<double>(p.y, p.x);
-      if ((v > 0.5) != (region == 0)) continue;
+      if ((masks[p.t].at<uint8_t>(p.y, p.x) != 0) != (region == 0))
+        continue;
     }
     out.push_back(p);
   }
@@ -238,6 +252,9 @@ RealismMetrics ComputeRealism(const std::vector<cv::Mat>& rendered,
     CHECK(masks.empty() || masks[t].size() == size);
   }
   const bool has_masks = !masks.empty();
+  std::vector<cv::Mat> water;  // CV_8U, 255 = the water region
+  for (const cv::Mat& mask : masks)
+    water.push_back(WaterRegion(mask, options.water_margin));
 
   std::mt19937_64 rng(options.seed);
   std::array<Accumulator, kRegions> acc;
@@ -245,7 +262,7 @@ RealismMetrics ComputeRealism(const std::vector<cv::Mat>& rendered,
     acc[r].band_rendered.assign(options.levels, 0.0);
     acc[r].band_real.assign(options.levels, 0.0);
     if (r < 2 && !has_masks) continue;
-    acc[r].patches = DrawPatches(masks, r, size, frames,
+    acc[r].patches = DrawPatches(water, r, size, frames,
                                  options.patch_samples, &rng);
     std::sort(acc[r].patches.begin(), acc[r].patches.end(),
               [](const Patch& a, const Patch& b) { return a.t < b.t; });
@@ -258,7 +275,7 @@ RealismMetrics ComputeRealism(const std::vector<cv::Mat>& rendered,
     Pyramid pr = BuildPyramid(rendered[t], options.levels);
     Pyramid pt = BuildPyramid(real[t], options.levels);
     std::array<LevelMasks, kRegions> region =
-        RegionMasks(has_masks ? masks[t] : cv::Mat(), pt);
+        RegionMasks(has_masks ? water[t] : cv::Mat(), pt);
     for (int r = 0; r < kRegions; ++r) {
       if (region[r].empty()) continue;
       Accumulator& a = acc[r];

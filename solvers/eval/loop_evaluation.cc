@@ -39,13 +39,24 @@ LoopMetrics EvaluateLoopModel(const LoopModel& model,
   FrameComposer composer;
   Rasterizer rasterizer;
   RenderResult render;
-  FiniteMean psnr, ssim, psnr_water, ssim_water;
+  std::vector<cv::Mat> images;
   for (int index : indices) {
     const Frame& f = frames[index];
     rasterizer.Forward(f.camera, composer.Compose(view, f.time_index),
                        options, &render);
-    const cv::Mat x(render.height, render.width, CV_64FC3,
-                    render.rgb.data());
+    images.push_back(WrapRgb(render).clone());
+  }
+  return CompareWithFrames(images, frames, indices);
+}
+
+LoopMetrics CompareWithFrames(const std::vector<cv::Mat>& images,
+                              const std::vector<Frame>& frames,
+                              const std::vector<int>& indices) {
+  CHECK_EQ(images.size(), indices.size());
+  FiniteMean psnr, ssim, psnr_water, ssim_water;
+  for (size_t k = 0; k < indices.size(); ++k) {
+    const Frame& f = frames[indices[k]];
+    const cv::Mat& x = images[k];
     cv::Mat y;
     f.image.convertTo(y, CV_64F);
     psnr.Add(Psnr(x, y));

@@ -26,6 +26,12 @@ LoopMetrics EvaluateLoopModel(const LoopModel& model,
                               const std::vector<int>& indices,
                               const RenderOptions& options);
 
+// The same figures for given images: images[k] (CV_64FC3, RGB in [0, 1])
+// against frames[indices[k]].
+LoopMetrics CompareWithFrames(const std::vector<cv::Mat>& images,
+                              const std::vector<Frame>& frames,
+                              const std::vector<int>& indices);
+
 // Loop-seam score (core/metrics/loop_seam.h) of a fixed-view animation of
 // `cycles` loops (cycles * L + 1 frames from frame 0, Alg. 2, p = 0) seen
 // by `camera`.

@@ -1,0 +1,24 @@
+#ifndef EULERSPLAT_APPS_COMMON_EVAL_REPORT_H_
+#define EULERSPLAT_APPS_COMMON_EVAL_REPORT_H_
+
+#include <nlohmann/json.hpp>
+
+#include "core/metrics/realism.h"
+#include "solvers/eval/loop_evaluation.h"
+
+namespace es {
+
+// How es_eval and es_compare write and print held-out and realism
+// figures, so their JSON files and tables read the same.
+nlohmann::ordered_json HeldOutJson(const LoopMetrics& metrics);
+// The held-out and water-region PSNR / SSIM rows of the table.
+void PrintHeldOutRows(const LoopMetrics& metrics, bool has_masks);
+nlohmann::ordered_json RealismRegionJson(const RealismRegion& region);
+// {"water", "static", "frame"} of RealismRegionJson.
+nlohmann::ordered_json RealismJson(const RealismMetrics& metrics);
+// One table row: "  <name> detail .. motion .. distance 2D .. 3D ..".
+void PrintRealismRow(const char* name, const RealismRegion& region);
+
+}  // namespace es
+
+#endif  // EULERSPLAT_APPS_COMMON_EVAL_REPORT_H_
