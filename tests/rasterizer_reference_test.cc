@@ -20,7 +20,9 @@
 namespace es {
 namespace {
 
+using reference::NeedleScene;
 using reference::RandomScene;
+using reference::StackedScene;
 using reference::TestScene;
 
 const Eigen::Vector3d kBackground(0.3, 0.6, 0.1);
@@ -45,20 +47,6 @@ int CountMismatches(const std::vector<double>& fast,
     if (d > tol) ++bad;
   }
   return bad;
-}
-
-// A scene with a stack of opaque Gaussians at the center, so transmittance
-// runs out, plus the usual random mix.
-TestScene StackedScene(unsigned seed, int degree) {
-  TestScene s = RandomScene(seed, 14, degree, 1);
-  const Eigen::Vector3d dir = s.camera.Unproject(20, 22, 1.0);
-  for (int k = 0; k < 8; ++k) {
-    s.Add(dir * (3 + 0.5 * k), Eigen::Vector3d(0.3, 0.2, 0.25),
-          Eigen::Vector4d(1, 0.1 * k, 0, 0), 2.5 + 0.3 * k);
-    const int n = s.count - 1, kc = NumShCoeffs(degree);
-    for (int c = 0; c < 3; ++c) s.sh[n * kc * 3 + c] = 0.5 * (c - k % 3);
-  }
-  return s;
 }
 
 class ReferenceForwardTest : public ::testing::TestWithParam<int> {};
@@ -228,46 +216,6 @@ TEST_P(ReferenceBackwardTest, MatchesReferenceJetGradients) {
 
 INSTANTIATE_TEST_SUITE_P(ShDegrees, ReferenceBackwardTest,
                          ::testing::Values(0, 1, 2, 3));
-
-// Needles at many angles across tile borders, and round footprints
-// centred on tile corners: most rows of their pixel boxes within a tile
-// miss the ellipse, rows the tile passes skip (RowReached). Their
-// images and gradients must stay those of the per-pixel reference, with
-// the kernels of every instruction set.
-TestScene NeedleScene() {
-  TestScene s;
-  s.camera = reference::TestCamera(64, 48);
-  s.sh_degree = 0;
-  s.num_extra = 1;
-  std::mt19937 rng(17);
-  std::uniform_real_distribution<double> uni(0.0, 1.0);
-  const double f = s.camera.fx;
-  const Eigen::Matrix3d to_world = s.camera.R().transpose();
-  for (int i = 0; i < 12; ++i) {
-    // Centres on tile corners and edges (tiles of kTileSize pixels).
-    const double u = kTileSize * (1 + i % 3) + (i % 2 ? 0.3 : -2.6);
-    const double v = kTileSize * (1 + (i / 3) % 2) + 3.7 * uni(rng) - 1.8;
-    const double z = 3 + uni(rng);
-    const bool round = i % 4 == 3;
-    // Needles: sigma 5-7 px long, 0.3-0.6 px across; round: 4-5 px.
-    const double long_px = round ? 4 + uni(rng) : 5 + 2 * uni(rng);
-    const double thin_px = round ? long_px : 0.3 + 0.3 * uni(rng);
-    const Eigen::Vector3d scale(long_px * z / f, thin_px * z / f,
-                                thin_px * z / f);
-    // Rotated in the image plane: the camera's z axis in the world.
-    const double angle = 0.15 + 0.53 * i;
-    const Eigen::Quaterniond q(
-        to_world * Eigen::AngleAxisd(angle, Eigen::Vector3d::UnitZ())
-                       .toRotationMatrix());
-    s.Add(s.camera.Unproject(u, v, z), scale,
-          Eigen::Vector4d(q.w(), q.x(), q.y(), q.z()), 0.5 + 2 * uni(rng));
-  }
-  for (int n = 0; n < s.count; ++n) {
-    for (int c = 0; c < 3; ++c) s.sh[3 * n + c] = uni(rng) * 2 - 1;
-    s.extra[n] = uni(rng);
-  }
-  return s;
-}
 
 // Rows of pixel boxes within tiles where no pixel reaches kMinAlpha (the
 // Gaussian's sigma above log(opacity / kMinAlpha) at every pixel), in

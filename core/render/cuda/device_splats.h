@@ -1,0 +1,73 @@
+#ifndef EULERSPLAT_CORE_RENDER_CUDA_DEVICE_SPLATS_H_
+#define EULERSPLAT_CORE_RENDER_CUDA_DEVICE_SPLATS_H_
+
+// Splat attributes and their gradients in device memory, in the layouts of
+// SplatView and SplatGradients (double): views for the device rasterizer,
+// and owning copies of host arrays. No CUDA types.
+
+#include "core/model/camera.h"
+#include "core/render/cuda/device_buffer.h"
+#include "core/render/project_kernels.h"
+#include "core/render/rasterizer.h"
+
+namespace es {
+namespace cuda {
+
+// Device arrays of the splat attributes, in SplatView's layouts (double).
+struct DeviceSplatView {
+  int count = 0;
+  int sh_degree = 0;
+  const double* means = nullptr;           // 3N
+  const double* log_scales = nullptr;      // 3N
+  const double* quats = nullptr;           // 4N, w x y z
+  const double* opacity_logits = nullptr;  // N
+  const double* sh = nullptr;              // 3KN, [n][k][rgb]
+  int num_extra = 0;                       // at most kMaxDeviceExtra (4)
+  const double* extra = nullptr;           // N * num_extra, [n][e]
+};
+
+// Device arrays the backward writes (SplatGradients' layouts and sizes,
+// double); every value is written.
+struct DeviceSplatGradients {
+  double* means = nullptr;
+  double* log_scales = nullptr;
+  double* quats = nullptr;
+  double* opacity_logits = nullptr;
+  double* sh = nullptr;
+  double* extra = nullptr;  // may be nullptr when num_extra is 0
+};
+
+// The projection kernels' view (project_kernels.h) of a camera and device
+// splat arrays.
+ProjectionInput DeviceProjectionInput(const Camera& camera,
+                                      const DeviceSplatView& splats);
+
+// Device copies of a splat set's arrays.
+class DeviceSplats {
+ public:
+  void Upload(const SplatView& splats);
+  DeviceSplatView View() const;
+
+ private:
+  DeviceSplatView view_;
+  DeviceBuffer<double> means_, log_scales_, quats_, opacity_logits_, sh_,
+      extra_;
+};
+
+// Device arrays for a splat set's gradients.
+class DeviceGradientArrays {
+ public:
+  void Resize(int count, int sh_degree, int num_extra);
+  DeviceSplatGradients View();
+  // Copies every array into *grads (resized).
+  void Download(SplatGradients* grads) const;
+
+ private:
+  DeviceBuffer<double> means_, log_scales_, quats_, opacity_logits_, sh_,
+      extra_;
+};
+
+}  // namespace cuda
+}  // namespace es
+
+#endif  // EULERSPLAT_CORE_RENDER_CUDA_DEVICE_SPLATS_H_
