@@ -1,11 +1,12 @@
 #!/usr/bin/env bash
 # The CUDA backend's check, the one command a session with an NVIDIA GPU
-# runs: builds only the CUDA rasterizer, its tests and its benchmark
-# (-DES_CUDA=ON -DES_CUDA_CHECK_ONLY=ON: no Ceres or OpenCV needed), prints
-# the GPU, runs the tests, once more under compute-sanitizer's memcheck
-# (and some under racecheck) when it is installed and time allows, then
-# the benchmarks, and copies the logs to $OUT when that is set. Under
-# 8 minutes on 16 cores; the summary at the end holds what a reader needs.
+# runs: builds only the CUDA rasterizer, loss and Adam, their tests and
+# the benchmark (-DES_CUDA=ON -DES_CUDA_CHECK_ONLY=ON: no Ceres or OpenCV
+# needed), prints the GPU, runs the tests, once more under
+# compute-sanitizer's memcheck (and some under racecheck) when it is
+# installed and time allows, then the benchmarks, and copies the logs to
+# $OUT when that is set. Under 8 minutes on 16 cores; the summary at the
+# end holds what a reader needs.
 #
 #   scripts/cuda_check.sh           build and run the checks (GPU machine)
 #   scripts/cuda_check.sh --bundle  save the Debian packages the build
@@ -108,7 +109,8 @@ if ! cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release -DES_CUDA=ON \
        -DES_CUDA_CHECK_ONLY=ON -DCMAKE_CUDA_ARCHITECTURES="$arch" \
        "${cmake_args[@]}" > "$logs/build.txt" 2>&1 ||
    ! cmake --build "$build" -j"${ES_JOBS:-16}" --target cuda_rasterizer_test \
-       bench_cuda_rasterizer >> "$logs/build.txt" 2>&1; then
+       cuda_photometric_loss_test cuda_adam_test bench_cuda_rasterizer \
+       >> "$logs/build.txt" 2>&1; then
   grep -E -B2 -A8 "error|Error|CMake Error" "$logs/build.txt" | head -80
   note "BUILD FAILED after $((SECONDS - start)) s (log: build.txt)"
   exit 1
@@ -147,6 +149,12 @@ if command -v compute-sanitizer > /dev/null && ((SECONDS - start < 240)); then
     "$build/bin/cuda_rasterizer_test" --gtest_filter='-*Dense*' \
     > "$logs/memcheck.txt" 2>&1
   note "memcheck exit status $? (0 clean, 3 errors, 124 out of time)"
+  # The loss and Adam tests are short: all of them.
+  for t in cuda_photometric_loss_test cuda_adam_test; do
+    timeout 60 compute-sanitizer --tool memcheck --error-exitcode 3 \
+      "$build/bin/$t" >> "$logs/memcheck.txt" 2>&1
+    note "memcheck of $t exit status $?"
+  done
   grep -E "ERROR SUMMARY|Invalid|out of bounds" "$logs/memcheck.txt" |
     head -20 | tee -a "$summary"
   if ((SECONDS - start < 330)); then

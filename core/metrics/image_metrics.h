@@ -3,6 +3,8 @@
 
 #include <opencv2/core.hpp>
 
+#include "core/metrics/ssim_kernels.h"
+
 namespace es {
 
 // Image losses and quality metrics on CV_64F images (any channel count; a
@@ -10,12 +12,8 @@ namespace es {
 //
 // SSIM uses an 11x11 Gaussian window (sigma 1.5), C1 = 0.01^2, C2 = 0.03^2
 // and a zero-padded 'same' convolution, as the 3DGS reference code does, so
-// the SSIM map has one value per pixel and channel and border pixels count.
-
-constexpr int kSsimWindow = 11;
-constexpr double kSsimSigma = 1.5;
-constexpr double kSsimC1 = 0.01 * 0.01;
-constexpr double kSsimC2 = 0.03 * 0.03;
+// the SSIM map has one value per pixel and channel and border pixels count
+// (the constants: core/metrics/ssim_kernels.h).
 
 // Mean absolute difference over pixels and channels. If d_x is not null it
 // receives d loss / d x (same size as x; sign(x - y) / count).

@@ -10,7 +10,12 @@
 
 namespace es {
 
+// SSIM's window and constants (image_metrics.h says how they are used).
+constexpr int kSsimWindow = 11;
 constexpr int kSsimRadius = 5;  // of the 11 x 11 window
+constexpr double kSsimSigma = 1.5;
+constexpr double kSsimC1 = 0.01 * 0.01;
+constexpr double kSsimC2 = 0.03 * 0.03;
 
 // Images are H x W x C, interleaved, row-major: rows of
 // row_len = W C values, n = H row_len in all. The window is separable:

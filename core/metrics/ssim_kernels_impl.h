@@ -21,7 +21,6 @@
 
 #include <cstddef>
 
-#include "core/metrics/image_metrics.h"
 #include "core/metrics/ssim_kernels.h"
 
 namespace es {

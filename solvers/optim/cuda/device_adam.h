@@ -1,0 +1,66 @@
+#ifndef EULERSPLAT_SOLVERS_OPTIM_CUDA_DEVICE_ADAM_H_
+#define EULERSPLAT_SOLVERS_OPTIM_CUDA_DEVICE_ADAM_H_
+
+// Adam (solvers/optim/adam.h) on double parameters in device memory: the
+// same bias correction, epsilon and update order, value by value, as
+// AdamStep::Update. No CUDA types; failures throw CudaError.
+
+#include <cstdint>
+
+#include "core/render/cuda/device_buffer.h"
+#include "solvers/optim/adam.h"
+
+namespace es {
+namespace cuda {
+
+// AdamUpdate on device arrays of n values (gradient, moments, parameters).
+// Skips nothing: the CPU's skip of all-zero chunks leaves them as this
+// update does.
+void DeviceAdamUpdate(const AdamOptions& options, int64_t t, double lr,
+                      int n, const double* grad, double* m, double* v,
+                      double* x);
+
+// Device arrays of a GaussianSet's blocks, in its layouts.
+struct DeviceGaussianBlocks {
+  int count = 0;
+  int sh_degree = 0;
+  double* means = nullptr;           // 3N
+  double* log_scales = nullptr;      // 3N
+  double* quats = nullptr;           // 4N
+  double* opacity_logits = nullptr;  // N
+  double* sh = nullptr;              // 3KN, [n][k][rgb]
+  double* dynamic_logits = nullptr;  // N
+};
+
+// GaussianAdam::Step on the device: each block with a non-zero learning
+// rate, the SH block with its DC and higher-band rates. Owns the moments
+// (zeros after Reset).
+class DeviceGaussianAdam {
+ public:
+  explicit DeviceGaussianAdam(const AdamOptions& options = {})
+      : options_(options) {}
+
+  void Reset(int count, int sh_degree);
+  // grad: the same shapes as params (only read).
+  void Step(const GaussianLearningRates& lr, const DeviceGaussianBlocks& grad,
+            const DeviceGaussianBlocks& params);
+
+  int64_t step() const { return step_; }
+  // The moments, as GaussianAdam's m() and v() hold them.
+  void Download(GaussianSet* m, GaussianSet* v) const;
+
+ private:
+  struct Moments {
+    DeviceBuffer<double> means, log_scales, quats, opacity_logits, sh,
+        dynamic_logits;
+  };
+  AdamOptions options_;
+  int64_t step_ = 0;
+  int count_ = 0, sh_degree_ = 0;
+  Moments m_, v_;
+};
+
+}  // namespace cuda
+}  // namespace es
+
+#endif  // EULERSPLAT_SOLVERS_OPTIM_CUDA_DEVICE_ADAM_H_
