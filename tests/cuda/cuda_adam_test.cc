@@ -16,6 +16,7 @@
 
 #include "core/model/gaussians.h"
 #include "core/render/cuda/cuda_error.h"
+#include "tests/cuda/require_gpu.h"
 #include "core/render/cuda/device_buffer.h"
 #include "solvers/optim/adam.h"
 #include "solvers/optim/cuda/device_adam.h"
@@ -23,14 +24,6 @@
 namespace es {
 namespace cuda {
 namespace {
-
-#define ES_REQUIRE_GPU()                                               \
-  do {                                                                 \
-    std::string why;                                                   \
-    if (!CudaDeviceAvailable(&why))                                    \
-      GTEST_SKIP() << "no usable CUDA device (" << why                 \
-                   << "): the CUDA Adam is not checked here";          \
-  } while (0)
 
 // Double rounding only (the device may fuse multiply-adds).
 constexpr double kTol = 1e-12;
@@ -50,7 +43,7 @@ void Fill(std::vector<double>* v, std::mt19937* rng, double scale) {
 }
 
 TEST(DeviceAdam, UpdateMatchesCpu) {
-  ES_REQUIRE_GPU();
+  ES_REQUIRE_GPU("CUDA Adam");
   const int n = 1000;  // not a multiple of the block size
   std::mt19937 rng(3);
   std::vector<double> x(n), m(n, 0.0), v(n, 0.0), grad(n);
@@ -120,7 +113,7 @@ void ExpectSetsClose(const GaussianSet& got, const GaussianSet& want,
 }
 
 TEST(DeviceAdam, GaussianStepMatchesCpu) {
-  ES_REQUIRE_GPU();
+  ES_REQUIRE_GPU("CUDA Adam");
   const int n = 77, degree = 2;  // 27 SH values per Gaussian
   std::mt19937 rng(11);
   GaussianSet params = ZeroGaussians(n, degree);

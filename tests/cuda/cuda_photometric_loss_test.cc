@@ -17,20 +17,13 @@
 
 #include "core/metrics/ssim_target.h"
 #include "core/render/cuda/cuda_error.h"
+#include "tests/cuda/require_gpu.h"
 #include "core/render/cuda/device_buffer.h"
 #include "costs/cuda/device_photometric_loss.h"
 
 namespace es {
 namespace cuda {
 namespace {
-
-#define ES_REQUIRE_GPU()                                                 \
-  do {                                                                   \
-    std::string why;                                                     \
-    if (!CudaDeviceAvailable(&why))                                      \
-      GTEST_SKIP() << "no usable CUDA device (" << why                   \
-                   << "): the CUDA photometric loss is not checked here"; \
-  } while (0)
 
 struct LossAndGradient {
   double loss = 0, l1 = 0, ssim = 1;
@@ -111,7 +104,7 @@ class DevicePhotometricLossTest
     : public ::testing::TestWithParam<std::tuple<int, int, double>> {};
 
 TEST_P(DevicePhotometricLossTest, MatchesCpuTwin) {
-  ES_REQUIRE_GPU();
+  ES_REQUIRE_GPU("CUDA photometric loss");
   const auto [width, height, ssim_weight] = GetParam();
   std::mt19937 rng(width * 131 + height);
   const std::vector<float> x = RandomImage(width, height, &rng);
@@ -146,7 +139,7 @@ INSTANTIATE_TEST_SUITE_P(
 // Identical images: L1 0, SSIM 1 and the SSIM term's gradient 0 (SSIM's
 // maximum), on the device as on the CPU.
 TEST(DevicePhotometricLoss, IdenticalImages) {
-  ES_REQUIRE_GPU();
+  ES_REQUIRE_GPU("CUDA photometric loss");
   const int width = 29, height = 19;
   std::mt19937 rng(7);
   const std::vector<float> x = RandomImage(width, height, &rng);

@@ -25,6 +25,7 @@
 #include "core/render/project_kernels.h"
 #include "core/render/raster_project.h"
 #include "core/render/rasterizer.h"
+#include "tests/cuda/require_gpu.h"
 #include "tests/raster_test_scene.h"
 
 namespace es {
@@ -35,14 +36,6 @@ using reference::NeedleScene;
 using reference::RandomScene;
 using reference::StackedScene;
 using reference::TestScene;
-
-#define ES_REQUIRE_GPU()                                               \
-  do {                                                                 \
-    std::string why;                                                   \
-    if (!CudaDeviceAvailable(&why))                                    \
-      GTEST_SKIP() << "no usable CUDA device (" << why                 \
-                   << "): the CUDA rasterizer is not checked here";    \
-  } while (0)
 
 const Eigen::Vector3d kBackground(0.3, 0.6, 0.1);
 
@@ -241,7 +234,7 @@ std::vector<TestScene> KernelScenes() {
 }
 
 TEST(CudaProjectTest, ForwardMatchesCpuKernels) {
-  ES_REQUIRE_GPU();
+  ES_REQUIRE_GPU("CUDA rasterizer");
   for (const TestScene& s : KernelScenes()) {
     std::vector<ProjectedSplat> want;
     std::vector<char> keep;
@@ -326,12 +319,12 @@ TEST(CudaProjectTest, CullingSceneCullsWhatTheCpuCulls) {
                                       true,  false};
   for (int i = 0; i < 10; ++i)
     EXPECT_EQ(keep[first + i] != 0, expected[i]) << "CPU, case " << i;
-  ES_REQUIRE_GPU();
+  ES_REQUIRE_GPU("CUDA rasterizer");
   ExpectFramesMatch(RenderBoth(s.camera, s.View(), 3));
 }
 
 TEST(CudaProjectTest, BackwardMatchesCpuKernels) {
-  ES_REQUIRE_GPU();
+  ES_REQUIRE_GPU("CUDA rasterizer");
   for (const TestScene& s : KernelScenes()) {
     std::vector<ProjectedSplat> projected;
     std::vector<char> keep;
@@ -406,7 +399,7 @@ TEST(CudaProjectTest, BackwardMatchesCpuKernels) {
 }
 
 TEST(CudaBinTest, TilesListTheirGaussiansFrontToBack) {
-  ES_REQUIRE_GPU();
+  ES_REQUIRE_GPU("CUDA rasterizer");
   const BenchScene scene = MakeScene(200, 150, 10000);
   TestScene s;
   s.camera = scene.camera;
@@ -460,7 +453,7 @@ TEST(CudaBinTest, TilesListTheirGaussiansFrontToBack) {
 }
 
 TEST(CudaBinTest, NoGaussiansAndNoVisibleOnes) {
-  ES_REQUIRE_GPU();
+  ES_REQUIRE_GPU("CUDA rasterizer");
   TestScene empty = RandomScene(1, 0, 0, 0);
   Frames f = RenderBoth(empty.camera, empty.View(), 1);
   ExpectFramesMatch(f);
@@ -483,7 +476,7 @@ TEST(CudaBinTest, NoGaussiansAndNoVisibleOnes) {
 class CudaFrameTest : public ::testing::TestWithParam<int> {};
 
 TEST_P(CudaFrameTest, RandomScenesMatchCpu) {
-  ES_REQUIRE_GPU();
+  ES_REQUIRE_GPU("CUDA rasterizer");
   const int degree = GetParam();
   for (int num_extra : {0, 1, 2}) {
     SCOPED_TRACE("extras " + std::to_string(num_extra));
@@ -493,7 +486,7 @@ TEST_P(CudaFrameTest, RandomScenesMatchCpu) {
 }
 
 TEST_P(CudaFrameTest, OpaqueStackMatchesCpu) {
-  ES_REQUIRE_GPU();
+  ES_REQUIRE_GPU("CUDA rasterizer");
   const TestScene s = StackedScene(4, GetParam());
   const Frames f = RenderBoth(s.camera, s.View(), 5);
   double peak = 0;
@@ -506,13 +499,13 @@ INSTANTIATE_TEST_SUITE_P(ShDegrees, CudaFrameTest,
                          ::testing::Values(0, 1, 2, 3));
 
 TEST(CudaFrameTest, NeedlesAndTileCornersMatchCpu) {
-  ES_REQUIRE_GPU();
+  ES_REQUIRE_GPU("CUDA rasterizer");
   const TestScene s = NeedleScene();
   ExpectFramesMatch(RenderBoth(s.camera, s.View(), 6));
 }
 
 TEST(CudaFrameTest, MostExtraChannelsMatchCpu) {
-  ES_REQUIRE_GPU();
+  ES_REQUIRE_GPU("CUDA rasterizer");
   const TestScene s = RandomScene(300, 30, 1, kMaxDeviceExtra);
   ExpectFramesMatch(RenderBoth(s.camera, s.View(), 7));
 }
@@ -521,7 +514,7 @@ TEST(CudaFrameTest, MostExtraChannelsMatchCpu) {
 // batches of the tile passes), SH degree 3, one extra channel. At this
 // size summation order and cut-off flips show in a few entries.
 TEST(CudaFrameTest, DenseSceneMatchesCpu) {
-  ES_REQUIRE_GPU();
+  ES_REQUIRE_GPU("CUDA rasterizer");
   const BenchScene scene = MakeScene(200, 150, 10000);
   ExpectFramesMatch(RenderBoth(scene.camera, scene.View(), 8));
 }
@@ -529,7 +522,7 @@ TEST(CudaFrameTest, DenseSceneMatchesCpu) {
 // ForwardDevice / BackwardDevice on device arrays give what the host
 // interface gives (it runs them).
 TEST(CudaFrameTest, DeviceInterfaceMatchesHostInterface) {
-  ES_REQUIRE_GPU();
+  ES_REQUIRE_GPU("CUDA rasterizer");
   const TestScene s = RandomScene(400, 40, 2, 1);
   const int pixels = s.camera.width * s.camera.height;
   const ImageWeights w(pixels, 1, 9);
@@ -581,7 +574,7 @@ TEST(CudaErrorTest, DeviceStatusExplainsItself) {
 }
 
 TEST(CudaErrorTest, FailedCallsThrowWithPlaceAndCause) {
-  ES_REQUIRE_GPU();
+  ES_REQUIRE_GPU("CUDA rasterizer");
   try {
     DeviceAllocate(size_t{1} << 52);  // 4 PiB
     FAIL() << "expected a CudaError";
