@@ -3,11 +3,9 @@
 
 #include <opencv2/core.hpp>
 
-namespace es {
+#include "costs/mask_bce_terms.h"
 
-// Probabilities are clamped to this margin from 0 and 1 so the log stays
-// finite; where the clamp is active the gradient is zero.
-constexpr double kMaskProbabilityMargin = 1e-6;
+namespace es {
 
 // The image-space part of the mask term; the Ceres cost that renders the
 // dynamic probability channel is SplatRenderCost

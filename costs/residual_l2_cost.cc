@@ -6,6 +6,7 @@
 
 #include "core/loop/cycle_time.h"
 #include "core/profile/stage_profile.h"
+#include "costs/residual_l2_terms.h"
 #include "costs/scalar_loss.h"
 
 namespace es {
@@ -13,16 +14,8 @@ namespace es {
 double ResidualL2Loss(const std::vector<double>& residuals, double scale,
                       double* d_residuals) {
   ScopedStage timer(Stage::kLossResidual);
-  if (residuals.empty()) return 0.0;
-  const double inv = 1.0 / static_cast<double>(residuals.size());
-  double sum = 0;
-  for (double r : residuals) sum += r * r;
-  if (d_residuals != nullptr) {
-    const double g = 2.0 * scale * inv;
-    for (size_t i = 0; i < residuals.size(); ++i)
-      d_residuals[i] = g * residuals[i];
-  }
-  return sum * inv;
+  return ResidualL2Mean(residuals.data(), residuals.size(), scale,
+                        d_residuals);
 }
 
 ResidualL2Cost::ResidualL2Cost(const ResidualField* field, int count,
