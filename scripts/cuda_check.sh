@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The CUDA backend's check, the one command a session with an NVIDIA GPU
-# runs: builds only the CUDA rasterizer, loss and Adam, their tests and
+# runs: builds only the CUDA rasterizer, losses and Adam, their tests and
 # the benchmark (-DES_CUDA=ON -DES_CUDA_CHECK_ONLY=ON: no Ceres or OpenCV
 # needed), prints the GPU, runs the tests, once more under
 # compute-sanitizer's memcheck (and some under racecheck) when it is
@@ -109,7 +109,8 @@ if ! cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release -DES_CUDA=ON \
        -DES_CUDA_CHECK_ONLY=ON -DCMAKE_CUDA_ARCHITECTURES="$arch" \
        "${cmake_args[@]}" > "$logs/build.txt" 2>&1 ||
    ! cmake --build "$build" -j"${ES_JOBS:-16}" --target cuda_rasterizer_test \
-       cuda_photometric_loss_test cuda_adam_test bench_cuda_rasterizer \
+       cuda_photometric_loss_test cuda_mask_bce_loss_test \
+       cuda_residual_l2_loss_test cuda_adam_test bench_cuda_rasterizer \
        >> "$logs/build.txt" 2>&1; then
   grep -E -B2 -A8 "error|Error|CMake Error" "$logs/build.txt" | head -80
   note "BUILD FAILED after $((SECONDS - start)) s (log: build.txt)"
@@ -150,7 +151,8 @@ if command -v compute-sanitizer > /dev/null && ((SECONDS - start < 240)); then
     > "$logs/memcheck.txt" 2>&1
   note "memcheck exit status $? (0 clean, 3 errors, 124 out of time)"
   # The loss and Adam tests are short: all of them.
-  for t in cuda_photometric_loss_test cuda_adam_test; do
+  for t in cuda_photometric_loss_test cuda_mask_bce_loss_test \
+           cuda_residual_l2_loss_test cuda_adam_test; do
     timeout 60 compute-sanitizer --tool memcheck --error-exitcode 3 \
       "$build/bin/$t" >> "$logs/memcheck.txt" 2>&1
     note "memcheck of $t exit status $?"
