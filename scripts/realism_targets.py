@@ -38,19 +38,28 @@ def table(header, rows):
     return lines + ["| " + " | ".join(r) + " |" for r in rows]
 
 
+def water(e, key):
+    return e["realism"]["water"][key]
+
+
+def against_static(runs, static):
+    """Water PSNR gain and 2D / 3D distance ratios of `runs` (eval.json or
+    compare.json contents) over the static-only runs, means over each."""
+    gain = mean([r["held_out"]["psnr_water"] for r in runs]) - mean(
+        [s["held_out"]["psnr_water"] for s in static])
+    d2, d3 = (mean([water(r, k) for r in runs]) /
+              mean([water(s, k) for s in static])
+              for k in ("distance_2d", "distance_3d"))
+    return gain, d2, d3
+
+
 def oracle_row(preset, draws, static):
     """The targets' figures for other draws of the water against the same
     static-only runs."""
-    w = lambda e, k: e["realism"]["water"][k]
-    gain = mean([d["held_out"]["psnr_water"] for d in draws]) - mean(
-        [s["held_out"]["psnr_water"] for s in static])
-    d2 = mean([w(d, "distance_2d") for d in draws]) / mean(
-        [w(s, "distance_2d") for s in static])
-    d3 = mean([w(d, "distance_3d") for d in draws]) / mean(
-        [w(s, "distance_3d") for s in static])
+    gain, d2, d3 = against_static(draws, static)
     return [preset, str(len(draws)),
-            fmt(mean([w(d, "detail_ratio") for d in draws])),
-            fmt(mean([w(d, "motion_ratio") for d in draws])),
+            fmt(mean([water(d, "detail_ratio") for d in draws])),
+            fmt(mean([water(d, "motion_ratio") for d in draws])),
             fmt(mean([d["realism"]["static"]["detail_ratio"]
                       for d in draws])),
             f"{gain:+.2f} dB", f"{d2:.2f} / {d3:.2f}"]
@@ -74,17 +83,11 @@ def main():
         static = evals(out, preset, "static_only")
         if not full or not static:
             sys.exit(f"{out / preset}: missing full or static_only runs")
-        w = lambda e, k: e["realism"]["water"][k]
-        detail = mean([w(e, "detail_ratio") for e in full])
-        motion = mean([w(e, "motion_ratio") for e in full])
+        detail = mean([water(e, "detail_ratio") for e in full])
+        motion = mean([water(e, "motion_ratio") for e in full])
         static_detail = mean([e["realism"]["static"]["detail_ratio"]
                               for e in full])
-        gain = mean([f["held_out"]["psnr_water"] for f in full]) - mean(
-            [s["held_out"]["psnr_water"] for s in static])
-        d2 = mean([w(e, "distance_2d") for e in full]) / mean(
-            [w(e, "distance_2d") for e in static])
-        d3 = mean([w(e, "distance_3d") for e in full]) / mean(
-            [w(e, "distance_3d") for e in static])
+        gain, d2, d3 = against_static(full, static)
         joint_epe = mean([e["motion_gt"]["rel_epe"] if e["motion_gt"]
                           else None for e in full])
         flow = out / preset / "static" / "flow_metrics.json"

@@ -74,10 +74,13 @@ std::array<LevelMasks, kRegions> RegionMasks(const cv::Mat& mask,
     const cv::Size size = shape.bands[l].size();
     out[2].push_back(cv::Mat(size, CV_8U, cv::Scalar(255)));
     if (mask.empty()) continue;
-    cv::Mat m;
-    mask.convertTo(m, CV_32F, 1.0 / 255);
-    if (l > 0) cv::resize(m, m, size, 0, 0, cv::INTER_AREA);
-    cv::Mat water = m > 0.5f;
+    cv::Mat water = mask;
+    if (l > 0) {
+      cv::Mat m;
+      mask.convertTo(m, CV_32F, 1.0 / 255);
+      cv::resize(m, m, size, 0, 0, cv::INTER_AREA);
+      water = m > 0.5f;
+    }
     out[0].push_back(water);
     out[1].push_back(~water);
   }
