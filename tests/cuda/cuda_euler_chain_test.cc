@@ -84,9 +84,8 @@ ChainResult DeviceChain(const MotionField& field, const EulerOptions& options,
   const int n = static_cast<int>(steps.size());
   DeviceMotionField device(field);
   DeviceFieldBlocks params, grads;
-  const FieldParams host = field.params();
-  params.Upload({host.triplane, host.triplane + field.triplane().num_params()},
-                {host.mlp, host.mlp + field.mlp().num_params()});
+  params.Upload(field.params(), field.triplane().num_params(),
+                field.mlp().num_params());
   grads.Upload(std::vector<double>(field.triplane().num_params(), 0.5),
                std::vector<double>(field.mlp().num_params(), -0.25));
   DeviceBuffer<double> dev_x0, dev_x(3 * n), dev_d_x_out, dev_d_x0;

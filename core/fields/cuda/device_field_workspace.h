@@ -33,6 +33,12 @@ struct DeviceFieldBlocks {
     triplane.Upload(triplane_values);
     mlp.Upload(mlp_values);
   }
+  // A field's host blocks of the given sizes (e.g. field.params(),
+  // field.triplane().num_params(), field.mlp().num_params()).
+  void Upload(const FieldParams& host, int triplane_size, int mlp_size) {
+    triplane.Upload(host.triplane, triplane_size);
+    mlp.Upload(host.mlp, mlp_size);
+  }
   // Zeros of the given sizes (gradient accumulators).
   void Zeros(size_t triplane_size, size_t mlp_size) {
     triplane.Resize(triplane_size);

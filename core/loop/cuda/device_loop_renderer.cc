@@ -32,18 +32,16 @@ DeviceLoopRenderer::DeviceLoopRenderer(const LoopModel* model,
   x0_.Upload(x0);
   if (model->motion) {
     motion_.emplace(*model->motion);
-    const FieldParams p = model->motion->params();
-    motion_params_.Upload(
-        {p.triplane, p.triplane + model->motion->triplane().num_params()},
-        {p.mlp, p.mlp + model->motion->mlp().num_params()});
+    motion_params_.Upload(model->motion->params(),
+                          model->motion->triplane().num_params(),
+                          model->motion->mlp().num_params());
     animator_.emplace(&*motion_, euler_options, model->cycle_length);
   }
   if (model->residual) {
     residual_.emplace(*model->residual);
-    const FieldParams p = model->residual->params();
-    residual_params_.Upload(
-        {p.triplane, p.triplane + model->residual->triplane().num_params()},
-        {p.mlp, p.mlp + model->residual->mlp().num_params()});
+    residual_params_.Upload(model->residual->params(),
+                            model->residual->triplane().num_params(),
+                            model->residual->mlp().num_params());
     cycle_number_.Upload(std::vector<int>(num_dynamic_, 0));
   }
 }
