@@ -48,10 +48,6 @@ std::vector<double> HardPoints(int n, uint32_t seed) {
   return x;
 }
 
-std::vector<double> Download(const DeviceBuffer<double>& b) {
-  return b.Download();
-}
-
 TriplaneOptions Planes(PlaneCombination combination) {
   TriplaneOptions options;
   options.resolution = 8;
@@ -95,9 +91,9 @@ TEST_P(DeviceTriplaneTest, SampleAndBackwardMatchCpuTwin) {
   cpu.Backward(params.data(), n, x.data(), d_out.data(), d_params.data(),
                d_x.data(), stride);
 
-  ExpectTwinsNear(Download(dev_out), out, kTolerance, "features");
-  ExpectTwinsNear(Download(dev_d_params), d_params, kTolerance, "d_params");
-  ExpectTwinsNear(Download(dev_d_x), d_x, kTolerance, "d_x");
+  ExpectTwinsNear(dev_out.Download(), out, kTolerance, "features");
+  ExpectTwinsNear(dev_d_params.Download(), d_params, kTolerance, "d_params");
+  ExpectTwinsNear(dev_d_x.Download(), d_x, kTolerance, "d_x");
   // Non-finite and clamped coordinates have no position gradient.
   const std::vector<double> start = Uniform(3 * n, -1.0, 1.0, 7);
   for (int i : {0, 4, 8, 9}) EXPECT_EQ(d_x[i], start[i]) << i;
@@ -147,15 +143,15 @@ TEST_P(DeviceMlpTest, ForwardAndBackwardMatchCpuTwin) {
                &ws);
 
   ExpectSomeNonZero(y, "output");
-  ExpectTwinsNear(Download(dev_y), y, kTolerance, "output");
-  ExpectTwinsNear(Download(dev_d_params), d_params, kTolerance, "d_params");
-  ExpectTwinsNear(Download(dev_d_input), d_input, kTolerance, "d_input");
+  ExpectTwinsNear(dev_y.Download(), y, kTolerance, "output");
+  ExpectTwinsNear(dev_d_params.Download(), d_params, kTolerance, "d_params");
+  ExpectTwinsNear(dev_d_input.Download(), d_input, kTolerance, "d_input");
 
   // Parameter gradients only: the same again on top.
   device.Backward(dev_params.data(), dev_d_out.data(), dev_d_params.data(),
                   nullptr, &dev_ws);
   cpu.Backward(params.data(), d_out.data(), d_params.data(), nullptr, &ws);
-  ExpectTwinsNear(Download(dev_d_params), d_params, kTolerance,
+  ExpectTwinsNear(dev_d_params.Download(), d_params, kTolerance,
                   "d_params, twice");
 }
 
@@ -212,18 +208,18 @@ TEST_P(DeviceMotionFieldTest, EvaluateAndBackwardMatchCpuTwin) {
   EXPECT_EQ(device.output_scale(), cpu.output_scale());
   ExpectSomeNonZero(v, "velocity");
   ExpectSomeNonZero(d_triplane, "d_triplane");
-  ExpectTwinsNear(Download(dev_v), v, kTolerance, "velocity");
-  ExpectTwinsNear(Download(grads.triplane), d_triplane, kTolerance,
+  ExpectTwinsNear(dev_v.Download(), v, kTolerance, "velocity");
+  ExpectTwinsNear(grads.triplane.Download(), d_triplane, kTolerance,
                   "d_triplane");
-  ExpectTwinsNear(Download(grads.mlp), d_mlp, kTolerance, "d_mlp");
-  ExpectTwinsNear(Download(dev_d_x), d_x, kTolerance, "d_x");
+  ExpectTwinsNear(grads.mlp.Download(), d_mlp, kTolerance, "d_mlp");
+  ExpectTwinsNear(dev_d_x.Download(), d_x, kTolerance, "d_x");
 
   // The MLP's gradient alone (no triplane, no positions) adds the same.
   device.Backward(params.params(), dev_d_v.data(), {nullptr, grads.mlp.data()},
                   nullptr, &dev_ws);
   cpu.Backward(cpu.params(), d_v.data(), {nullptr, d_mlp.data()}, nullptr,
                &ws);
-  ExpectTwinsNear(Download(grads.mlp), d_mlp, kTolerance, "d_mlp, twice");
+  ExpectTwinsNear(grads.mlp.Download(), d_mlp, kTolerance, "d_mlp, twice");
 }
 
 INSTANTIATE_TEST_SUITE_P(AllCombinations, DeviceMotionFieldTest,

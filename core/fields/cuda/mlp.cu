@@ -13,8 +13,11 @@ namespace {
 
 constexpr int kTile = 16;
 // Rows of the batch one block of the weight gradient sums before its
-// atomic add: enough work per block, enough blocks for a large batch.
+// atomic add (at least; more where the batch would need more than
+// kMaxGridY blocks): enough work per block, enough blocks for a large
+// batch.
 constexpr int kGradientRows = 256;
+constexpr int kMaxGridY = 65535;
 constexpr int kThreads = 256;
 
 __host__ __device__ int Tiles(long long n) { return static_cast<int>((n + kTile - 1) / kTile); }
@@ -79,20 +82,23 @@ __global__ void InputGradientKernel(int rows, int out, int in,
 }
 
 // blockIdx.x: tile of (output, input) pairs, input in+1 standing for the
-// bias; blockIdx.y: kGradientRows rows of the batch. Thread (tx, ty) sums
+// bias; blockIdx.y: block_rows rows of the batch. Thread (tx, ty) sums
 // g[row][output ty] a[row][input tx] over those rows and adds it to dw (or
 // db) atomically.
-__global__ void WeightGradientKernel(int rows, int in, int out,
-                                     const double* g, const double* a,
-                                     double* dw, double* db) {
+__global__ void WeightGradientKernel(int rows, int block_rows, int in,
+                                     int out, const double* g,
+                                     const double* a, double* dw,
+                                     double* db) {
   __shared__ double sg[kTile][kTile + 1];  // [row][output]
   __shared__ double sa[kTile][kTile + 1];  // [row][input]
   const int tx = threadIdx.x, ty = threadIdx.y;
   const int input_tiles = Tiles(in + 1);
   const int j0 = (blockIdx.x / input_tiles) * kTile;
   const int i0 = (blockIdx.x % input_tiles) * kTile;
-  const int first = blockIdx.y * kGradientRows;
-  const int last = min(rows, first + kGradientRows);
+  const long long begin = static_cast<long long>(blockIdx.y) * block_rows;
+  const int first = static_cast<int>(begin);
+  const int last = static_cast<int>(min(static_cast<long long>(rows),
+                                        begin + block_rows));
   double acc = 0.0;
   for (int r0 = first; r0 < last; r0 += kTile) {
     const int r = r0 + ty;
@@ -144,9 +150,16 @@ void LayerInputGradientKernel(int rows, int out, int in, const double* g,
 void LayerWeightGradientKernel(int rows, int in, int out, const double* g,
                                const double* a, double* dw, double* db) {
   if (rows == 0) return;
-  const int chunks = (rows + kGradientRows - 1) / kGradientRows;
+  // A multiple of the tile, so only the last block has a partial tile.
+  auto blocks = [rows](long long block_rows) {
+    return (rows + block_rows - 1) / block_rows;
+  };
+  int block_rows = kGradientRows;
+  while (blocks(block_rows) > kMaxGridY) block_rows *= 2;
+  const int chunks = static_cast<int>(blocks(block_rows));
   WeightGradientKernel<<<dim3(Tiles(out) * Tiles(in + 1), chunks),
-                         dim3(kTile, kTile)>>>(rows, in, out, g, a, dw, db);
+                         dim3(kTile, kTile)>>>(rows, block_rows, in, out, g,
+                                               a, dw, db);
   ES_CUDA_CHECK_LAUNCH("LayerWeightGradientKernel");
 }
 
