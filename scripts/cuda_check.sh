@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # The CUDA backend's check, the one command a session with an NVIDIA GPU
-# runs: builds only the CUDA rasterizer, losses and Adam, their tests and
-# the benchmark (-DES_CUDA=ON -DES_CUDA_CHECK_ONLY=ON: no Ceres or OpenCV
-# needed), prints the GPU, runs the tests, once more under
-# compute-sanitizer's memcheck (and some under racecheck) when it is
+# runs: builds only the CUDA rasterizer, losses, Adam, fields (V, D),
+# Euler chain and loop renderer, their tests and the benchmarks
+# (-DES_CUDA=ON -DES_CUDA_CHECK_ONLY=ON: no Ceres or OpenCV needed),
+# prints the GPU, runs the tests, once more under compute-sanitizer's
+# memcheck (and some under racecheck) when it is
 # installed and time allows, then the benchmarks, and copies the logs to
 # $OUT when that is set. Under 8 minutes on 16 cores; the summary at the
 # end holds what a reader needs.
@@ -110,7 +111,10 @@ if ! cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release -DES_CUDA=ON \
        "${cmake_args[@]}" > "$logs/build.txt" 2>&1 ||
    ! cmake --build "$build" -j"${ES_JOBS:-16}" --target cuda_rasterizer_test \
        cuda_photometric_loss_test cuda_mask_bce_loss_test \
-       cuda_residual_l2_loss_test cuda_adam_test bench_cuda_rasterizer \
+       cuda_residual_l2_loss_test cuda_adam_test cuda_fields_test \
+       cuda_residual_field_test cuda_euler_chain_test \
+       cuda_loop_animator_test cuda_loop_renderer_test bench_cuda_rasterizer \
+       bench_cuda_loop \
        >> "$logs/build.txt" 2>&1; then
   grep -E -B2 -A8 "error|Error|CMake Error" "$logs/build.txt" | head -80
   note "BUILD FAILED after $((SECONDS - start)) s (log: build.txt)"
@@ -150,9 +154,11 @@ if command -v compute-sanitizer > /dev/null && ((SECONDS - start < 240)); then
     "$build/bin/cuda_rasterizer_test" --gtest_filter='-*Dense*' \
     > "$logs/memcheck.txt" 2>&1
   note "memcheck exit status $? (0 clean, 3 errors, 124 out of time)"
-  # The loss and Adam tests are short: all of them.
+  # The loss, Adam, field and Euler-chain tests are short: all of them.
   for t in cuda_photometric_loss_test cuda_mask_bce_loss_test \
-           cuda_residual_l2_loss_test cuda_adam_test; do
+           cuda_residual_l2_loss_test cuda_adam_test cuda_fields_test \
+           cuda_residual_field_test cuda_euler_chain_test \
+           cuda_loop_animator_test cuda_loop_renderer_test; do
     timeout 60 compute-sanitizer --tool memcheck --error-exitcode 3 \
       "$build/bin/$t" >> "$logs/memcheck.txt" 2>&1
     note "memcheck of $t exit status $?"
@@ -166,6 +172,11 @@ if command -v compute-sanitizer > /dev/null && ((SECONDS - start < 240)); then
       --gtest_filter='*Needles*:*OpaqueStack*/3:*TilesList*' \
       > "$logs/racecheck.txt" 2>&1
     note "racecheck exit status $? (0 clean, 3 errors, 124 out of time)"
+    # The MLP's tiled products share their tiles through shared memory.
+    timeout 60 compute-sanitizer --tool racecheck --error-exitcode 3 \
+      "$build/bin/cuda_fields_test" --gtest_filter='*DeviceMlpTest*' \
+      >> "$logs/racecheck.txt" 2>&1
+    note "racecheck of the MLP exit status $?"
     grep -E "ERROR SUMMARY|RACECHECK SUMMARY|hazard" "$logs/racecheck.txt" |
       head -20 | tee -a "$summary"
   fi
@@ -179,6 +190,10 @@ timeout 200 "$build/bin/bench_cuda_rasterizer" \
   --benchmark_counters_tabular=true > "$logs/bench.txt" 2>&1
 note "bench exit status $?"
 tee -a "$summary" < "$logs/bench.txt"
+timeout 150 "$build/bin/bench_cuda_loop" \
+  --benchmark_counters_tabular=true > "$logs/bench_loop.txt" 2>&1
+note "bench_cuda_loop exit status $?"
+tee -a "$summary" < "$logs/bench_loop.txt"
 
 verdict=$([[ $tests_status == 0 ]] && echo passed || echo FAILED)
 note "== done in $((SECONDS - start)) s; tests $verdict"
