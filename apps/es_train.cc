@@ -155,6 +155,11 @@ DEFINE_double(detail_energy_weight, 1,
               "> 0: with the same frame pairs, match the local amplitude "
               "of the water's fine texture (each colour channel minus its "
               "blur) to the input's, with this weight; 0: off.");
+DEFINE_int32(detail_energy_octaves, 1,
+             "Bands of the detail energy, finest first, each twice the "
+             "scale of the last (a difference-of-Gaussians pyramid): 1 "
+             "matches texture of about a pixel; 3 also a few pixels wide "
+             "(puffs, gaps, droplet clusters).");
 
 namespace es {
 namespace {
@@ -200,6 +205,7 @@ JointTrainerOptions OptionsFromFlags() {
   RequireNonNegative("flow_prior_weight", FLAGS_flow_prior_weight);
   RequireNonNegative("motion_energy_weight", FLAGS_motion_energy_weight);
   RequireNonNegative("detail_energy_weight", FLAGS_detail_energy_weight);
+  RequireInRange("detail_energy_octaves", FLAGS_detail_energy_octaves, 1, 8);
   RequireInRange("flow_prior_final_factor", FLAGS_flow_prior_final_factor, 0,
                  1);
   RequireAtLeast("flow_prior_batch", FLAGS_flow_prior_batch, 1);
@@ -246,6 +252,7 @@ JointTrainerOptions OptionsFromFlags() {
   o.water_densify.split_pixels = FLAGS_densify_water_split_pixels;
   o.water_energy.motion_weight = FLAGS_motion_energy_weight;
   o.water_energy.detail_weight = FLAGS_detail_energy_weight;
+  o.water_energy.detail_octaves = FLAGS_detail_energy_octaves;
   o.motion.triplane.resolution = FLAGS_motion_resolution;
   o.motion.triplane.channels = FLAGS_motion_channels;
   o.motion.mlp_width = FLAGS_motion_width;

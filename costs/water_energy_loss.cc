@@ -178,12 +178,33 @@ void WaterOf(const cv::Mat& mask, size_t pixels, std::vector<double>* out) {
   for (size_t p = 0; p < pixels; ++p) (*out)[p] = m[p] > 0.5 ? 1.0 : 0.0;
 }
 
-// High-pass y - G * y.
-void HighPass(const std::vector<double>& y, int w, int h,
-              const std::vector<double>& g, BlurScratch* tmp,
-              std::vector<double>* out) {
-  Blur(y, w, h, g, tmp, out);
-  for (size_t p = 0; p < y.size(); ++p) (*out)[p] = y[p] - (*out)[p];
+// Band k of the detail pyramid into *out: y - G_0 * y for k = 0, else
+// G_{k-1} * y - G_k * y (*low holds G_{k-1} * y then).
+void Band(const std::vector<double>& y, int w, int h, int k,
+          const std::vector<std::vector<double>>& kernels, BlurScratch* tmp,
+          std::vector<double>* low, std::vector<double>* out) {
+  const std::vector<double>* fine = &y;
+  if (k > 0) {
+    Blur(y, w, h, kernels[k - 1], tmp, low);
+    fine = low;
+  }
+  Blur(y, w, h, kernels[k], tmp, out);
+  for (size_t p = 0; p < y.size(); ++p) (*out)[p] = (*fine)[p] - (*out)[p];
+}
+
+// Adds the adjoint of band k applied to g, (G_{k-1}^T - G_k^T) g, to *dy
+// (G_{-1} = identity); *low and *coarse are scratch.
+void AddBandAdjoint(const std::vector<double>& g, int w, int h, int k,
+                    const std::vector<std::vector<double>>& kernels,
+                    BlurScratch* tmp, std::vector<double>* low,
+                    std::vector<double>* coarse, std::vector<double>* dy) {
+  const std::vector<double>* fine = &g;
+  if (k > 0) {
+    BlurAdjoint(g, w, h, kernels[k - 1], tmp, low);
+    fine = low;
+  }
+  BlurAdjoint(g, w, h, kernels[k], tmp, coarse);
+  for (size_t p = 0; p < g.size(); ++p) (*dy)[p] += (*fine)[p] - (*coarse)[p];
 }
 
 // W * (x^2).
@@ -198,10 +219,14 @@ void Energy(const std::vector<double>& x, int w, int h,
 }  // namespace
 
 WaterEnergyLoss::WaterEnergyLoss(const WaterEnergyOptions& options)
-    : options_(options),
-      detail_kernel_(GaussianKernel(options.detail_sigma)),
-      window_kernel_(GaussianKernel(options.window_sigma)) {
+    : options_(options) {
   CHECK_GT(options.eps, 0);
+  CHECK_GE(options.detail_octaves, 1);
+  for (int k = 0; k < options.detail_octaves; ++k) {
+    const double octave = std::ldexp(1.0, k);
+    detail_kernels_.push_back(GaussianKernel(options.detail_sigma * octave));
+    window_kernels_.push_back(GaussianKernel(options.window_sigma * octave));
+  }
 }
 
 double WaterEnergyLoss::AmplitudeL1(const std::vector<double>& e_rendered,
@@ -286,13 +311,13 @@ void WaterEnergyLoss::EvaluateChannel(int c, const double* rendered_a,
   if (options_.motion_weight != 0) {
     s->diff.resize(pixels);
     for (size_t p = 0; p < pixels; ++p) s->diff[p] = s->ib[p] - s->ia[p];
-    Energy(s->diff, w, h, window_kernel_, &s->blur, &s->g, &s->e_i);
+    Energy(s->diff, w, h, window_kernels_[0], &s->blur, &s->g, &s->e_i);
     for (size_t p = 0; p < pixels; ++p) s->diff[p] = s->yb[p] - s->ya[p];
-    Energy(s->diff, w, h, window_kernel_, &s->blur, &s->g, &s->e_r);
+    Energy(s->diff, w, h, window_kernels_[0], &s->blur, &s->g, &s->e_r);
     *motion = AmplitudeL1(s->e_r, s->e_i, mask_,
                           channel_scale * options_.motion_weight, &s->d_e) /
               kChannels;
-    BlurAdjoint(s->d_e, w, h, window_kernel_, &s->blur, &s->g);
+    BlurAdjoint(s->d_e, w, h, window_kernels_[0], &s->blur, &s->g);
     for (size_t p = 0; p < pixels; ++p) {
       const double g = 2 * s->diff[p] * s->g[p];
       s->dyb[p] += g;
@@ -300,24 +325,28 @@ void WaterEnergyLoss::EvaluateChannel(int c, const double* rendered_a,
     }
   }
   if (options_.detail_weight != 0) {
-    const double frame_scale = 0.5 * channel_scale * options_.detail_weight;
+    const int octaves = options_.detail_octaves;
+    const double band_scale =
+        0.5 * channel_scale * options_.detail_weight / octaves;
     for (int f = 0; f < 2; ++f) {
       const std::vector<double>& y = f == 0 ? s->ya : s->yb;
       const std::vector<double>& input = f == 0 ? s->ia : s->ib;
       const std::vector<double>& water = f == 0 ? mask_a_ : mask_b_;
-      HighPass(input, w, h, detail_kernel_, &s->blur, &s->high);
-      Energy(s->high, w, h, window_kernel_, &s->blur, &s->g, &s->e_i);
-      HighPass(y, w, h, detail_kernel_, &s->blur, &s->high);
-      Energy(s->high, w, h, window_kernel_, &s->blur, &s->g, &s->e_r);
-      *detail += 0.5 *
-                 AmplitudeL1(s->e_r, s->e_i, water, frame_scale, &s->d_e) /
-                 kChannels;
-      BlurAdjoint(s->d_e, w, h, window_kernel_, &s->blur, &s->g);
-      for (size_t p = 0; p < pixels; ++p) s->g[p] *= 2 * s->high[p];
-      // d (y - G y) = (I - G^T) applied to the high-pass gradient.
-      BlurAdjoint(s->g, w, h, detail_kernel_, &s->blur, &s->diff);
       std::vector<double>& dy = f == 0 ? s->dya : s->dyb;
-      for (size_t p = 0; p < pixels; ++p) dy[p] += s->g[p] - s->diff[p];
+      for (int k = 0; k < octaves; ++k) {
+        const std::vector<double>& window = window_kernels_[k];
+        Band(input, w, h, k, detail_kernels_, &s->blur, &s->low, &s->high);
+        Energy(s->high, w, h, window, &s->blur, &s->g, &s->e_i);
+        Band(y, w, h, k, detail_kernels_, &s->blur, &s->low, &s->high);
+        Energy(s->high, w, h, window, &s->blur, &s->g, &s->e_r);
+        *detail += 0.5 *
+                   AmplitudeL1(s->e_r, s->e_i, water, band_scale, &s->d_e) /
+                   (kChannels * octaves);
+        BlurAdjoint(s->d_e, w, h, window, &s->blur, &s->g);
+        for (size_t p = 0; p < pixels; ++p) s->g[p] *= 2 * s->high[p];
+        AddBandAdjoint(s->g, w, h, k, detail_kernels_, &s->blur, &s->low,
+                       &s->diff, &dy);
+      }
     }
   }
 }

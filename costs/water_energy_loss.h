@@ -18,7 +18,13 @@ namespace es {
 //   motion: e = W * (y_B - y_A)^2           (frame-to-frame change)
 //   detail: e = W * (y - G * y)^2, per frame (high-frequency texture)
 // where G is a Gaussian blur of detail_sigma pixels and W a Gaussian
-// window of window_sigma pixels (both with clamped borders). Each term is
+// window of window_sigma pixels (both with clamped borders). With
+// detail_octaves n > 1 the detail term is the mean over n bands of a
+// difference-of-Gaussians pyramid: band k = G_{k-1} * y - G_k * y (G_{-1}
+// = identity), G_k of detail_sigma 2^k and its window W_k of window_sigma
+// 2^k pixels; the coarser bands hold texture larger than a few pixels (a
+// fountain's puffs and gaps), which the finest band does not see. Each
+// term is
 // the mean over the water pixels of |sqrt(e_rendered + eps) -
 // sqrt(e_input + eps)|: the local amplitude of change / texture, rendered
 // against input, averaged over the channels (on grey alone, training
@@ -32,6 +38,7 @@ struct WaterEnergyOptions {
   double detail_weight = 1.0;
   double detail_sigma = 1.0;  // pixels: what G keeps is "texture"
   double window_sigma = 2.0;  // pixels: the neighbourhood an energy covers
+  int detail_octaves = 1;     // bands of the detail term, finest first
   // Floor of the energies (an amplitude of 1e-3 of the 0..1 range): keeps
   // the gradient finite where a render is perfectly flat.
   double eps = 1e-6;
@@ -54,7 +61,7 @@ struct BlurScratch {
 // and inputs, its gradient per render, and the blurs' images.
 struct ChannelScratch {
   std::vector<double> ya, yb, ia, ib, dya, dyb, diff, e_r, e_i, d_e, g,
-      high;
+      high, low;
   BlurScratch blur;
 };
 }  // namespace internal
@@ -96,7 +103,9 @@ class WaterEnergyLoss {
                        double* motion, double* detail) const;
 
   WaterEnergyOptions options_;
-  std::vector<double> detail_kernel_, window_kernel_;
+  // G_k and W_k of the detail bands (k < detail_octaves); W_0 is also the
+  // motion term's window.
+  std::vector<std::vector<double>> detail_kernels_, window_kernels_;
   // Per-frame scratch, reused; the channels are evaluated in parallel.
   cv::Mat input_a_, input_b_;  // CV_64FC3
   std::vector<double> mask_, mask_a_, mask_b_;

@@ -133,13 +133,14 @@ TEST(WaterEnergyLossTest, BlurredRenderIsPushedTowardTheInputsTexture) {
 // each term alone and both, with and without masks.
 TEST(WaterEnergyLossTest, GradientMatchesFiniteDifferences) {
   const cv::Mat a = RandomImage(5), b = RandomImage(6);
-  for (int setting = 0; setting < 4; ++setting) {
+  for (int setting = 0; setting < 6; ++setting) {
     WaterEnergyOptions options;
     options.motion_weight = setting == 1 ? 0.0 : 0.7;
     options.detail_weight = setting == 0 ? 0.0 : 1.3;
     options.detail_sigma = 0.8;
     options.window_sigma = 1.2;
-    const bool masked = setting != 3;
+    options.detail_octaves = setting >= 4 ? 3 : 1;  // the pyramid's bands
+    const bool masked = setting != 3 && setting != 5;
     const cv::Mat ma = masked ? HalfMask(true) : cv::Mat();
     const cv::Mat mb = masked ? HalfMask(false) : cv::Mat();
     std::vector<double> ra = Flat(RandomImage(7)), rb = Flat(RandomImage(8));
@@ -158,6 +159,39 @@ TEST(WaterEnergyLossTest, GradientMatchesFiniteDifferences) {
     central_differences::ExpectGradientsNear(da, f, &ra, "d rendered A");
     central_differences::ExpectGradientsNear(db, f, &rb, "d rendered B");
   }
+}
+
+// Texture coarser than the finest band (blobs 16 px across, like a
+// fountain's puffs) hardly shows in one band and counts several times
+// more in a three-band pyramid; a render with the blobs scores 0 with
+// either.
+TEST(WaterEnergyLossTest, CoarseBandsSeeTextureTheFinestMisses) {
+  const int w = 64, h = 48;
+  cv::Mat flat(h, w, CV_32FC3, cv::Scalar(0.4, 0.45, 0.5));
+  cv::Mat blobs = flat.clone();
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      const float bump = 0.3f * std::sin(x * 2 * M_PI / 32) *
+                         std::sin(y * 2 * M_PI / 32);
+      blobs.at<cv::Vec3f>(y, x) += cv::Vec3f(bump, bump, bump);
+    }
+  }
+  const std::vector<double> still = Flat(flat), textured = Flat(blobs);
+  auto detail = [&](int octaves, const std::vector<double>& render) {
+    WaterEnergyOptions options;
+    options.motion_weight = 0;
+    options.detail_octaves = octaves;
+    WaterEnergyLoss loss(options);
+    WaterEnergyTerms terms;
+    loss.Evaluate(render.data(), render.data(), blobs, blobs, cv::Mat(),
+                  cv::Mat(), 1.0, nullptr, nullptr, &terms);
+    return terms.detail;
+  };
+  EXPECT_EQ(detail(1, textured), 0.0);
+  EXPECT_EQ(detail(3, textured), 0.0);
+  const double one_band = detail(1, still), three_bands = detail(3, still);
+  EXPECT_GT(three_bands, 3 * one_band);
+  EXPECT_GT(three_bands, 0.01);
 }
 
 // A deliberately wrong gradient (the motion term's sign flipped) fails the
