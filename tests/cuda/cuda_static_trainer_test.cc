@@ -1,6 +1,7 @@
 // The device Stage 1 trainer (solvers/train/cuda/device_static_trainer.h)
-// against the CPU StaticTrainer from the same start, on a tiny synthetic
-// scene with masks: the same frames and losses step by step, parameters
+// and its render cost against the CPU's from the same start, on a tiny
+// synthetic scene with masks: the cost's residual and Jacobians, the same
+// frames and losses step by step, parameters
 // close after steps that also raise the SH degree (a host round trip), the
 // same model after a densify step and an opacity reset, the same skipped
 // steps for a NaN frame, and checkpoints that the other trainer resumes.
@@ -18,7 +19,11 @@
 
 #include "core/model/gaussian_init.h"
 #include "core/render/rasterizer.h"
+#include "costs/cuda/device_splat_render_cost.h"
+#include "costs/splat_render_cost.h"
 #include "solvers/checkpoint/checkpoint.h"
+#include "solvers/optim/adam.h"
+#include "solvers/train/cuda/device_gaussians.h"
 #include "solvers/train/cuda/device_static_trainer.h"
 #include "solvers/train/static_trainer.h"
 #include "tests/cuda/require_gpu.h"
@@ -101,8 +106,17 @@ struct TinyScene {
     }
   }
 
+  // Seeded from the points, then made anisotropic and turned: a round
+  // Gaussian's rotation gradient is zero up to rounding, which Adam would
+  // blow up to a full step of noise on each trainer.
   GaussianSet Initial() const {
-    return InitGaussiansFromPoints(points, colors, 0);
+    GaussianSet g = InitGaussiansFromPoints(points, colors, 0);
+    std::mt19937 rng(4);
+    std::uniform_real_distribution<double> u(-1, 1);
+    for (double& v : g.log_scales) v += 0.4 * u(rng);
+    for (int i = 0; i < g.size(); ++i)
+      for (int a = 0; a < 4; ++a) g.quats[4 * i + a] = (a == 0) + 0.5 * u(rng);
+    return g;
   }
 };
 
@@ -129,18 +143,28 @@ double MaxDiff(const std::vector<double>& a, const std::vector<double>& b) {
 }
 
 // Adam moves a value by at most about its rate per step, whatever the
-// gradient, so where float rounding flips a tiny gradient's sign the two
-// trainers part by up to twice that: every value must agree within
-// `tolerance`, and nearly all far more closely.
+// gradient's size, so where float rounding flips a tiny gradient's sign
+// the two trainers part by up to twice that, and elsewhere by the
+// gradients' relative float error times the rate: every value must agree
+// within `tolerance` (twice the rate times the steps), and 95% of them
+// within a tenth of it.
 void ExpectClose(const std::vector<double>& cpu,
                  const std::vector<double>& device, double tolerance,
                  const char* what) {
   ASSERT_EQ(cpu.size(), device.size()) << what;
-  EXPECT_LE(MaxDiff(cpu, device), tolerance) << what;
-  int far = 0;
+  std::vector<double> diff(cpu.size());
   for (size_t i = 0; i < cpu.size(); ++i)
-    far += std::abs(cpu[i] - device[i]) > 1e-3 * tolerance;
-  EXPECT_LE(far, static_cast<int>(cpu.size() / 50) + 1) << what;
+    diff[i] = std::abs(cpu[i] - device[i]);
+  std::sort(diff.begin(), diff.end());
+  const double p50 = diff[diff.size() / 2];
+  const double p95 = diff[diff.size() * 95 / 100];
+  const std::string quantiles = std::string(what) + ": median " +
+                                std::to_string(p50 / tolerance) + ", 95% " +
+                                std::to_string(p95 / tolerance) + ", max " +
+                                std::to_string(diff.back() / tolerance) +
+                                " of the tolerance";
+  EXPECT_LE(diff.back(), tolerance) << quantiles;
+  EXPECT_LE(p95, 0.1 * tolerance) << quantiles;
 }
 
 void ExpectModelsClose(const GaussianSet& cpu, const GaussianSet& device,
@@ -169,6 +193,82 @@ void ExpectSameStep(const IterationStats& cpu, const IterationStats& device,
   EXPECT_NEAR(device.photometric, cpu.photometric, 2e-5 * cpu.photometric)
       << "step " << step;
   EXPECT_NEAR(device.mask, cpu.mask, 2e-5 * cpu.mask) << "step " << step;
+}
+
+// The cost on its own: residual and every Jacobian block against
+// SplatRenderCost's on the same model and frame (SSIM and mask on), and
+// the trainers' direct call, which must leave dl/dtheta (Adam would not
+// notice a gradient off by a constant factor).
+TEST(CudaStaticTrainerTest, RenderCostMatchesTheCpuCost) {
+  ES_REQUIRE_GPU("device render cost");
+  const TinyScene scene;
+  GaussianSet g = scene.Initial();
+  g.SetShDegree(1);
+  std::mt19937 rng(5);
+  std::normal_distribution<double> noise(0.0, 0.5);
+  for (double& v : g.sh) v += 0.3 * noise(rng);
+  for (double& v : g.dynamic_logits) v = noise(rng);
+  const Frame& frame = scene.frames[2];
+  const int n = g.size();
+  const StaticTrainerOptions o = Options(0.2);
+  const ImageLossTerms terms = StaticLossTerms(o, true);
+  SplatRenderCost cpu(&frame, n, g.sh_degree, terms, StaticRenderOptions(o));
+  GaussianSet cpu_grad = ZeroGaussians(n, g.sh_degree);
+  std::vector<double*> cpu_params = SplatRenderCost::Blocks(&g);
+  std::vector<double*> cpu_jac = SplatRenderCost::Blocks(&cpu_grad);
+  double cpu_r = 0;
+  ASSERT_TRUE(cpu.Evaluate(cpu_params.data(), &cpu_r, cpu_jac.data()));
+
+  DeviceBuffer<float> image, mask;
+  image.Upload(frame.image.ptr<float>(), frame.image.total() * 3);
+  mask.Upload(frame.mask.ptr<float>(), frame.mask.total());
+  DeviceRasterizer rasterizer;
+  DeviceSplatRenderCost device(terms, o.background, &rasterizer);
+  device.Reset(frame.camera, image.data(), mask.data(), n, g.sh_degree);
+  ASSERT_EQ(device.parameter_block_sizes(), cpu.parameter_block_sizes());
+  DeviceGaussians params, jac;
+  params.Upload(g);
+  jac.ResizeZero(n, g.sh_degree);
+  std::vector<double*> device_params = params.BlockPointers();
+  std::vector<double*> device_jac = jac.BlockPointers();
+  double device_r = 0;
+  ASSERT_TRUE(device.Evaluate(device_params.data(), &device_r,
+                              device_jac.data()));
+  EXPECT_NEAR(device_r, cpu_r, 1e-5 * cpu_r);
+  EXPECT_NEAR(device.last_photometric(), cpu.last_photometric(),
+              2e-5 * cpu.last_photometric());
+  EXPECT_NEAR(device.last_mask(), cpu.last_mask(), 2e-5 * cpu.last_mask());
+  GaussianSet device_grad;
+  jac.Download(&device_grad);
+  auto expect_block = [](const std::vector<double>& c,
+                         const std::vector<double>& d, const char* what) {
+    double scale = 0;
+    for (double v : c) scale = std::max(scale, std::abs(v));
+    ASSERT_GT(scale, 0) << what;
+    EXPECT_LE(MaxDiff(c, d), 2e-3 * scale) << what;
+  };
+  expect_block(cpu_grad.means, device_grad.means, "means");
+  expect_block(cpu_grad.log_scales, device_grad.log_scales, "log_scales");
+  expect_block(cpu_grad.quats, device_grad.quats, "quats");
+  expect_block(cpu_grad.opacity_logits, device_grad.opacity_logits,
+               "opacity");
+  expect_block(cpu_grad.sh, device_grad.sh, "sh");
+  expect_block(cpu_grad.dynamic_logits, device_grad.dynamic_logits,
+               "dynamic");
+
+  // Without Jacobians: the same residual.
+  double again = 0;
+  ASSERT_TRUE(device.Evaluate(device_params.data(), &again, nullptr));
+  EXPECT_EQ(again, device_r);
+  // The direct call: the Jacobian rows times r.
+  const double loss = EvaluateDeviceScalarLossGradient(
+      device, device_params.data(), device_jac.data());
+  EXPECT_NEAR(loss, 0.5 * cpu_r * cpu_r, 2e-5 * loss);
+  GaussianSet dl;
+  jac.Download(&dl);
+  for (size_t i = 0; i < dl.means.size(); ++i)
+    EXPECT_NEAR(dl.means[i], device_grad.means[i] * device_r,
+                1e-12 * std::abs(dl.means[i]) + 1e-300);
 }
 
 TEST(CudaStaticTrainerTest, StepsMatchTheCpuTrainer) {
