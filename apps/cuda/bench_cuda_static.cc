@@ -15,8 +15,10 @@
 // when no CUDA device is present.
 
 #include <cstdio>
+#include <map>
 #include <random>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <benchmark/benchmark.h>
@@ -66,9 +68,20 @@ TrainingScene MakeTrainingScene(int width, int height, int count) {
   return t;
 }
 
+// Google Benchmark calls a benchmark more than once to size its runs:
+// each scene is made (rendered on the CPU) once.
+const TrainingScene& SceneOf(int width, int height, int count) {
+  static std::map<std::tuple<int, int, int>, TrainingScene> scenes;
+  const auto key = std::make_tuple(width, height, count);
+  auto it = scenes.find(key);
+  if (it == scenes.end())
+    it = scenes.emplace(key, MakeTrainingScene(width, height, count)).first;
+  return it->second;
+}
+
 void BM_CudaStaticStep(benchmark::State& state) {
-  const TrainingScene scene =
-      MakeTrainingScene(state.range(0), state.range(1), state.range(2));
+  const TrainingScene& scene =
+      SceneOf(state.range(0), state.range(1), state.range(2));
   StaticTrainerOptions options;
   options.iterations = 1000000;  // the learning-rate schedule's length
   options.max_sh_degree = 3;
