@@ -2,7 +2,7 @@
 // (water) probability.
 //
 //   es_static --scene DIR --out DIR [--iterations 10000] [--resume]
-//             [--image_scale 1] ...
+//             [--image_scale 1] [--device cpu|cuda] ...
 //
 // Writes DIR/static.ply (3DGS layout + dynamic_logit), DIR/metrics.json,
 // DIR/history.csv (es_plot draws it) and DIR/checkpoint.bin every
@@ -10,7 +10,11 @@
 
 #include <gflags/gflags.h>
 
+#include <cstdio>
+#include <string>
+
 #include "apps/common/app_main.h"
+#include "apps/common/device_flag.h"
 #include "apps/common/flag_checks.h"
 #include "solvers/train/static_stage.h"
 
@@ -64,6 +68,7 @@ DEFINE_double(percent_dense, 0.01,
 DEFINE_double(min_opacity, 0.005, "Prune Gaussians below this opacity.");
 DEFINE_int32(max_gaussians, 1000000, "Cap on the number of Gaussians.");
 DEFINE_bool(white_background, false, "Render on white instead of black.");
+DEFINE_string(device, "cpu", es::kDeviceFlagHelp);
 DEFINE_bool(profile, false,
             "Print where the training iterations' wall time goes, per stage "
             "(projection, binning, tiles, losses, Adam, densification), "
@@ -74,10 +79,14 @@ int main(int argc, char** argv) {
       argc, argv,
       "Stage 1: static reconstruction.\n"
       "  es_static --scene DIR --out DIR [--iterations N] [--resume]\n"
+      "            [--device cpu|cuda]\n"
       "Writes OUT/static.ply, OUT/metrics.json, OUT/history.csv and "
       "OUT/checkpoint.bin.",
       [] {
         es::RequirePositive("image_scale", FLAGS_image_scale);
+        std::string device_name;
+        const es::ComputeDevice device =
+            es::ParseDeviceFlag(FLAGS_device, &device_name);
         es::StaticStageOptions o;
         o.scene_dir = FLAGS_scene;
         o.out_dir = FLAGS_out;
@@ -113,7 +122,9 @@ int main(int argc, char** argv) {
         t.densify_options.min_opacity = FLAGS_min_opacity;
         t.densify_options.max_gaussians = FLAGS_max_gaussians;
         if (FLAGS_white_background) t.background.setOnes();
-        es::RunStaticStage(o);
+        if (device == es::ComputeDevice::kCuda)
+          std::printf("training on %s\n", device_name.c_str());
+        es::RunStaticStage(o, es::StaticTrainerOn(device));
         return 0;
       });
 }

@@ -4,9 +4,11 @@
 # Euler chain and loop renderer, their tests and the benchmarks
 # (-DES_CUDA=ON -DES_CUDA_CHECK_ONLY=ON: no Ceres or OpenCV needed),
 # prints the GPU, runs the tests, once more under compute-sanitizer's
-# memcheck (and some under racecheck) when it is
-# installed and time allows, then the benchmarks, and copies the logs to
-# $OUT when that is set. Under 8 minutes on 16 cores; the summary at the
+# memcheck (and some under racecheck) when it is installed and time
+# allows, then the benchmarks; then, where Ceres and OpenCV are
+# installed, a full -DES_CUDA=ON build of the device Stage 1 trainer's
+# test and benchmark, run too. Copies the logs to $OUT when that is set.
+# Under 8 minutes on 16 cores; the summary at the
 # end holds what a reader needs.
 #
 #   scripts/cuda_check.sh           build and run the checks (GPU machine)
@@ -194,6 +196,44 @@ timeout 150 "$build/bin/bench_cuda_loop" \
   --benchmark_counters_tabular=true > "$logs/bench_loop.txt" 2>&1
 note "bench_cuda_loop exit status $?"
 tee -a "$summary" < "$logs/bench_loop.txt"
+
+# Second step: the device trainer (Stage 1), its test and benchmark, and
+# the --device flag need Ceres and OpenCV, so they are not in the
+# check-only build above; where those are installed, a full build with
+# -DES_CUDA=ON builds and runs them (otherwise this says so and skips).
+full=build_cuda_full
+if dpkg-query -W -f='${Status}' libceres-dev libopencv-dev 2>/dev/null |
+     grep -c "install ok installed" | grep -q 2; then
+  note "== full build: device trainer (sm_$arch)"
+  if cmake -S . -B "$full" -DCMAKE_BUILD_TYPE=Release -DES_CUDA=ON \
+         -DCMAKE_CUDA_ARCHITECTURES="$arch" "${cmake_args[@]}" \
+         > "$logs/build_full.txt" 2>&1 &&
+     cmake --build "$full" -j"${ES_JOBS:-16}" --target \
+         cuda_static_trainer_test device_flag_test bench_cuda_static \
+         >> "$logs/build_full.txt" 2>&1; then
+    ES_CUDA_SYNC=1 timeout 300 "$full/bin/cuda_static_trainer_test" \
+      > "$logs/trainer_tests.txt" 2>&1
+    trainer_status=$?
+    "$full/bin/device_flag_test" >> "$logs/trainer_tests.txt" 2>&1 ||
+      trainer_status=1
+    grep -E "PASSED|FAILED|SKIPPED|Failure" -A3 "$logs/trainer_tests.txt" |
+      head -40 | tee -a "$summary"
+    ((trainer_status == 0)) || tests_status=1
+    grep -q "SKIPPED" "$logs/trainer_tests.txt" && tests_status=1
+    timeout 200 "$full/bin/bench_cuda_static" \
+      --benchmark_counters_tabular=true > "$logs/bench_static.txt" 2>&1
+    note "bench_cuda_static exit status $?"
+    tee -a "$summary" < "$logs/bench_static.txt"
+  else
+    grep -E -B2 -A8 "error|Error" "$logs/build_full.txt" | head -60 |
+      tee -a "$summary"
+    note "FULL BUILD FAILED (log: build_full.txt)"
+    tests_status=1
+  fi
+else
+  note "full build skipped: libceres-dev and libopencv-dev not installed" \
+       "(the device trainer's test and benchmark need them)"
+fi
 
 verdict=$([[ $tests_status == 0 ]] && echo passed || echo FAILED)
 note "== done in $((SECONDS - start)) s; tests $verdict"

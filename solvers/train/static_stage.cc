@@ -87,14 +87,17 @@ Scene LoadStaticScene(const std::string& scene_dir,
   return scene;
 }
 
-std::unique_ptr<StaticTrainer> MakeStaticTrainer(
-    const Scene& scene, const StaticTrainerOptions& options) {
-  return std::make_unique<StaticTrainer>(
-      &scene.frames, scene.train, options,
-      InitGaussiansFromPoints(scene.points, scene.point_colors, 0));
+GaussianSet InitialStaticGaussians(const Scene& scene) {
+  return InitGaussiansFromPoints(scene.points, scene.point_colors, 0);
 }
 
-GaussianSet StaticModel(const StaticTrainer& trainer) {
+std::unique_ptr<StaticTrainer> MakeStaticTrainer(
+    const Scene& scene, const StaticTrainerOptions& options) {
+  return std::make_unique<StaticTrainer>(&scene.frames, scene.train, options,
+                                         InitialStaticGaussians(scene));
+}
+
+GaussianSet StaticModel(const StaticStageTrainer& trainer) {
   GaussianSet model = trainer.gaussians();
   if (!trainer.uses_masks())
     std::fill(model.dynamic_logits.begin(), model.dynamic_logits.end(),
@@ -102,13 +105,14 @@ GaussianSet StaticModel(const StaticTrainer& trainer) {
   return model;
 }
 
-StaticMetrics EvaluateHeldOut(const StaticTrainer& trainer,
+StaticMetrics EvaluateHeldOut(const StaticStageTrainer& trainer,
                               const Scene& scene) {
   return EvaluateStatic(StaticModel(trainer), scene.frames, scene.test,
                         trainer.render_options());
 }
 
-StaticStageResult RunStaticStage(const StaticStageOptions& o) {
+StaticStageResult RunStaticStage(const StaticStageOptions& o,
+                                 const StaticTrainerFactory& make_trainer) {
   Validate(o);
   PrepareOutputDirectory(o.out_dir, "out");
   const std::string checkpoint_path = o.out_dir + "/checkpoint.bin";
@@ -116,9 +120,9 @@ StaticStageResult RunStaticStage(const StaticStageOptions& o) {
   if (o.resume) checkpoint = ReadCheckpoint(checkpoint_path);
   const Scene scene = LoadStaticScene(o.scene_dir, o.scene);
 
-  const std::unique_ptr<StaticTrainer> trainer_owner =
-      MakeStaticTrainer(scene, o.trainer);
-  StaticTrainer& trainer = *trainer_owner;
+  const std::unique_ptr<StaticStageTrainer> trainer_owner =
+      make_trainer(scene, o.trainer);
+  StaticStageTrainer& trainer = *trainer_owner;
   if (o.resume) {
     if (checkpoint.gaussians.sh_degree > o.trainer.max_sh_degree)
       throw InputError(checkpoint_path + ": SH degree " +

@@ -1,11 +1,13 @@
 #ifndef EULERSPLAT_SOLVERS_TRAIN_STATIC_STAGE_H_
 #define EULERSPLAT_SOLVERS_TRAIN_STATIC_STAGE_H_
 
+#include <functional>
 #include <memory>
 #include <string>
 
 #include "core/io/scene.h"
 #include "solvers/eval/static_eval.h"
+#include "solvers/train/static_stage_trainer.h"
 #include "solvers/train/static_trainer.h"
 
 namespace es {
@@ -40,17 +42,26 @@ struct StaticStageResult {
 Scene LoadStaticScene(const std::string& scene_dir,
                       const SceneOptions& options);
 
+// The Gaussians Stage 1 starts from: the scene's points, 3-NN scales.
+GaussianSet InitialStaticGaussians(const Scene& scene);
+
 // A trainer on the scene's training split, seeded from its points (3-NN
 // scales). `scene` must outlive it.
 std::unique_ptr<StaticTrainer> MakeStaticTrainer(
     const Scene& scene, const StaticTrainerOptions& options);
 
+// Makes the trainer RunStaticStage drives (MakeStaticTrainer, or a device
+// twin's maker: cuda::MakeDeviceStaticTrainer).
+using StaticTrainerFactory = std::function<std::unique_ptr<StaticStageTrainer>(
+    const Scene& scene, const StaticTrainerOptions& options)>;
+
 // The model as Stage 1 writes and evaluates it: without masks, every
 // dynamic logit is set well below any threshold (no Gaussian is water).
-GaussianSet StaticModel(const StaticTrainer& trainer);
+GaussianSet StaticModel(const StaticStageTrainer& trainer);
 
 // Held-out metrics of StaticModel(trainer) on the scene's test split.
-StaticMetrics EvaluateHeldOut(const StaticTrainer& trainer, const Scene& scene);
+StaticMetrics EvaluateHeldOut(const StaticStageTrainer& trainer,
+                              const Scene& scene);
 
 // Stage 1: loads the scene, seeds Gaussians from its points (3-NN scales),
 // trains on the training split (resuming if asked), evaluates on the
@@ -59,8 +70,10 @@ StaticMetrics EvaluateHeldOut(const StaticTrainer& trainer, const Scene& scene);
 // held-out PSNR at eval steps). out_dir is checked for writing first.
 // Without masks there is no mask term and no Gaussian is marked dynamic:
 // every dynamic logit is written well below the threshold. Throws
-// InputError for bad options or inputs.
-StaticStageResult RunStaticStage(const StaticStageOptions& options);
+// InputError for bad options or inputs. `make_trainer` picks the device.
+StaticStageResult RunStaticStage(
+    const StaticStageOptions& options,
+    const StaticTrainerFactory& make_trainer = MakeStaticTrainer);
 
 }  // namespace es
 

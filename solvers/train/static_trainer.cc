@@ -11,12 +11,8 @@
 #include "solvers/checkpoint/rng_state.h"
 
 namespace es {
-namespace {
 
-// 3DGS caps opacities at this on every reset.
-constexpr double kResetOpacity = 0.01;
-
-ImageLossTerms Terms(const StaticTrainerOptions& o, bool use_masks) {
+ImageLossTerms StaticLossTerms(const StaticTrainerOptions& o, bool use_masks) {
   ImageLossTerms t;
   t.photometric_weight = 1.0;
   t.ssim_weight = o.ssim_weight;
@@ -24,13 +20,37 @@ ImageLossTerms Terms(const StaticTrainerOptions& o, bool use_masks) {
   return t;
 }
 
-RenderOptions MakeRenderOptions(const StaticTrainerOptions& o) {
+RenderOptions StaticRenderOptions(const StaticTrainerOptions& o) {
   RenderOptions r;
   r.background = o.background;
   return r;
 }
 
-}  // namespace
+bool ShDegreeRises(const StaticTrainerOptions& o, int64_t iteration,
+                   int sh_degree) {
+  return iteration > 0 && o.sh_degree_interval > 0 &&
+         iteration % o.sh_degree_interval == 0 &&
+         sh_degree < o.max_sh_degree;
+}
+
+bool Densifying(const StaticTrainerOptions& o, int64_t iteration) {
+  // As 3DGS (15k of 30k), the second half of a run only refines: a model
+  // evaluated right after a clone / split step is measurably worse.
+  return o.densify &&
+         iteration < std::min<int64_t>(o.densify_options.until_iteration,
+                                       o.iterations / 2);
+}
+
+bool DensifyDue(const StaticTrainerOptions& o, int64_t done) {
+  const DensifyOptions& d = o.densify_options;
+  return done > d.from_iteration && done % d.interval == 0;
+}
+
+bool OpacityResetDue(const StaticTrainerOptions& o, int64_t done) {
+  // Only while densifying, so at least half the run re-learns opacities.
+  const int interval = o.densify_options.opacity_reset_interval;
+  return interval > 0 && done % interval == 0;
+}
 
 StaticTrainer::StaticTrainer(const std::vector<Frame>* frames,
                              std::vector<int> train,
@@ -44,8 +64,9 @@ StaticTrainer::StaticTrainer(const std::vector<Frame>* frames,
       g_(std::move(initial)),
       sampler_(train_, options.seed),
       rng_(options.seed + 1),
-      cost_(&(*frames)[train_.at(0)], 0, 0, Terms(options, use_masks_),
-            MakeRenderOptions(options), &rasterizer_),
+      cost_(&(*frames)[train_.at(0)], 0, 0,
+            StaticLossTerms(options, use_masks_),
+            StaticRenderOptions(options), &rasterizer_),
       guard_("Stage 1 training", options.max_nonfinite_steps) {
   g_.CheckConsistent();
   CHECK_LE(g_.sh_degree, options_.max_sh_degree);
@@ -54,14 +75,12 @@ StaticTrainer::StaticTrainer(const std::vector<Frame>* frames,
 }
 
 RenderOptions StaticTrainer::render_options() const {
-  return MakeRenderOptions(options_);
+  return StaticRenderOptions(options_);
 }
 
 IterationStats StaticTrainer::Step() {
   ScopedStage timer(Stage::kIteration);
-  if (iteration_ > 0 && options_.sh_degree_interval > 0 &&
-      iteration_ % options_.sh_degree_interval == 0 &&
-      g_.sh_degree < options_.max_sh_degree) {
+  if (ShDegreeRises(options_, iteration_, g_.sh_degree)) {
     g_.SetShDegree(g_.sh_degree + 1);
     adam_.SetShDegree(g_.sh_degree);
   }
@@ -84,12 +103,7 @@ IterationStats StaticTrainer::Step() {
     return out;
   }
 
-  const DensifyOptions& d = options_.densify_options;
-  // As 3DGS (15k of 30k), the second half of a run only refines: a model
-  // evaluated right after a clone / split step is measurably worse.
-  const bool densifying =
-      options_.densify &&
-      iteration_ < std::min<int64_t>(d.until_iteration, options_.iterations / 2);
+  const bool densifying = Densifying(options_, iteration_);
   if (densifying) {
     ScopedStage stats_timer(Stage::kDensifyStats);
     // The cost's Backward ran on rasterizer_ with d loss / d image, so these
@@ -105,16 +119,13 @@ IterationStats StaticTrainer::Step() {
   ++iteration_;
   guard_.CheckParameters(iteration_, AllFinite(g_));
 
-  if (densifying && iteration_ > d.from_iteration &&
-      iteration_ % d.interval == 0) {
+  const DensifyOptions& d = options_.densify_options;
+  if (densifying && DensifyDue(options_, iteration_)) {
     DensifyAndPrune(d, extent_, iteration_ > d.opacity_reset_interval, &rng_,
                     &g_, &adam_, &stats_);
   }
-  // Only while densifying, so at least half the run re-learns opacities.
-  if (densifying && d.opacity_reset_interval > 0 &&
-      iteration_ % d.opacity_reset_interval == 0) {
-    ResetOpacity(kResetOpacity, &g_, &adam_);
-  }
+  if (densifying && OpacityResetDue(options_, iteration_))
+    ResetOpacity(kStaticResetOpacity, &g_, &adam_);
   return out;
 }
 

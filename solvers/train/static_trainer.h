@@ -16,6 +16,7 @@
 #include "solvers/train/divergence_guard.h"
 #include "solvers/train/frame_sampler.h"
 #include "solvers/train/splat_training.h"
+#include "solvers/train/static_stage_trainer.h"
 
 namespace es {
 
@@ -35,13 +36,26 @@ struct StaticTrainerOptions {
   int max_nonfinite_steps = 10;
 };
 
-struct IterationStats {
-  int frame = -1;
-  double loss = 0;  // weighted total
-  double photometric = 0;
-  double mask = 0;
-  bool skipped = false;  // non-finite loss or gradient: no update
-};
+// Stage 1's loss terms, render options and schedule, shared by StaticTrainer
+// and its device twin (solvers/train/cuda/device_static_trainer.h).
+// `iteration` is the number of steps taken before the step in question.
+
+// 3DGS caps opacities at this on every reset.
+constexpr double kStaticResetOpacity = 0.01;
+
+ImageLossTerms StaticLossTerms(const StaticTrainerOptions& options,
+                               bool use_masks);
+RenderOptions StaticRenderOptions(const StaticTrainerOptions& options);
+// Whether the SH degree rises (by one) before this step.
+bool ShDegreeRises(const StaticTrainerOptions& options, int64_t iteration,
+                   int sh_degree);
+// Whether this step gathers densification statistics (and may densify or
+// reset opacities after its update).
+bool Densifying(const StaticTrainerOptions& options, int64_t iteration);
+// After a densifying step, with `done` steps taken: whether to clone,
+// split and prune now, and whether to reset opacities now.
+bool DensifyDue(const StaticTrainerOptions& options, int64_t done);
+bool OpacityResetDue(const StaticTrainerOptions& options, int64_t done);
 
 // Trains a static Gaussian model on the training frames: one sampled frame
 // per iteration, its SplatRenderCost evaluated directly into preallocated
@@ -49,28 +63,23 @@ struct IterationStats {
 // overhead dominates at this size), an Adam step, SH-degree growth and
 // adaptive density control. The mask term is used when mask_weight > 0 and
 // every training frame has a mask.
-class StaticTrainer {
+class StaticTrainer : public StaticStageTrainer {
  public:
   StaticTrainer(const std::vector<Frame>* frames, std::vector<int> train,
                 const StaticTrainerOptions& options, GaussianSet initial);
 
-  // One iteration. A non-finite loss or gradient skips the update (counted
-  // in skipped_steps()); throws TrainingDiverged after too many in a row or
-  // if the parameters become non-finite.
-  IterationStats Step();
+  IterationStats Step() override;
 
-  int64_t iteration() const { return iteration_; }
-  const GaussianSet& gaussians() const { return g_; }
-  int64_t skipped_steps() const { return guard_.skipped(); }
-  // False right after a skipped step: the state is not one to checkpoint.
-  bool last_step_ok() const { return guard_.in_a_row() == 0; }
-  bool uses_masks() const { return use_masks_; }
-  double scene_extent() const { return extent_; }
-  RenderOptions render_options() const;
+  int64_t iteration() const override { return iteration_; }
+  const GaussianSet& gaussians() const override { return g_; }
+  int64_t skipped_steps() const override { return guard_.skipped(); }
+  bool last_step_ok() const override { return guard_.in_a_row() == 0; }
+  bool uses_masks() const override { return use_masks_; }
+  double scene_extent() const override { return extent_; }
+  RenderOptions render_options() const override;
 
-  Checkpoint Save() const;
-  // Continues from a checkpoint of a run with the same frames and options.
-  void Restore(const Checkpoint& checkpoint);
+  Checkpoint Save() const override;
+  void Restore(const Checkpoint& checkpoint) override;
 
  private:
   const std::vector<Frame>* frames_;

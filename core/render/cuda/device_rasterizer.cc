@@ -218,5 +218,24 @@ void DeviceRasterizer::Mean2dGradients(std::vector<double>* grads) const {
   }
 }
 
+void DeviceRasterizer::RadiiDevice(int* radii) const {
+  const State& s = *state_;
+  if (!s.has_forward) {
+    DeviceZero(radii, sizeof(int) * s.splats.count);
+    return;
+  }
+  CopyRadii(s.splats.count, s.projected.data(), radii);
+}
+
+void DeviceRasterizer::Mean2dGradientsDevice(double* grads) const {
+  const State& s = *state_;
+  if (!s.has_backward) {  // no backward since the last forward
+    DeviceZero(grads, 2 * sizeof(double) * s.splats.count);
+    return;
+  }
+  CopyMean2dGradients(s.splats.count, s.tiles.data(), s.grad2d.data(),
+                      kTileGradHead + 4 + s.splats.num_extra, grads);
+}
+
 }  // namespace cuda
 }  // namespace es

@@ -72,6 +72,10 @@ class DeviceRasterizer {
   // from the last backward.
   void Radii(std::vector<int>* radii) const;
   void Mean2dGradients(std::vector<double>* grads) const;
+  // The same into device arrays of N ints and 2N doubles (every value
+  // written), for statistics that stay on the device.
+  void RadiiDevice(int* radii) const;
+  void Mean2dGradientsDevice(double* grads) const;
 
  private:
   struct State;

@@ -100,6 +100,14 @@ struct TileArgs {
 void RasterizeForward(const TileArgs& args);
 void RasterizeBackward(const TileArgs& args);
 
+// DeviceRasterizer::Radii and Mean2dGradients into device arrays
+// (screen_stats.cu): radii[n] = projected[n].radius; mean2d_grads[2n, 2n+1]
+// = grad2d row n's d mean (stride as RasterizeBackward's), 0 where
+// tiles[n] is 0.
+void CopyRadii(int count, const ProjectedGaussian* projected, int* radii);
+void CopyMean2dGradients(int count, const int* tiles, const double* grad2d,
+                         int stride, double* mean2d_grads);
+
 }  // namespace cuda
 }  // namespace es
 

@@ -104,5 +104,29 @@ void DeviceGaussianAdam::Download(GaussianSet* m, GaussianSet* v) const {
   }
 }
 
+GaussianAdamState DeviceGaussianAdam::State() const {
+  GaussianAdamState state;
+  Download(&state.m, &state.v);
+  state.step = step_;
+  return state;
+}
+
+void DeviceGaussianAdam::Restore(const GaussianAdamState& state) {
+  state.m.CheckConsistent();
+  CHECK_EQ(state.v.size(), state.m.size());
+  CHECK_EQ(state.v.sh_degree, state.m.sh_degree);
+  count_ = state.m.size();
+  sh_degree_ = state.m.sh_degree;
+  step_ = state.step;
+  for (auto [from, to] : {std::pair{&state.m, &m_}, std::pair{&state.v, &v_}}) {
+    to->means.Upload(from->means);
+    to->log_scales.Upload(from->log_scales);
+    to->quats.Upload(from->quats);
+    to->opacity_logits.Upload(from->opacity_logits);
+    to->sh.Upload(from->sh);
+    to->dynamic_logits.Upload(from->dynamic_logits);
+  }
+}
+
 }  // namespace cuda
 }  // namespace es

@@ -48,6 +48,11 @@ class DeviceGaussianAdam {
   int64_t step() const { return step_; }
   // The moments, as GaussianAdam's m() and v() hold them.
   void Download(GaussianSet* m, GaussianSet* v) const;
+  // GaussianAdam's state() and Restore(): moments and step counter to and
+  // from the host (checkpoints, and edits done on the host such as
+  // densification).
+  GaussianAdamState State() const;
+  void Restore(const GaussianAdamState& state);
 
  private:
   struct Moments {

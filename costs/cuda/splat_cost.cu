@@ -1,0 +1,62 @@
+// DeviceSplatRenderCost's element-wise kernels (splat_cost_kernels.h),
+// with the CPU cost's arithmetic in double.
+
+#include "core/render/cuda/cuda_check.h"
+#include "costs/cuda/splat_cost_kernels.h"
+
+namespace es {
+namespace cuda {
+namespace {
+
+constexpr int kThreads = 256;
+
+int Blocks(long long n) {
+  return static_cast<int>((n + kThreads - 1) / kThreads);
+}
+
+__global__ void SigmoidKernel(int n, const double* logits,
+                              double* probability) {
+  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i < n) probability[i] = 1.0 / (1.0 + exp(-logits[i]));
+}
+
+__global__ void LogitGradientKernel(int n, const double* d_probability,
+                                    const double* probability, double scale,
+                                    double* out) {
+  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i >= n) return;
+  const double p = probability[i];
+  out[i] = d_probability[i] * p * (1 - p) * scale;
+}
+
+__global__ void ScaleKernel(long long n, double scale, double* x) {
+  const long long i = static_cast<long long>(blockIdx.x) * blockDim.x +
+                      threadIdx.x;
+  if (i < n) x[i] *= scale;
+}
+
+}  // namespace
+
+void SigmoidArray(int n, const double* logits, double* probability) {
+  if (n == 0) return;
+  SigmoidKernel<<<Blocks(n), kThreads>>>(n, logits, probability);
+  ES_CUDA_CHECK_LAUNCH("SigmoidKernel");
+}
+
+void DynamicLogitGradient(int n, const double* d_probability,
+                          const double* probability, double scale,
+                          double* out) {
+  if (n == 0) return;
+  LogitGradientKernel<<<Blocks(n), kThreads>>>(n, d_probability, probability,
+                                               scale, out);
+  ES_CUDA_CHECK_LAUNCH("LogitGradientKernel");
+}
+
+void ScaleArray(long long n, double scale, double* x) {
+  if (n == 0) return;
+  ScaleKernel<<<Blocks(n), kThreads>>>(n, scale, x);
+  ES_CUDA_CHECK_LAUNCH("ScaleKernel");
+}
+
+}  // namespace cuda
+}  // namespace es

@@ -1,0 +1,26 @@
+#ifndef EULERSPLAT_COSTS_CUDA_SPLAT_COST_KERNELS_H_
+#define EULERSPLAT_COSTS_CUDA_SPLAT_COST_KERNELS_H_
+
+// The element-wise steps of DeviceSplatRenderCost (splat_cost.cu) around
+// the rasterizer and the losses: plain types only, device pointers, one
+// thread per value, double as the CPU's cost computes them.
+
+namespace es {
+namespace cuda {
+
+// probability[i] = Sigmoid(logits[i]) (core/model/gaussians.h), i < n.
+void SigmoidArray(int n, const double* logits, double* probability);
+
+// out[i] = d_probability[i] * p (1 - p) * scale with p = probability[i]:
+// RenderedFrameLoss::DynamicLogitGradient.
+void DynamicLogitGradient(int n, const double* d_probability,
+                          const double* probability, double scale,
+                          double* out);
+
+// x[i] *= scale, i < n.
+void ScaleArray(long long n, double scale, double* x);
+
+}  // namespace cuda
+}  // namespace es
+
+#endif  // EULERSPLAT_COSTS_CUDA_SPLAT_COST_KERNELS_H_

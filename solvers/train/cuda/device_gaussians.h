@@ -1,0 +1,43 @@
+#ifndef EULERSPLAT_SOLVERS_TRAIN_CUDA_DEVICE_GAUSSIANS_H_
+#define EULERSPLAT_SOLVERS_TRAIN_CUDA_DEVICE_GAUSSIANS_H_
+
+// A GaussianSet's six arrays in device memory (its layouts, double): the
+// device trainer's parameters and gradients. No CUDA types.
+
+#include <vector>
+
+#include "core/model/gaussians.h"
+#include "core/render/cuda/device_buffer.h"
+#include "solvers/optim/cuda/device_adam.h"
+
+namespace es {
+namespace cuda {
+
+class DeviceGaussians {
+ public:
+  void Upload(const GaussianSet& g);
+  void Download(GaussianSet* g) const;
+  // `count` Gaussians of degree `sh_degree`, every value zero.
+  void ResizeZero(int count, int sh_degree);
+
+  int size() const { return count_; }
+  int sh_degree() const { return sh_degree_; }
+  DeviceGaussianBlocks Blocks();
+  // The blocks in SplatBlock order (costs/splat_render_cost.h).
+  std::vector<double*> BlockPointers();
+  // Whether every value is finite: one int comes back to the host.
+  bool AllFinite();
+
+ private:
+  std::vector<DeviceBuffer<double>*> Arrays();
+
+  int count_ = 0, sh_degree_ = 0;
+  DeviceBuffer<double> means_, log_scales_, quats_, opacity_logits_, sh_,
+      dynamic_logits_;
+  DeviceBuffer<int> flag_;
+};
+
+}  // namespace cuda
+}  // namespace es
+
+#endif  // EULERSPLAT_SOLVERS_TRAIN_CUDA_DEVICE_GAUSSIANS_H_

@@ -1,0 +1,406 @@
+// The device Stage 1 trainer (solvers/train/cuda/device_static_trainer.h)
+// and its render cost against the CPU's from the same start, on a tiny
+// synthetic scene with masks: the cost's residual and Jacobians, the same
+// frames and losses step by step, parameters
+// close after steps that also raise the SH degree (a host round trip), the
+// same model after a densify step and an opacity reset, the same skipped
+// steps for a NaN frame, and checkpoints that the other trainer resumes.
+// Both render in float, in different summation orders, so values agree to
+// float precision, not bit for bit. Skips when no CUDA device is present.
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <opencv2/core.hpp>
+
+#include "core/model/gaussian_init.h"
+#include "core/render/rasterizer.h"
+#include "costs/cuda/device_splat_render_cost.h"
+#include "costs/splat_render_cost.h"
+#include "solvers/checkpoint/checkpoint.h"
+#include "solvers/optim/adam.h"
+#include "solvers/train/cuda/device_gaussians.h"
+#include "solvers/train/cuda/device_static_trainer.h"
+#include "solvers/train/static_trainer.h"
+#include "tests/cuda/require_gpu.h"
+
+namespace es {
+namespace cuda {
+namespace {
+
+// Tiny, so that the emulated device (a thread per CUDA thread) is quick.
+constexpr int kWidth = 16, kHeight = 12;
+constexpr int kGaussians = 30;
+
+Camera LookAt(const Eigen::Vector3d& center) {
+  Camera c;
+  c.width = kWidth;
+  c.height = kHeight;
+  c.fx = c.fy = 16;
+  c.cx = 8;
+  c.cy = 6;
+  const Eigen::Vector3d z = (-center).normalized();
+  const Eigen::Vector3d x = Eigen::Vector3d(0, 1, 0).cross(z).normalized();
+  const Eigen::Vector3d y = z.cross(x);
+  Eigen::Matrix3d r;
+  r.row(0) = x;
+  r.row(1) = y;
+  r.row(2) = z;
+  c.q_cw = Eigen::Quaterniond(r);
+  c.t_cw = -r * center;
+  return c;
+}
+
+// A slab of Gaussians seen from four cameras on an arc; those with x > 0
+// are water and render the masks. The trainers start from noisy points.
+struct TinyScene {
+  std::vector<Frame> frames;
+  std::vector<int> train = {0, 1, 2, 3};
+  std::vector<Eigen::Vector3d> points, colors;
+
+  TinyScene() {
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> u(-1, 1);
+    GaussianSet truth;
+    truth.Resize(kGaussians);
+    std::vector<double> water(kGaussians);
+    for (int i = 0; i < kGaussians; ++i) {
+      truth.means[3 * i] = 1.2 * u(rng);
+      truth.means[3 * i + 1] = 0.9 * u(rng);
+      truth.means[3 * i + 2] = 0.2 * u(rng);
+      for (int a = 0; a < 3; ++a)
+        truth.log_scales[3 * i + a] = std::log(0.2) + 0.3 * u(rng);
+      for (int a = 0; a < 4; ++a)
+        truth.quats[4 * i + a] = (a == 0) + 0.5 * u(rng);
+      truth.opacity_logits[i] = Logit(0.8);
+      Eigen::Vector3d color;
+      for (int c = 0; c < 3; ++c) {
+        color[c] = 0.5 + 0.4 * u(rng);
+        truth.sh[3 * i + c] = (color[c] - 0.5) / kShC0;
+      }
+      water[i] = truth.means[3 * i] > 0;
+      points.push_back(Eigen::Vector3d::Map(&truth.means[3 * i]) +
+                       0.05 * Eigen::Vector3d(u(rng), u(rng), u(rng)));
+      colors.push_back(color + 0.1 * Eigen::Vector3d(u(rng), u(rng), u(rng)));
+    }
+    SplatView view = SplatView::Of(truth);
+    view.num_extra = 1;
+    view.extra = water.data();
+    Rasterizer rasterizer;
+    RenderResult render;
+    for (int k = 0; k < 4; ++k) {
+      const double angle = -0.3 + 0.2 * k;
+      Frame f;
+      f.camera = LookAt(4.0 * Eigen::Vector3d(std::sin(angle), 0.1 * u(rng),
+                                              -std::cos(angle)));
+      rasterizer.Forward(f.camera, view, RenderOptions(), &render);
+      cv::Mat(kHeight, kWidth, CV_64FC3, render.rgb.data())
+          .convertTo(f.image, CV_32F);
+      cv::Mat(kHeight, kWidth, CV_64FC1, render.extra.data())
+          .convertTo(f.mask, CV_32F);
+      frames.push_back(f);
+    }
+  }
+
+  // Seeded from the points, then made anisotropic and turned: a round
+  // Gaussian's rotation gradient is zero up to rounding, which Adam would
+  // blow up to a full step of noise on each trainer.
+  GaussianSet Initial() const {
+    GaussianSet g = InitGaussiansFromPoints(points, colors, 0);
+    std::mt19937 rng(4);
+    std::uniform_real_distribution<double> u(-1, 1);
+    for (double& v : g.log_scales) v += 0.4 * u(rng);
+    for (int i = 0; i < g.size(); ++i)
+      for (int a = 0; a < 4; ++a) g.quats[4 * i + a] = (a == 0) + 0.5 * u(rng);
+    return g;
+  }
+};
+
+// SSIM's kernels are most of an emulated step: only the first test, which
+// checks the whole loss, keeps them; the others train on L1 and the mask.
+StaticTrainerOptions Options(double ssim_weight = 0) {
+  StaticTrainerOptions o;
+  o.ssim_weight = ssim_weight;
+  o.iterations = 100;
+  o.max_sh_degree = 2;
+  o.sh_degree_interval = 1;  // raised before steps 1 and 2
+  o.densify = false;
+  o.densify_options.opacity_reset_interval = 0;
+  return o;
+}
+
+// Largest |a - b| over two arrays of the same size.
+double MaxDiff(const std::vector<double>& a, const std::vector<double>& b) {
+  EXPECT_EQ(a.size(), b.size());
+  double m = 0;
+  for (size_t i = 0; i < std::min(a.size(), b.size()); ++i)
+    m = std::max(m, std::abs(a[i] - b[i]));
+  return m;
+}
+
+// Adam moves a value by at most about its rate per step, whatever the
+// gradient's size, so where float rounding flips a tiny gradient's sign
+// the two trainers part by up to twice that, and elsewhere by the
+// gradients' relative float error times the rate: every value must agree
+// within `tolerance` (twice the rate times the steps), and 95% of them
+// within a tenth of it.
+void ExpectClose(const std::vector<double>& cpu,
+                 const std::vector<double>& device, double tolerance,
+                 const char* what) {
+  ASSERT_EQ(cpu.size(), device.size()) << what;
+  std::vector<double> diff(cpu.size());
+  for (size_t i = 0; i < cpu.size(); ++i)
+    diff[i] = std::abs(cpu[i] - device[i]);
+  std::sort(diff.begin(), diff.end());
+  const double p50 = diff[diff.size() / 2];
+  const double p95 = diff[diff.size() * 95 / 100];
+  const std::string quantiles = std::string(what) + ": median " +
+                                std::to_string(p50 / tolerance) + ", 95% " +
+                                std::to_string(p95 / tolerance) + ", max " +
+                                std::to_string(diff.back() / tolerance) +
+                                " of the tolerance";
+  EXPECT_LE(diff.back(), tolerance) << quantiles;
+  EXPECT_LE(p95, 0.1 * tolerance) << quantiles;
+}
+
+void ExpectModelsClose(const GaussianSet& cpu, const GaussianSet& device,
+                       int steps, const StaticTrainerOptions& o,
+                       double extent) {
+  ASSERT_EQ(cpu.size(), device.size());
+  ASSERT_EQ(cpu.sh_degree, device.sh_degree);
+  const SplatLearningRateOptions& lr = o.splat_lr;
+  const double k = 2.0 * steps;
+  ExpectClose(cpu.means, device.means, k * lr.means_initial * extent, "means");
+  ExpectClose(cpu.log_scales, device.log_scales, k * lr.log_scales, "scales");
+  ExpectClose(cpu.quats, device.quats, k * lr.quats, "quats");
+  ExpectClose(cpu.opacity_logits, device.opacity_logits, k * lr.opacity,
+              "opacity");
+  ExpectClose(cpu.sh, device.sh, k * lr.sh_dc, "sh");
+  ExpectClose(cpu.dynamic_logits, device.dynamic_logits, k * lr.dynamic,
+              "dynamic");
+}
+
+void ExpectSameStep(const IterationStats& cpu, const IterationStats& device,
+                    int step) {
+  EXPECT_EQ(cpu.frame, device.frame) << "step " << step;
+  EXPECT_EQ(cpu.skipped, device.skipped) << "step " << step;
+  if (cpu.skipped) return;
+  EXPECT_NEAR(device.loss, cpu.loss, 2e-5 * cpu.loss) << "step " << step;
+  EXPECT_NEAR(device.photometric, cpu.photometric, 2e-5 * cpu.photometric)
+      << "step " << step;
+  EXPECT_NEAR(device.mask, cpu.mask, 2e-5 * cpu.mask) << "step " << step;
+}
+
+// The cost on its own: residual and every Jacobian block against
+// SplatRenderCost's on the same model and frame (SSIM and mask on), and
+// the trainers' direct call, which must leave dl/dtheta (Adam would not
+// notice a gradient off by a constant factor).
+TEST(CudaStaticTrainerTest, RenderCostMatchesTheCpuCost) {
+  ES_REQUIRE_GPU("device render cost");
+  const TinyScene scene;
+  GaussianSet g = scene.Initial();
+  g.SetShDegree(1);
+  std::mt19937 rng(5);
+  std::normal_distribution<double> noise(0.0, 0.5);
+  for (double& v : g.sh) v += 0.3 * noise(rng);
+  for (double& v : g.dynamic_logits) v = noise(rng);
+  const Frame& frame = scene.frames[2];
+  const int n = g.size();
+  const StaticTrainerOptions o = Options(0.2);
+  const ImageLossTerms terms = StaticLossTerms(o, true);
+  SplatRenderCost cpu(&frame, n, g.sh_degree, terms, StaticRenderOptions(o));
+  GaussianSet cpu_grad = ZeroGaussians(n, g.sh_degree);
+  std::vector<double*> cpu_params = SplatRenderCost::Blocks(&g);
+  std::vector<double*> cpu_jac = SplatRenderCost::Blocks(&cpu_grad);
+  double cpu_r = 0;
+  ASSERT_TRUE(cpu.Evaluate(cpu_params.data(), &cpu_r, cpu_jac.data()));
+
+  DeviceBuffer<float> image, mask;
+  image.Upload(frame.image.ptr<float>(), frame.image.total() * 3);
+  mask.Upload(frame.mask.ptr<float>(), frame.mask.total());
+  DeviceRasterizer rasterizer;
+  DeviceSplatRenderCost device(terms, o.background, &rasterizer);
+  device.Reset(frame.camera, image.data(), mask.data(), n, g.sh_degree);
+  ASSERT_EQ(device.parameter_block_sizes(), cpu.parameter_block_sizes());
+  DeviceGaussians params, jac;
+  params.Upload(g);
+  jac.ResizeZero(n, g.sh_degree);
+  std::vector<double*> device_params = params.BlockPointers();
+  std::vector<double*> device_jac = jac.BlockPointers();
+  double device_r = 0;
+  ASSERT_TRUE(device.Evaluate(device_params.data(), &device_r,
+                              device_jac.data()));
+  EXPECT_NEAR(device_r, cpu_r, 1e-5 * cpu_r);
+  EXPECT_NEAR(device.last_photometric(), cpu.last_photometric(),
+              2e-5 * cpu.last_photometric());
+  EXPECT_NEAR(device.last_mask(), cpu.last_mask(), 2e-5 * cpu.last_mask());
+  GaussianSet device_grad;
+  jac.Download(&device_grad);
+  auto expect_block = [](const std::vector<double>& c,
+                         const std::vector<double>& d, const char* what) {
+    double scale = 0;
+    for (double v : c) scale = std::max(scale, std::abs(v));
+    ASSERT_GT(scale, 0) << what;
+    EXPECT_LE(MaxDiff(c, d), 2e-3 * scale) << what;
+  };
+  expect_block(cpu_grad.means, device_grad.means, "means");
+  expect_block(cpu_grad.log_scales, device_grad.log_scales, "log_scales");
+  expect_block(cpu_grad.quats, device_grad.quats, "quats");
+  expect_block(cpu_grad.opacity_logits, device_grad.opacity_logits,
+               "opacity");
+  expect_block(cpu_grad.sh, device_grad.sh, "sh");
+  expect_block(cpu_grad.dynamic_logits, device_grad.dynamic_logits,
+               "dynamic");
+
+  // Without Jacobians: the same residual.
+  double again = 0;
+  ASSERT_TRUE(device.Evaluate(device_params.data(), &again, nullptr));
+  EXPECT_EQ(again, device_r);
+  // The direct call: the Jacobian rows times r.
+  const double loss = EvaluateDeviceScalarLossGradient(
+      device, device_params.data(), device_jac.data());
+  EXPECT_NEAR(loss, 0.5 * cpu_r * cpu_r, 2e-5 * loss);
+  GaussianSet dl;
+  jac.Download(&dl);
+  for (size_t i = 0; i < dl.means.size(); ++i)
+    EXPECT_NEAR(dl.means[i], device_grad.means[i] * device_r,
+                1e-12 * std::abs(dl.means[i]) + 1e-300);
+}
+
+TEST(CudaStaticTrainerTest, StepsMatchTheCpuTrainer) {
+  ES_REQUIRE_GPU("device Stage 1 trainer");
+  const TinyScene scene;
+  const StaticTrainerOptions o = Options(0.2);
+  StaticTrainer cpu(&scene.frames, scene.train, o, scene.Initial());
+  DeviceStaticTrainer device(&scene.frames, scene.train, o, scene.Initial());
+  ASSERT_TRUE(device.uses_masks());
+  EXPECT_EQ(device.scene_extent(), cpu.scene_extent());
+  constexpr int kSteps = 3;
+  for (int i = 0; i < kSteps; ++i) {
+    const IterationStats c = cpu.Step();
+    const IterationStats d = device.Step();
+    ExpectSameStep(c, d, i);
+    ASSERT_GT(c.mask, 0);
+  }
+  EXPECT_EQ(device.iteration(), kSteps);
+  EXPECT_EQ(device.gaussians().sh_degree, 2);
+  ExpectModelsClose(cpu.gaussians(), device.gaussians(), kSteps, o,
+                    cpu.scene_extent());
+  // The parameters moved: a trainer that did nothing would not pass.
+  EXPECT_GT(MaxDiff(device.gaussians().means, scene.Initial().means), 0);
+}
+
+// A clone / split / prune step and an opacity reset after three steps: the
+// same Gaussians, in the same order, with the same statistics before.
+TEST(CudaStaticTrainerTest, DensifyStepGivesTheCpuModel) {
+  ES_REQUIRE_GPU("device densification");
+  const TinyScene scene;
+  StaticTrainerOptions o = Options();
+  o.densify = true;
+  DensifyOptions& d = o.densify_options;
+  d.from_iteration = 0;
+  d.interval = 3;
+  d.until_iteration = 100;
+  d.opacity_reset_interval = 3;
+  d.percent_dense = 0.5;  // both clones and splits
+  // A threshold in the widest gap of the CPU's mean gradients after three
+  // views, so float rounding cannot move a Gaussian across it.
+  {
+    StaticTrainerOptions probe = o;
+    probe.densify_options.interval = 1000;
+    StaticTrainer cpu(&scene.frames, scene.train, probe, scene.Initial());
+    for (int i = 0; i < 3; ++i) cpu.Step();
+    const Checkpoint c = cpu.Save();
+    std::vector<double> mean;
+    for (size_t i = 0; i < c.grad_sum.size(); ++i)
+      if (c.grad_count[i] > 0) mean.push_back(c.grad_sum[i] / c.grad_count[i]);
+    std::sort(mean.begin(), mean.end());
+    ASSERT_GT(mean.size(), 10u);
+    double best = 0;
+    for (size_t i = mean.size() / 4; i + 1 < 3 * mean.size() / 4; ++i) {
+      if (mean[i + 1] / mean[i] > best) {
+        best = mean[i + 1] / mean[i];
+        d.grad_threshold = std::sqrt(mean[i] * mean[i + 1]);
+      }
+    }
+    ASSERT_GT(best, 1.01);
+  }
+  StaticTrainer cpu(&scene.frames, scene.train, o, scene.Initial());
+  DeviceStaticTrainer device(&scene.frames, scene.train, o, scene.Initial());
+  for (int i = 0; i < 2; ++i) ExpectSameStep(cpu.Step(), device.Step(), i);
+  const Checkpoint before_cpu = cpu.Save(), before_device = device.Save();
+  EXPECT_EQ(before_device.grad_count, before_cpu.grad_count);
+  EXPECT_EQ(before_device.max_radius, before_cpu.max_radius);
+  for (size_t i = 0; i < before_cpu.grad_sum.size(); ++i)
+    EXPECT_NEAR(before_device.grad_sum[i], before_cpu.grad_sum[i],
+                1e-4 * before_cpu.grad_sum[i] + 1e-12)
+        << "Gaussian " << i;
+
+  ExpectSameStep(cpu.Step(), device.Step(), 2);  // densifies, resets
+  const GaussianSet& c = cpu.gaussians();
+  const GaussianSet& g = device.gaussians();
+  EXPECT_GT(c.size(), kGaussians);  // the step added Gaussians
+  ASSERT_EQ(g.size(), c.size());
+  for (double logit : g.opacity_logits) EXPECT_LE(Sigmoid(logit), 0.01 + 1e-12);
+  ExpectModelsClose(c, g, 3, o, cpu.scene_extent());
+  // Moments and statistics followed the Gaussians.
+  const Checkpoint after = device.Save();
+  EXPECT_EQ(after.adam.m.size(), c.size());
+  EXPECT_EQ(after.grad_sum, std::vector<double>(c.size(), 0.0));
+  // And training goes on from there on both.
+  ExpectSameStep(cpu.Step(), device.Step(), 3);
+}
+
+// One NaN pixel in a training frame: its steps are skipped on both, and
+// the others train on.
+TEST(CudaStaticTrainerTest, NonFiniteStepsAreSkippedAsOnTheCpu) {
+  ES_REQUIRE_GPU("device divergence guard");
+  TinyScene scene;
+  scene.frames[1].image.at<cv::Vec3f>(3, 5)[0] = NAN;
+  const StaticTrainerOptions o = Options();
+  StaticTrainer cpu(&scene.frames, scene.train, o, scene.Initial());
+  DeviceStaticTrainer device(&scene.frames, scene.train, o, scene.Initial());
+  for (int i = 0; i < 4; ++i) ExpectSameStep(cpu.Step(), device.Step(), i);
+  EXPECT_EQ(device.skipped_steps(), 1);  // one epoch of four frames
+  EXPECT_EQ(device.skipped_steps(), cpu.skipped_steps());
+  EXPECT_TRUE(AllFinite(device.gaussians()));
+}
+
+// A checkpoint of the device trainer, through a file, resumes on the CPU,
+// and one of the CPU resumes on the device: both continue as the trainer
+// that saved it does.
+TEST(CudaStaticTrainerTest, CheckpointsResumeOnTheOtherTrainer) {
+  ES_REQUIRE_GPU("device trainer checkpoints");
+  const TinyScene scene;
+  const StaticTrainerOptions o = Options();
+  const std::string path = ::testing::TempDir() + "/cuda_static_trainer.ckpt";
+
+  DeviceStaticTrainer device(&scene.frames, scene.train, o, scene.Initial());
+  for (int i = 0; i < 3; ++i) device.Step();
+  WriteCheckpoint(device.Save(), path);
+  StaticTrainer cpu(&scene.frames, scene.train, o, scene.Initial());
+  cpu.Restore(ReadCheckpoint(path));
+  std::remove(path.c_str());
+  EXPECT_EQ(cpu.iteration(), 3);
+  EXPECT_EQ(cpu.gaussians().means, device.gaussians().means);
+  for (int i = 3; i < 5; ++i) ExpectSameStep(cpu.Step(), device.Step(), i);
+  ExpectModelsClose(cpu.gaussians(), device.gaussians(), 2, o,
+                    cpu.scene_extent());
+
+  DeviceStaticTrainer resumed(&scene.frames, scene.train, o, scene.Initial());
+  resumed.Restore(cpu.Save());
+  EXPECT_EQ(resumed.iteration(), 5);
+  EXPECT_EQ(resumed.gaussians().sh, cpu.gaussians().sh);
+  const Checkpoint back = resumed.Save();
+  EXPECT_EQ(back.adam.step, 5);
+  EXPECT_EQ(back.adam.v.sh, cpu.Save().adam.v.sh);
+  for (int i = 5; i < 7; ++i) ExpectSameStep(cpu.Step(), resumed.Step(), i);
+}
+
+}  // namespace
+}  // namespace cuda
+}  // namespace es

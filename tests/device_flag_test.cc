@@ -1,0 +1,61 @@
+// --device (apps/common/device_flag.h): cpu always works, an unknown value
+// and cuda where it cannot run are InputErrors that say why.
+
+#include "apps/common/device_flag.h"
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "core/io/input_error.h"
+
+#ifdef ES_HAVE_CUDA
+#include "core/render/cuda/cuda_error.h"
+#endif
+
+namespace es {
+namespace {
+
+std::string ErrorOf(const std::string& value) {
+  try {
+    ParseDeviceFlag(value);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(DeviceFlagTest, CpuAlwaysWorks) {
+  std::string description;
+  EXPECT_EQ(ParseDeviceFlag("cpu", &description), ComputeDevice::kCpu);
+  EXPECT_EQ(description, "CPU");
+}
+
+TEST(DeviceFlagTest, UnknownDevicesAreNamed) {
+  EXPECT_EQ(ErrorOf("gpu"), "--device must be cpu or cuda, not 'gpu'");
+  EXPECT_NE(ErrorOf("CUDA").find("not 'CUDA'"), std::string::npos);
+  EXPECT_NE(ErrorOf("").find("not ''"), std::string::npos);
+}
+
+TEST(DeviceFlagTest, CudaWorksOnlyWithTheBackendAndADevice) {
+#ifdef ES_HAVE_CUDA
+  std::string why;
+  if (cuda::CudaDeviceAvailable(&why)) {
+    std::string description;
+    EXPECT_EQ(ParseDeviceFlag("cuda", &description), ComputeDevice::kCuda);
+    EXPECT_EQ(description, why);
+  } else {
+    EXPECT_NE(ErrorOf("cuda").find("no CUDA device found (" + why + ")"),
+              std::string::npos)
+        << ErrorOf("cuda");
+  }
+#else
+  EXPECT_NE(ErrorOf("cuda").find("this build has no CUDA backend"),
+            std::string::npos)
+      << ErrorOf("cuda");
+  EXPECT_NE(ErrorOf("cuda").find("-DES_CUDA=ON"), std::string::npos);
+#endif
+}
+
+}  // namespace
+}  // namespace es
