@@ -5,11 +5,12 @@
 //
 //   es_animate --model DIR --scene DIR --out DIR [--frames 60]
 //              [--camera input|fixed|fixed_time|orbit] [--tracks]
-//              [--xt_slice ROW|auto]
+//              [--xt_slice ROW|auto] [--device cpu|cuda]
 
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -20,12 +21,15 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "apps/common/app_main.h"
+#include "apps/common/device_flag.h"
 #include "apps/common/flag_checks.h"
+#include "apps/common/loop_frames_on.h"
 #include "apps/common/scaled_scene.h"
 #include "core/io/image_file.h"
 #include "core/io/input_error.h"
 #include "core/io/output_dir.h"
 #include "core/io/scene.h"
+#include "core/loop/loop_frames.h"
 #include "core/loop/loop_renderer.h"
 #include "core/model/loop_model.h"
 #include "core/viz/camera_path.h"
@@ -71,6 +75,12 @@ DEFINE_string(xt_slice, "", "With --camera fixed: image row ROW of every "
               "row shown on the first frame and loop boundaries marked). "
               "ROW is a number, or auto: the row through the most temporal "
               "change, i.e. through moving water. Empty: off.");
+DEFINE_string(device, "cpu",
+              "Where the frames render: cpu, or cuda (the first NVIDIA GPU; "
+              "needs a build with the CUDA backend, -DES_CUDA=ON or AUTO "
+              "with the CUDA toolkit installed): Alg. 2 and the rasterizer "
+              "run there and only each finished image comes back. --tracks "
+              "needs cpu.");
 
 namespace {
 
@@ -180,7 +190,7 @@ std::vector<es::Camera> CameraPath(const es::Scene& scene,
   return {};
 }
 
-void CheckFlags(es::CameraMode mode) {
+void CheckFlags(es::CameraMode mode, es::ComputeDevice device) {
   es::RequireFlag("model", FLAGS_model);
   es::RequireFlag("scene", FLAGS_scene);
   es::RequireFlag("out", FLAGS_out);
@@ -195,6 +205,10 @@ void CheckFlags(es::CameraMode mode) {
   if (!FLAGS_xt_slice.empty() && mode != es::CameraMode::kFixed) {
     throw es::InputError("--xt_slice needs --camera fixed (a moving camera "
                          "has no meaningful x-t slice)");
+  }
+  if (FLAGS_tracks && device == es::ComputeDevice::kCuda) {
+    throw es::InputError("--tracks needs --device cpu (on the GPU the "
+                         "Gaussians' positions stay there)");
   }
   if (mode == es::CameraMode::kFixedTime && FLAGS_time < 0) {
     throw es::InputError("--time must be >= 0");
@@ -258,7 +272,10 @@ void PrintProgress(int done, std::chrono::steady_clock::time_point start) {
 
 int Run() {
   const es::CameraMode mode = es::ParseCameraMode(FLAGS_camera);
-  CheckFlags(mode);
+  std::string device_name;
+  const es::ComputeDevice device =
+      es::ParseDeviceFlag(FLAGS_device, &device_name);
+  CheckFlags(mode, device);
   es::RenderOptions options;
   if (FLAGS_white_background) options.background.setOnes();
   const es::Scene scene = es::LoadScaledScene(FLAGS_scene, FLAGS_image_scale);
@@ -275,22 +292,26 @@ int Run() {
   if (FLAGS_tracks) tracks.emplace(model);
   es::RowChange row_change;  // for --xt_slice auto
 
-  es::LoopRenderer renderer(&model, options);
+  if (device == es::ComputeDevice::kCuda)
+    std::printf("rendering on %s\n", device_name.c_str());
+  const std::unique_ptr<es::LoopFrames> renderer =
+      es::LoopFramesOn(device, &model, options);
   const bool frozen = mode == es::CameraMode::kFixedTime;
-  renderer.Start(frozen ? FLAGS_time : FLAGS_start_frame);
+  renderer->Start(frozen ? FLAGS_time : FLAGS_start_frame);
   double render_ms = 0;
   const auto start_time = std::chrono::steady_clock::now();
   for (int k = 0; k < FLAGS_frames; ++k) {
-    if (k > 0 && !frozen) renderer.Advance();
+    if (k > 0 && !frozen) renderer->Advance();
     const auto start = std::chrono::steady_clock::now();
-    const es::RenderResult& r = renderer.Render(cameras[k]);
+    const std::vector<double>& rgb = renderer->Rgb(cameras[k]);
     render_ms += std::chrono::duration<double, std::milli>(
                      std::chrono::steady_clock::now() - start)
                      .count();
-    const cv::Mat bgr = es::RgbToBgr8(r.rgb.data(), r.width, r.height);
+    const cv::Mat bgr =
+        es::RgbToBgr8(rgb.data(), cameras[k].width, cameras[k].height);
     video.Add(bgr);
     if (xt_auto) row_change.Add(bgr);
-    if (tracks) tracks->Add(renderer, cameras[k], bgr);
+    if (tracks) tracks->Add(*renderer->cpu_renderer(), cameras[k], bgr);
     PrintProgress(k + 1, start_time);
   }
   const std::string encoder = video.Finish(FLAGS_out + "/animation.mp4");
@@ -315,6 +336,6 @@ int main(int argc, char** argv) {
       "Renders a looping animation of a trained model.\n"
       "  es_animate --model DIR --scene DIR --out DIR [--frames 60]\n"
       "             [--camera input|fixed|fixed_time|orbit] [--tracks]\n"
-      "             [--xt_slice ROW|auto]",
+      "             [--xt_slice ROW|auto] [--device cpu|cuda]",
       Run);
 }

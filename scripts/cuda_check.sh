@@ -116,7 +116,8 @@ if ! cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release -DES_CUDA=ON \
        cuda_photometric_loss_test cuda_mask_bce_loss_test \
        cuda_residual_l2_loss_test cuda_adam_test cuda_fields_test \
        cuda_residual_field_test cuda_euler_chain_test \
-       cuda_loop_animator_test cuda_loop_renderer_test bench_cuda_rasterizer \
+       cuda_loop_animator_test cuda_loop_renderer_test cuda_loop_frames_test \
+       bench_cuda_rasterizer \
        bench_cuda_loop \
        >> "$logs/build.txt" 2>&1; then
   grep -E -B2 -A8 "error|Error|CMake Error" "$logs/build.txt" | head -80
@@ -161,7 +162,8 @@ if command -v compute-sanitizer > /dev/null && ((SECONDS - start < 240)); then
   for t in cuda_photometric_loss_test cuda_mask_bce_loss_test \
            cuda_residual_l2_loss_test cuda_adam_test cuda_fields_test \
            cuda_residual_field_test cuda_euler_chain_test \
-           cuda_loop_animator_test cuda_loop_renderer_test; do
+           cuda_loop_animator_test cuda_loop_renderer_test \
+           cuda_loop_frames_test; do
     timeout 60 compute-sanitizer --tool memcheck --error-exitcode 3 \
       "$build/bin/$t" >> "$logs/memcheck.txt" 2>&1
     note "memcheck of $t exit status $?"

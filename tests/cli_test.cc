@@ -16,6 +16,10 @@
 #include <string>
 #include <vector>
 
+#ifdef ES_HAVE_CUDA
+#include "core/render/cuda/cuda_error.h"
+#endif
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -192,6 +196,26 @@ TEST_F(CliTest, OutOfRangeValuesAreRefusedBeforeAnyWork) {
   ExpectRefused("es_synth", "--out " + out + " stray",
                 "unexpected argument 'stray'");
   ExpectRefused("es_train", "--scene", "");  // gflags: missing value
+  EXPECT_FALSE(fs::exists(root_ / "o")) << "work started anyway";
+}
+
+// es_animate --device: an unknown value is named; cuda is refused where
+// this build or machine cannot run it, and with --tracks (whose positions
+// stay on the GPU) where it can, before any work.
+TEST_F(CliTest, AnimateDeviceIsCheckedBeforeAnyWork) {
+  const std::string args = " --scene " + scene_.string() +
+                           " --model m --out " + (root_ / "o").string();
+  ExpectRefused("es_animate", args + " --device gpu",
+                "--device must be cpu or cuda, not 'gpu'");
+#ifdef ES_HAVE_CUDA
+  std::string why;
+  const std::string refusal = es::cuda::CudaDeviceAvailable(&why)
+                                  ? "--tracks needs --device cpu"
+                                  : "no CUDA device found";
+#else
+  const std::string refusal = "this build has no CUDA backend";
+#endif
+  ExpectRefused("es_animate", args + " --device cuda --tracks", refusal);
   EXPECT_FALSE(fs::exists(root_ / "o")) << "work started anyway";
 }
 
