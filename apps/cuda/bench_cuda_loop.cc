@@ -20,6 +20,7 @@
 #include <benchmark/benchmark.h>
 
 #include "apps/common/raster_bench_scene.h"
+#include "apps/cuda/cuda_benchmark_main.h"
 #include "core/fields/cuda/device_field_workspace.h"
 #include "core/fields/cuda/device_motion_field.h"
 #include "core/loop/cuda/device_euler_chain.h"
@@ -159,16 +160,5 @@ BENCHMARK(BM_CudaAlg1ForwardBackward)
 }  // namespace es
 
 int main(int argc, char** argv) {
-  std::string why;
-  if (!es::cuda::CudaDeviceAvailable(&why)) {
-    std::printf("bench_cuda_loop: no CUDA device to run on (%s)\n",
-                why.c_str());
-    return 0;
-  }
-  std::printf("device: %s\n", why.c_str());
-  benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
+  return es::cuda::RunCudaBenchmarks("bench_cuda_loop", argc, argv);
 }

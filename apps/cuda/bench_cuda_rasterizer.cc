@@ -18,6 +18,7 @@
 #include <benchmark/benchmark.h>
 
 #include "apps/common/raster_bench_scene.h"
+#include "apps/cuda/cuda_benchmark_main.h"
 #include "core/render/cuda/device_buffer.h"
 #include "core/render/cuda/device_rasterizer.h"
 #include "core/render/cuda/device_splats.h"
@@ -84,16 +85,5 @@ BENCHMARK(BM_CudaForwardBackward)->Apply(Sizes);
 }  // namespace es
 
 int main(int argc, char** argv) {
-  std::string why;
-  if (!es::cuda::CudaDeviceAvailable(&why)) {
-    std::printf("bench_cuda_rasterizer: no CUDA device to run on (%s)\n",
-                why.c_str());
-    return 0;
-  }
-  std::printf("device: %s\n", why.c_str());
-  benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
+  return es::cuda::RunCudaBenchmarks("bench_cuda_rasterizer", argc, argv);
 }

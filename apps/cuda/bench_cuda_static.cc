@@ -25,6 +25,7 @@
 #include <opencv2/core.hpp>
 
 #include "apps/common/raster_bench_scene.h"
+#include "apps/cuda/cuda_benchmark_main.h"
 #include "core/render/cuda/cuda_error.h"
 #include "core/render/rasterizer.h"
 #include "solvers/train/cuda/device_static_trainer.h"
@@ -110,16 +111,5 @@ BENCHMARK(BM_CudaStaticStep)
 }  // namespace es
 
 int main(int argc, char** argv) {
-  std::string why;
-  if (!es::cuda::CudaDeviceAvailable(&why)) {
-    std::printf("bench_cuda_static: no CUDA device to run on (%s)\n",
-                why.c_str());
-    return 0;
-  }
-  std::printf("device: %s\n", why.c_str());
-  benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
+  return es::cuda::RunCudaBenchmarks("bench_cuda_static", argc, argv);
 }

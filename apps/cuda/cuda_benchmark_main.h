@@ -1,0 +1,34 @@
+#ifndef EULERSPLAT_APPS_CUDA_CUDA_BENCHMARK_MAIN_H_
+#define EULERSPLAT_APPS_CUDA_CUDA_BENCHMARK_MAIN_H_
+
+#include <cstdio>
+#include <string>
+
+#include <benchmark/benchmark.h>
+
+#include "core/render/cuda/cuda_error.h"
+
+namespace es {
+namespace cuda {
+
+// main() of a CUDA benchmark binary (`name` in its messages): without a
+// CUDA device it says why and exits 0, so a build machine without a GPU
+// can run it; else it names the device and runs the benchmarks.
+inline int RunCudaBenchmarks(const char* name, int argc, char** argv) {
+  std::string why;
+  if (!CudaDeviceAvailable(&why)) {
+    std::printf("%s: no CUDA device to run on (%s)\n", name, why.c_str());
+    return 0;
+  }
+  std::printf("device: %s\n", why.c_str());
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
+
+}  // namespace cuda
+}  // namespace es
+
+#endif  // EULERSPLAT_APPS_CUDA_CUDA_BENCHMARK_MAIN_H_
