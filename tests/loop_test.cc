@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include "tests/central_differences.h"
+#include "tests/small_motion_field.h"
 
 namespace es {
 namespace {
@@ -19,23 +20,6 @@ using central_differences::ExpectGradientsNear;
 using central_differences::Uniform;
 
 constexpr int kCycle = 15;
-
-// A small field that moves points noticeably: up to a few percent of the
-// box per step.
-MotionField SmallField(uint32_t seed) {
-  MotionFieldOptions options;
-  options.triplane.resolution = 8;
-  options.triplane.channels = 4;
-  options.triplane.init_noise = 0.5;
-  options.mlp_width = 16;
-  options.last_layer_init_scale = 1.0;
-  options.velocity_scale = 0.02;
-  MotionField field(options);
-  field.SetBox(Eigen::Vector3d(-1.0, -1.0, -1.0),
-               Eigen::Vector3d(1.0, 1.0, 1.0));
-  field.Initialize(seed);
-  return field;
-}
 
 // The obviously-correct twin of EulerChain::Forward: one point at a time,
 // one step at a time, with the stress rule written out.
@@ -92,7 +76,7 @@ TEST(CycleTest, RandomStartTimesAreSeededAndInRange) {
 }
 
 TEST(EulerChainTest, ForwardMatchesOnePointAtATime) {
-  const MotionField field = SmallField(1);
+  const MotionField field = SmallMotionField(1);
   const int n = 40;
   const std::vector<double> x0 = Uniform(3 * n, -1.2, 1.2, 2);
   std::vector<int> steps = RandomStartTimes(n, kCycle + 1, 3);
@@ -115,7 +99,7 @@ TEST(EulerChainTest, ForwardMatchesOnePointAtATime) {
 
 // Gradients of sum(w * X_final) through up to L steps.
 void CheckChainGradients(const EulerOptions& options, bool expect_clamps) {
-  MotionField field = SmallField(4);
+  MotionField field = SmallMotionField(4);
   const int n = 12;
   std::vector<double> x0 = Uniform(3 * n, -1.2, 1.2, 5);
   std::vector<int> steps = RandomStartTimes(n, kCycle, 6);
@@ -161,7 +145,7 @@ TEST(EulerChainTest, DroppedActivationsGiveTheSameGradients) {
   EulerOptions small;
   small.max_kept_activation_bytes = 8192;  // a few of the first steps
   CheckChainGradients(small, false);
-  MotionField field = SmallField(10);
+  MotionField field = SmallMotionField(10);
   const int n = 30;
   const std::vector<double> x0 = Uniform(3 * n, -1.2, 1.2, 11);
   const std::vector<int> steps = RandomStartTimes(n, kCycle, 12);
@@ -185,7 +169,7 @@ TEST(EulerChainTest, DroppedActivationsGiveTheSameGradients) {
 }
 
 TEST(LoopAnimatorTest, ReproducesEulerChainForEveryFrame) {
-  const MotionField field = SmallField(8);
+  const MotionField field = SmallMotionField(8);
   const int n = 300;
   const std::vector<double> x0 = Uniform(3 * n, -1.0, 1.0, 9);
   const std::vector<int> start = RandomStartTimes(n, kCycle, 10);
@@ -225,7 +209,7 @@ TEST(LoopAnimatorTest, ReproducesEulerChainForEveryFrame) {
 }
 
 TEST(EulerStressTest, NanVelocitiesAreZeroedAndCounted) {
-  MotionField field = SmallField(11);
+  MotionField field = SmallMotionField(11);
   // A NaN output bias makes every velocity NaN.
   field.mlp_params().back() = std::numeric_limits<double>::quiet_NaN();
   const int n = 20;
@@ -246,7 +230,7 @@ TEST(EulerStressTest, NanVelocitiesAreZeroedAndCounted) {
 }
 
 TEST(EulerStressTest, HugeVelocitiesAreClampedAndStayFinite) {
-  MotionField field = SmallField(14);
+  MotionField field = SmallMotionField(14);
   const int num_mlp = static_cast<int>(field.mlp_params().size());
   // Output layer weights to ~1e300: velocities overflow or are enormous.
   for (int i = num_mlp - 3 - 3 * 16; i < num_mlp - 3; ++i) {

@@ -21,6 +21,7 @@
 #include "core/loop/euler_chain.h"
 #include "core/render/cuda/device_buffer.h"
 #include "tests/central_differences.h"
+#include "tests/small_motion_field.h"
 #include "tests/cuda/expect_twins_near.h"
 #include "tests/cuda/require_gpu.h"
 
@@ -32,22 +33,6 @@ using central_differences::Uniform;
 
 constexpr int kCycle = 15;
 constexpr double kTolerance = 1e-9;
-
-// loop_test.cc's small field: moves points a few percent of the box a step.
-MotionField SmallField(uint32_t seed) {
-  MotionFieldOptions options;
-  options.triplane.resolution = 8;
-  options.triplane.channels = 4;
-  options.triplane.init_noise = 0.5;
-  options.mlp_width = 16;
-  options.last_layer_init_scale = 1.0;
-  options.velocity_scale = 0.02;
-  MotionField field(options);
-  field.SetBox(Eigen::Vector3d(-1.0, -1.0, -1.0),
-               Eigen::Vector3d(1.0, 1.0, 1.0));
-  field.Initialize(seed);
-  return field;
-}
 
 // One chain's outputs: final positions, counts, gradients.
 struct ChainResult {
@@ -138,7 +123,7 @@ TEST_P(DeviceEulerChainTest, MatchesCpuTwin) {
   EulerOptions options;
   options.max_step_fraction = c.max_step_fraction;
   options.max_kept_activation_bytes = c.kept_bytes;
-  const MotionField field = SmallField(4);
+  const MotionField field = SmallMotionField(4);
   const int n = 20;
   std::vector<double> x0 = Uniform(3 * n, -1.2, 1.2, 5);
   x0[6] = std::numeric_limits<double>::quiet_NaN();
@@ -174,7 +159,7 @@ INSTANTIATE_TEST_SUITE_P(
 // A few points over two cycles.
 TEST(DeviceEulerChain, ManyStepsMatchCpuTwin) {
   ES_REQUIRE_GPU("CUDA Euler chain");
-  const MotionField field = SmallField(9);
+  const MotionField field = SmallMotionField(9);
   const int n = 5;
   const std::vector<double> x0 = Uniform(3 * n, -1.0, 1.0, 10);
   const std::vector<int> steps = {2 * kCycle, kCycle + 1, 7, 2 * kCycle, 1};
@@ -192,7 +177,7 @@ TEST(DeviceEulerChain, ManyStepsMatchCpuTwin) {
 // are left as they were.
 TEST(DeviceEulerChain, ZeroStepsPassThrough) {
   ES_REQUIRE_GPU("CUDA Euler chain");
-  const MotionField field = SmallField(12);
+  const MotionField field = SmallMotionField(12);
   const int n = 7;
   const std::vector<double> x0 = Uniform(3 * n, -1.0, 1.0, 13);
   const std::vector<double> d_x_out = Uniform(3 * n, -1.0, 1.0, 14);
@@ -210,7 +195,7 @@ TEST(DeviceEulerChain, ZeroStepsPassThrough) {
 // is counted, the gradients are the CPU's.
 TEST(DeviceEulerChain, NanVelocitiesAreZeroedAndCounted) {
   ES_REQUIRE_GPU("CUDA Euler chain");
-  MotionField field = SmallField(11);
+  MotionField field = SmallMotionField(11);
   field.mlp_params().back() = std::numeric_limits<double>::quiet_NaN();
   const int n = 12;
   const std::vector<double> x0 = Uniform(3 * n, -1.0, 1.0, 12);
@@ -233,7 +218,7 @@ TEST(DeviceEulerChain, NanVelocitiesAreZeroedAndCounted) {
 // compared with the CPU's.
 TEST(DeviceEulerChain, HugeVelocitiesAreClampedAndStayFinite) {
   ES_REQUIRE_GPU("CUDA Euler chain");
-  MotionField field = SmallField(14);
+  MotionField field = SmallMotionField(14);
   const int num_mlp = static_cast<int>(field.mlp_params().size());
   for (int i = num_mlp - 3 - 3 * 16; i < num_mlp - 3; ++i) {
     field.mlp_params()[i] *= 1e300;

@@ -17,6 +17,7 @@
 #include "core/loop/loop_animator.h"
 #include "core/render/cuda/device_buffer.h"
 #include "tests/central_differences.h"
+#include "tests/small_motion_field.h"
 #include "tests/cuda/expect_twins_near.h"
 #include "tests/cuda/require_gpu.h"
 
@@ -33,16 +34,7 @@ class DeviceLoopAnimatorTest : public ::testing::TestWithParam<int> {};
 
 TEST_P(DeviceLoopAnimatorTest, EveryFrameMatchesCpuTwin) {
   ES_REQUIRE_GPU("CUDA loop animator");
-  MotionFieldOptions options;
-  options.triplane.resolution = 8;
-  options.triplane.channels = 4;
-  options.triplane.init_noise = 0.5;
-  options.mlp_width = 16;
-  options.last_layer_init_scale = 1.0;
-  options.velocity_scale = 0.05;
-  MotionField field(options);
-  field.SetBox(Eigen::Vector3d(-1, -1, -1), Eigen::Vector3d(1, 1, 1));
-  field.Initialize(30);
+  MotionField field = SmallMotionField(30, 0.05);
   EulerOptions euler;
   euler.max_step_fraction = 0.01;  // some steps are clamped
   const int n = 14;
