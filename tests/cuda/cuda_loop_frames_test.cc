@@ -7,7 +7,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <random>
 #include <string>
 #include <vector>
 
@@ -16,52 +15,13 @@
 #include "core/loop/cuda/device_loop_frames.h"
 #include "core/loop/loop_frames.h"
 #include "tests/cuda/require_gpu.h"
+#include "tests/cuda/tiny_loop_model.h"
 
 namespace es {
 namespace cuda {
 namespace {
 
 constexpr int kCycle = 3;
-
-// 16 Gaussians in front of the camera, half of them water, with small
-// fields whose motion and offsets show in the image.
-LoopModel TinyModel() {
-  LoopModel m;
-  m.cycle_length = kCycle;
-  GaussianSet& g = m.gaussians;
-  g.sh_degree = 1;
-  g.Resize(16);
-  std::mt19937 rng(3);
-  std::uniform_real_distribution<double> u(-1, 1);
-  for (double& v : g.means) v = 0.6 * u(rng);
-  for (int n = 0; n < g.size(); ++n) g.means[3 * n + 2] += 4.0;
-  for (double& v : g.log_scales) v = -1.8 + 0.2 * u(rng);
-  for (double& v : g.opacity_logits) v = 1 + u(rng);
-  for (double& v : g.sh) v = 0.8 * u(rng);
-  m.dynamic_index = {0, 3, 4, 7, 9, 10, 12, 15};
-  m.start_times = {0, 2, 1, 0, 2, 1, 0, 1};
-  const Eigen::Vector3d lo(-1, -1, 3), hi(1, 1, 5);
-  MotionFieldOptions v;
-  v.triplane.resolution = 8;
-  v.triplane.channels = 4;
-  v.mlp_width = 16;
-  v.velocity_scale = 0.1;
-  v.last_layer_init_scale = 1.0;
-  v.seed = 5;
-  m.motion.emplace(v);
-  m.motion->SetBox(lo, hi);
-  ResidualFieldOptions d;
-  d.triplane.resolution = 8;
-  d.triplane.channels = 4;
-  d.cycle_length = kCycle;
-  d.mlp_width = 16;
-  d.mlp_depth = 1;
-  d.last_layer_init_scale = 1.0;
-  d.seed = 7;
-  m.residual.emplace(d);
-  m.residual->SetBox(lo, hi);
-  return m;
-}
 
 Camera TestCamera() {
   Camera c;
@@ -96,7 +56,8 @@ void ExpectFramesClose(const std::vector<double>& got,
 
 TEST(CudaLoopFramesTest, DeviceFramesAreTheCpuFrames) {
   ES_REQUIRE_GPU("device path of es_animate");
-  const LoopModel model = TinyModel();
+  const LoopModel model =
+      TinyLoopModel({"V and D", 1, true, true}, kCycle, 0.1);
   RenderOptions options;
   options.background = Eigen::Vector3d(0.2, 0.5, 0.9);
   CpuLoopFrames cpu(&model, options);

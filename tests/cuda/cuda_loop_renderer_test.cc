@@ -7,7 +7,6 @@
 // sides: splats within 1e-9 relative. Skips when no CUDA device is
 // present.
 
-#include <random>
 #include <string>
 #include <vector>
 
@@ -20,6 +19,7 @@
 #include "core/render/cuda/device_rasterizer.h"
 #include "tests/cuda/expect_twins_near.h"
 #include "tests/cuda/require_gpu.h"
+#include "tests/cuda/tiny_loop_model.h"
 
 namespace es {
 namespace cuda {
@@ -27,56 +27,6 @@ namespace {
 
 constexpr int kCycle = 4;
 constexpr double kTolerance = 1e-9;
-
-struct ModelCase {
-  const char* name;
-  int sh_degree;
-  bool motion, residual;
-};
-
-// frame_composer_test.cc's tiny model, larger: 24 Gaussians in front of
-// the camera, 10 of them dynamic, small fields far from zero.
-LoopModel TinyModel(const ModelCase& c) {
-  LoopModel m;
-  m.cycle_length = kCycle;
-  GaussianSet& g = m.gaussians;
-  g.sh_degree = c.sh_degree;
-  g.Resize(24);
-  std::mt19937 rng(1);
-  std::uniform_real_distribution<double> u(-1, 1);
-  for (double& v : g.means) v = 0.8 * u(rng);
-  for (int n = 0; n < g.size(); ++n) g.means[3 * n + 2] += 4.0;
-  for (double& v : g.log_scales) v = -2 + 0.2 * u(rng);
-  for (double& v : g.opacity_logits) v = u(rng);
-  for (double& v : g.sh) v = 0.5 * u(rng);
-  m.dynamic_index = {1, 2, 4, 6, 9, 11, 15, 18, 20, 23};
-  m.start_times = {0, 3, 1, 2, 2, 0, 3, 1, 0, 2};
-  const Eigen::Vector3d lo(-1, -1, 3), hi(1, 1, 5);
-  if (c.motion) {
-    MotionFieldOptions o;
-    o.triplane.resolution = 8;
-    o.triplane.channels = 4;
-    o.mlp_width = 16;
-    o.velocity_scale = 0.05;
-    o.last_layer_init_scale = 1.0;
-    o.seed = 5;
-    m.motion.emplace(o);
-    m.motion->SetBox(lo, hi);
-  }
-  if (c.residual) {
-    ResidualFieldOptions o;
-    o.triplane.resolution = 8;
-    o.triplane.channels = 4;
-    o.cycle_length = kCycle;
-    o.mlp_width = 16;
-    o.mlp_depth = 1;
-    o.last_layer_init_scale = 1.0;
-    o.seed = 7;
-    m.residual.emplace(o);
-    m.residual->SetBox(lo, hi);
-  }
-  return m;
-}
 
 std::vector<double> Fetch(const double* device, size_t count) {
   std::vector<double> host(count);
@@ -88,11 +38,11 @@ std::vector<double> Copy(const double* host, size_t count) {
   return std::vector<double>(host, host + count);
 }
 
-class DeviceLoopRendererTest : public ::testing::TestWithParam<ModelCase> {};
+class DeviceLoopRendererTest : public ::testing::TestWithParam<TinyLoopModelCase> {};
 
 TEST_P(DeviceLoopRendererTest, ComposesAndRendersAsCpuTwin) {
   ES_REQUIRE_GPU("CUDA loop renderer");
-  const LoopModel model = TinyModel(GetParam());
+  const LoopModel model = TinyLoopModel(GetParam(), kCycle, 0.05);
   LoopRenderer cpu(&model, RenderOptions());
   DeviceLoopRenderer device(&model);
   const int first = 2;
@@ -148,10 +98,10 @@ TEST_P(DeviceLoopRendererTest, ComposesAndRendersAsCpuTwin) {
 
 INSTANTIATE_TEST_SUITE_P(
     Models, DeviceLoopRendererTest,
-    ::testing::Values(ModelCase{"Degree3", 3, true, true},
-                      ModelCase{"Degree0", 0, true, true},
-                      ModelCase{"NoMotionField", 1, false, true},
-                      ModelCase{"NoResidualField", 1, true, false}),
+    ::testing::Values(TinyLoopModelCase{"Degree3", 3, true, true},
+                      TinyLoopModelCase{"Degree0", 0, true, true},
+                      TinyLoopModelCase{"NoMotionField", 1, false, true},
+                      TinyLoopModelCase{"NoResidualField", 1, true, false}),
     [](const auto& info) { return std::string(info.param.name); });
 
 }  // namespace
