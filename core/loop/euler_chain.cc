@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <utility>
 
 #include <glog/logging.h>
 
@@ -78,6 +79,43 @@ EulerChain::EulerChain(const MotionField* field, const EulerOptions& options)
   CHECK_GT(options_.max_step_fraction, 0.0);
 }
 
+EulerSchedule ScheduleEulerSteps(int n, const int* steps,
+                                 size_t activation_bytes_per_point,
+                                 size_t max_kept_bytes) {
+  EulerSchedule out;
+  int& max_steps = out.max_steps;
+  for (int k = 0; k < n; ++k) {
+    CHECK_GE(steps[k], 0) << "negative step count of point " << k;
+    max_steps = std::max(max_steps, steps[k]);
+  }
+  // Counting sort by step count, largest first.
+  std::vector<int> count(max_steps + 2, 0);
+  for (int k = 0; k < n; ++k) ++count[max_steps - steps[k] + 1];
+  for (int s = 1; s <= max_steps + 1; ++s) count[s] += count[s - 1];
+  out.order.resize(n);
+  for (int k = 0; k < n; ++k) out.order[count[max_steps - steps[k]]++] = k;
+  out.active.assign(max_steps, 0);
+  for (int k = 0; k < n; ++k) {
+    for (int s = 0; s < steps[k]; ++s) ++out.active[s];
+  }
+  out.offset.assign(max_steps + 1, 0);
+  for (int s = 0; s < max_steps; ++s) {
+    out.offset[s + 1] = out.offset[s] + 3 * static_cast<size_t>(out.active[s]);
+  }
+  for (size_t bytes = 0; out.kept_steps < max_steps; ++out.kept_steps) {
+    bytes += activation_bytes_per_point * out.active[out.kept_steps];
+    if (bytes > max_kept_bytes) break;
+  }
+  return out;
+}
+
+size_t ActivationBytesPerPoint(int input_dim, int width, int depth,
+                               int output_dim) {
+  return sizeof(double) * (2 * static_cast<size_t>(input_dim) +
+                           3 * static_cast<size_t>(depth) * width +
+                           output_dim);
+}
+
 double EulerChain::max_step() const {
   return options_.max_step_fraction * field_->box_diagonal();
 }
@@ -87,40 +125,19 @@ void EulerChain::Forward(const FieldParams& params, int n, const double* x0,
   ScopedStage timer(Stage::kEulerChain);
   n_ = n;
   stats_ = EulerStats();
-  int max_steps = 0;
-  for (int k = 0; k < n; ++k) {
-    CHECK_GE(steps[k], 0);
-    max_steps = std::max(max_steps, steps[k]);
-  }
-  // Counting sort by step count, largest first.
-  std::vector<int> count(max_steps + 2, 0);
-  for (int k = 0; k < n; ++k) ++count[max_steps - steps[k] + 1];
-  for (int s = 1; s <= max_steps + 1; ++s) count[s] += count[s - 1];
-  order_.resize(n);
-  for (int k = 0; k < n; ++k) order_[count[max_steps - steps[k]]++] = k;
-  active_.assign(max_steps, 0);
-  for (int k = 0; k < n; ++k) {
-    for (int s = 0; s < steps[k]; ++s) ++active_[s];
-  }
-  offset_.assign(max_steps + 1, 0);
-  for (int s = 0; s < max_steps; ++s) {
-    offset_[s + 1] = offset_[s] + 3 * static_cast<size_t>(active_[s]);
-  }
+  const Mlp& mlp = field_->mlp();
+  EulerSchedule schedule = ScheduleEulerSteps(
+      n, steps,
+      ActivationBytesPerPoint(mlp.input_dim(), mlp.width(), mlp.depth(),
+                              mlp.output_dim()),
+      options_.max_kept_activation_bytes);
+  const int max_steps = schedule.max_steps;
+  order_ = std::move(schedule.order);
+  active_ = std::move(schedule.active);
+  offset_ = std::move(schedule.offset);
+  kept_steps_ = schedule.kept_steps;
   trajectory_.resize(offset_[max_steps]);
   velocities_.resize(offset_[max_steps]);
-  // What one evaluation keeps in its workspace, forward and backward: the
-  // features and their gradient, three width-sized rows per hidden layer,
-  // the output gradient.
-  const Mlp& mlp = field_->mlp();
-  const size_t bytes_per_point =
-      sizeof(double) * (2 * static_cast<size_t>(mlp.input_dim()) +
-                        3 * static_cast<size_t>(mlp.depth()) * mlp.width() +
-                        mlp.output_dim());
-  kept_steps_ = 0;
-  for (size_t bytes = 0; kept_steps_ < max_steps; ++kept_steps_) {
-    bytes += bytes_per_point * active_[kept_steps_];
-    if (bytes > options_.max_kept_activation_bytes) break;
-  }
   if (static_cast<int>(step_workspaces_.size()) < kept_steps_)
     step_workspaces_.resize(kept_steps_);
 

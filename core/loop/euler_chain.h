@@ -30,6 +30,30 @@ struct EulerStats {
   int64_t clamped_steps = 0;
 };
 
+// The batch layout of one Forward, shared by EulerChain and its device
+// twin: points sorted by step count, largest first, so the points still
+// moving at step s are a prefix.
+struct EulerSchedule {
+  int max_steps = 0;
+  std::vector<int> order;      // sorted position -> caller's index
+  std::vector<int> active;     // active[s] = points with more than s steps
+  std::vector<size_t> offset;  // trajectory offset of step s positions
+  int kept_steps = 0;  // leading steps whose activations fit the budget
+};
+
+// The schedule of n points taking steps[k] >= 0 steps, keeping V's
+// activations (activation_bytes_per_point each: ActivationBytesPerPoint)
+// of the leading steps within max_kept_bytes.
+EulerSchedule ScheduleEulerSteps(int n, const int* steps,
+                                 size_t activation_bytes_per_point,
+                                 size_t max_kept_bytes);
+
+// What one evaluation of an MLP of these sizes keeps in its workspace,
+// forward and backward: the features and their gradient, three
+// width-sized rows per hidden layer, the output gradient.
+size_t ActivationBytesPerPoint(int input_dim, int width, int depth,
+                               int output_dim);
+
 // Alg. 1: advects canonical positions x0 by forward Euler, X <- X + V(X),
 // steps[k] times for point k. All points move in lockstep in one batch per
 // step; points whose count is reached drop out (they are kept sorted by

@@ -1,6 +1,7 @@
 #include "core/loop/cuda/device_euler_chain.h"
 
 #include <algorithm>
+#include <utility>
 
 #include <glog/logging.h>
 
@@ -25,39 +26,19 @@ void DeviceEulerChain::Forward(const FieldParams& params, int n,
                                double* x_out) {
   n_ = n;
   stats_ = EulerStats();
-  int max_steps = 0;
-  for (int k = 0; k < n; ++k) {
-    CHECK_GE(steps[k], 0) << "negative step count of point " << k;
-    max_steps = std::max(max_steps, steps[k]);
-  }
-  // Counting sort by step count, largest first (EulerChain's order).
-  std::vector<int> count(max_steps + 2, 0);
-  for (int k = 0; k < n; ++k) ++count[max_steps - steps[k] + 1];
-  for (int s = 1; s <= max_steps + 1; ++s) count[s] += count[s - 1];
-  std::vector<int> order(n);
-  for (int k = 0; k < n; ++k) order[count[max_steps - steps[k]]++] = k;
-  order_.Upload(order);
-  active_.assign(max_steps, 0);
-  for (int k = 0; k < n; ++k) {
-    for (int s = 0; s < steps[k]; ++s) ++active_[s];
-  }
-  offset_.assign(max_steps + 1, 0);
-  for (int s = 0; s < max_steps; ++s) {
-    offset_[s + 1] = offset_[s] + 3 * static_cast<size_t>(active_[s]);
-  }
+  const DeviceMlp& mlp = field_->mlp();
+  EulerSchedule schedule = ScheduleEulerSteps(
+      n, steps,
+      ActivationBytesPerPoint(mlp.input_dim(), mlp.width(), mlp.depth(),
+                              mlp.output_dim()),
+      options_.max_kept_activation_bytes);
+  const int max_steps = schedule.max_steps;
+  order_.Upload(schedule.order);
+  active_ = std::move(schedule.active);
+  offset_ = std::move(schedule.offset);
+  kept_steps_ = schedule.kept_steps;
   trajectory_.Resize(offset_[max_steps]);
   velocities_.Resize(offset_[max_steps]);
-  // EulerChain's budget for kept activations, with its per-point size.
-  const DeviceMlp& mlp = field_->mlp();
-  const size_t bytes_per_point =
-      sizeof(double) * (2 * static_cast<size_t>(mlp.input_dim()) +
-                        3 * static_cast<size_t>(mlp.depth()) * mlp.width() +
-                        mlp.output_dim());
-  kept_steps_ = 0;
-  for (size_t bytes = 0; kept_steps_ < max_steps; ++kept_steps_) {
-    bytes += bytes_per_point * active_[kept_steps_];
-    if (bytes > options_.max_kept_activation_bytes) break;
-  }
   if (static_cast<int>(step_workspaces_.size()) < kept_steps_)
     step_workspaces_.resize(kept_steps_);
 
