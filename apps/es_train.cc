@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -14,6 +15,7 @@
 #include <gflags/gflags.h>
 
 #include "apps/common/app_main.h"
+#include "apps/common/device_flag.h"
 #include "apps/common/flag_checks.h"
 #include "core/io/field_io.h"
 #include "core/io/input_error.h"
@@ -36,6 +38,7 @@ DEFINE_string(init, "",
               "motion_field.bin (es_flowinit).");
 DEFINE_string(out, "", "Output model directory (created).");
 DEFINE_int32(iterations, 20000, "Joint training iterations.");
+DEFINE_string(device, "cpu", es::kDeviceFlagHelp);
 DEFINE_bool(profile, false,
             "Print where the training iterations' wall time goes, per stage "
             "(projection, tiles, losses, Adam, fields, Euler chain, "
@@ -309,7 +312,7 @@ std::optional<MotionField> PretrainedMotion(const JointTrainerOptions& options,
 // Gives the trainer Stage 2's samples as a prior on V when one is wanted
 // and V was pretrained from them.
 void AddFlowPrior(const JointTrainerOptions& options, bool flow_init,
-                  JointTrainer* trainer) {
+                  JointStageTrainer* trainer) {
   if (options.flow_prior.weight <= 0 || !options.use_motion) return;
   const std::string path =
       (fs::path(FLAGS_init) / "scene_flow_samples.bin").string();
@@ -369,7 +372,7 @@ struct TrainingOutcome {
 TrainingOutcome Train(const JointTrainerOptions& options, const Scene& scene,
                       const std::string& checkpoint_path,
                       double seconds_before, TrainingHistory* history,
-                      JointTrainer* trainer) {
+                      JointStageTrainer* trainer) {
   using Clock = std::chrono::steady_clock;
   const Clock::time_point start = Clock::now();
   double eval_seconds = 0;  // kept out of the training clock
@@ -502,6 +505,8 @@ void RecordFinalMetrics(const LoopMetrics& metrics, int64_t iteration,
 
 int Run() {
   const JointTrainerOptions options = OptionsFromFlags();
+  std::string device_name;
+  const ComputeDevice device = ParseDeviceFlag(FLAGS_device, &device_name);
   PrepareOutputDirectory(FLAGS_out, "out");
   SceneOptions scene_options;
   scene_options.image_scale = FLAGS_image_scale;
@@ -522,8 +527,12 @@ int Run() {
   std::optional<MotionField> motion = PretrainedMotion(options, &flow_init);
   SplitWater(options, scene, &initial);
 
-  JointTrainer trainer(&scene.frames, scene.train, options,
-                       std::move(initial), std::move(motion));
+  const std::unique_ptr<JointStageTrainer> trainer_on_device =
+      JointTrainerOn(device)(&scene.frames, scene.train, options,
+                             std::move(initial), std::move(motion));
+  JointStageTrainer& trainer = *trainer_on_device;
+  if (device == ComputeDevice::kCuda)
+    std::printf("training on %s\n", device_name.c_str());
   AddFlowPrior(options, flow_init, &trainer);
   std::printf("dynamic Gaussians: %d of %d; V %s, D %s; masks %s\n",
               trainer.model().num_dynamic(), trainer.model().gaussians.size(),
@@ -572,6 +581,7 @@ int main(int argc, char** argv) {
                     "Stage 3: joint training of the looping model.\n"
                     "  es_train --scene DIR --init DIR --out DIR "
                     "[--iterations N] [--cycle_length L] [--resume]\n"
+                    "           [--device cpu|cuda]\n"
                     "Writes the model (loop.txt, canonical.ply, fields), "
                     "<out>/metrics.json, <out>/history.csv and "
                     "<out>/joint_checkpoint.bin.",

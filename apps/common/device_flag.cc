@@ -1,9 +1,11 @@
 #include "apps/common/device_flag.h"
 
 #include "core/io/input_error.h"
+#include "solvers/train/joint_trainer.h"
 
 #ifdef ES_HAVE_CUDA
 #include "core/render/cuda/cuda_error.h"
+#include "solvers/train/cuda/device_joint_trainer.h"
 #include "solvers/train/cuda/device_static_trainer.h"
 #endif
 
@@ -44,6 +46,13 @@ StaticTrainerFactory StaticTrainerOn(ComputeDevice device) {
   if (device == ComputeDevice::kCuda) return cuda::MakeDeviceStaticTrainer;
 #endif
   return MakeStaticTrainer;
+}
+
+JointTrainerFactory JointTrainerOn(ComputeDevice device) {
+#ifdef ES_HAVE_CUDA
+  if (device == ComputeDevice::kCuda) return cuda::MakeDeviceJointTrainer;
+#endif
+  return MakeJointTrainer;
 }
 
 }  // namespace es

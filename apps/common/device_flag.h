@@ -6,6 +6,7 @@
 
 #include <string>
 
+#include "solvers/train/joint_stage_trainer.h"
 #include "solvers/train/static_stage.h"
 
 namespace es {
@@ -26,6 +27,8 @@ ComputeDevice ParseDeviceFlag(const std::string& value,
 
 // The Stage 1 trainer for a device.
 StaticTrainerFactory StaticTrainerOn(ComputeDevice device);
+// The Stage 3 trainer for a device.
+JointTrainerFactory JointTrainerOn(ComputeDevice device);
 
 }  // namespace es
 

@@ -14,9 +14,15 @@ constexpr double kMinBoxMargin = 1e-3;
 }  // namespace
 
 std::vector<int> DynamicSet(const GaussianSet& g, double threshold) {
+  return DynamicSet(g.dynamic_logits, threshold);
+}
+
+std::vector<int> DynamicSet(const std::vector<double>& dynamic_logits,
+                            double threshold) {
   std::vector<int> out;
-  for (int i = 0; i < g.size(); ++i)
-    if (Sigmoid(g.dynamic_logits[i]) > threshold) out.push_back(i);
+  for (size_t i = 0; i < dynamic_logits.size(); ++i)
+    if (Sigmoid(dynamic_logits[i]) > threshold)
+      out.push_back(static_cast<int>(i));
   return out;
 }
 

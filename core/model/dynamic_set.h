@@ -14,6 +14,9 @@ namespace es {
 
 // The Gaussians whose sigmoid(dynamic_logit) exceeds threshold, ascending.
 std::vector<int> DynamicSet(const GaussianSet& g, double threshold);
+// The same from the dynamic logits alone.
+std::vector<int> DynamicSet(const std::vector<double>& dynamic_logits,
+                            double threshold);
 
 // The box the fields span: the bounds of the given Gaussians' means (all of
 // them when the list is empty) padded by 10% of their size on every side

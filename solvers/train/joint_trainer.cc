@@ -10,66 +10,16 @@
 #include "core/io/input_error.h"
 #include "core/loop/cycle_time.h"
 #include "core/loop/frame_composer.h"
+#include "core/model/dynamic_set.h"
 #include "core/profile/stage_profile.h"
 #include "costs/splat_render_cost.h"
 #include "solvers/checkpoint/rng_state.h"
 #include "solvers/optim/lr_schedule.h"
 #include "solvers/train/densify.h"
+#include "solvers/train/joint_training_steps.h"
 #include "solvers/train/water_particles.h"
 
 namespace es {
-namespace {
-
-JointRenderTerms Terms(const JointTrainerOptions& o, bool use_masks) {
-  JointRenderTerms t;
-  t.photometric_weight = 1.0;
-  t.ssim_weight = o.ssim_weight;
-  t.mask_weight = use_masks ? o.mask_weight : 0.0;
-  t.residual_weight = o.residual_weight;
-  return t;
-}
-
-RenderOptions MakeRenderOptions(const JointTrainerOptions& o) {
-  RenderOptions r;
-  r.background = o.background;
-  return r;
-}
-
-// For every training frame (by frame index), the training frame next to
-// it in the video: the next one, else the previous one; -1 for none.
-std::vector<int> TrainingNeighbours(const std::vector<Frame>& frames,
-                                    const std::vector<int>& train) {
-  std::vector<int> by_time;
-  for (int f : train) {
-    const int t = frames[f].time_index;
-    if (t >= static_cast<int>(by_time.size())) by_time.resize(t + 1, -1);
-    by_time[t] = f;
-  }
-  auto at = [&by_time](int t) {
-    return t >= 0 && t < static_cast<int>(by_time.size()) ? by_time[t] : -1;
-  };
-  std::vector<int> partner(frames.size(), -1);
-  for (int f : train) {
-    const int t = frames[f].time_index;
-    partner[f] = at(t + 1) >= 0 ? at(t + 1) : at(t - 1);
-  }
-  return partner;
-}
-
-void AppendBox(const Triplane& t, std::vector<double>* boxes) {
-  for (int i = 0; i < 3; ++i) boxes->push_back(t.box_min()[i]);
-  for (int i = 0; i < 3; ++i) boxes->push_back(t.box_max()[i]);
-}
-
-}  // namespace
-
-int CyclesCovering(int frames, int cycle_length) {
-  CHECK_GT(cycle_length, 0);
-  // p = floor((i - t0) / L) for 0 <= i < frames and 0 <= t0 < L lies in
-  // [-1, (frames - 1) / L]; the encoding is unambiguous for |p| < max.
-  return std::max(1, frames - 1) / cycle_length + 2;
-}
-
 JointTrainer::JointTrainer(const std::vector<Frame>* frames,
                            std::vector<int> train,
                            const JointTrainerOptions& options,
@@ -83,50 +33,27 @@ JointTrainer::JointTrainer(const std::vector<Frame>* frames,
       sampler_(train_, options.seed),
       rng_(options.seed + 1),
       guard_("Stage 3 training", options.max_nonfinite_steps) {
-  CHECK_GT(options_.cycle_length, 0);
-  CHECK_GT(options_.refresh_interval, 0);
-  initial.CheckConsistent();
-  model_.gaussians = std::move(initial);
-  model_.cycle_length = options_.cycle_length;
-  RefreshDynamicSet();
+  model_ = InitialLoopModel(options_, static_cast<int>(frames_->size()),
+                            std::move(initial), std::move(motion), &rng_);
+  UpdateScaleBounds();
   initial_dynamic_ = model_.num_dynamic();
-  Eigen::Vector3d lo, hi;
-  FieldBox(model_.gaussians, model_.dynamic_index, &lo, &hi);
-  if (options_.use_motion) {
-    if (motion) {
-      model_.motion.emplace(std::move(*motion));
-      lo = model_.motion->triplane().box_min();
-      hi = model_.motion->triplane().box_max();
-    } else {
-      model_.motion.emplace(options_.motion);
-      model_.motion->SetBox(lo, hi);
-    }
-  }
-  if (options_.use_residual) {
-    ResidualFieldOptions r = options_.residual;
-    r.cycle_length = options_.cycle_length;
-    r.max_cycles = CyclesCovering(static_cast<int>(frames_->size()),
-                                  options_.cycle_length);
-    model_.residual.emplace(r);
-    model_.residual->SetBox(lo, hi);
-  }
   adam_.Reset(model_.gaussians);
-  for (std::vector<double>* block : FieldBlocks()) {
+  for (std::vector<double>* block : FieldParamBlocks(&model_)) {
     field_adam_.emplace_back(static_cast<int>(block->size()));
     field_grad_.emplace_back(block->size(), 0.0);
   }
   cost_.emplace(&(*frames_)[train_.at(0)],
                 (*frames_)[train_.at(0)].time_index,
-                LoopStructure::Of(model_), Terms(options_, use_masks_),
+                LoopStructure::Of(model_), JointLossTerms(options_, use_masks_),
                 render_options(), &rasterizer_);
-  if (energy_on()) {
+  if (WaterEnergyOn(options_)) {
     partner_ = TrainingNeighbours(*frames_, train_);
     energy_masks_ = AllHaveMasks(*frames_, train_);
     energy_.emplace(options_.water_energy);
     // Its own rasterizer: both renders are kept until both backward passes.
     pair_cost_.emplace(&(*frames_)[train_.at(0)],
                        (*frames_)[train_.at(0)].time_index,
-                       LoopStructure::Of(model_), Terms(options_, use_masks_),
+                       LoopStructure::Of(model_), JointLossTerms(options_, use_masks_),
                        render_options());
   }
 }
@@ -138,7 +65,7 @@ void JointTrainer::SetSceneFlowPrior(std::vector<SceneFlowSample> samples) {
 }
 
 RenderOptions JointTrainer::render_options() const {
-  return MakeRenderOptions(options_);
+  return JointRenderOptions(options_);
 }
 
 std::vector<char*> JointTrainer::TriplaneChunkFlags() {
@@ -154,39 +81,10 @@ std::vector<char*> JointTrainer::TriplaneChunkFlags() {
   return chunks;
 }
 
-std::vector<std::vector<double>*> JointTrainer::FieldBlocks() {
-  std::vector<std::vector<double>*> blocks;
-  if (model_.motion) {
-    blocks.push_back(&model_.motion->triplane_params());
-    blocks.push_back(&model_.motion->mlp_params());
-  }
-  if (model_.residual) {
-    blocks.push_back(&model_.residual->triplane_params());
-    blocks.push_back(&model_.residual->mlp_params());
-  }
-  return blocks;
-}
-
 void JointTrainer::RefreshDynamicSet() {
-  const std::vector<int> next =
-      DynamicSet(model_.gaussians, options_.dynamic_threshold);
-  std::vector<int> times(next.size());
-  size_t old = 0;
-  for (size_t k = 0; k < next.size(); ++k) {
-    while (old < model_.dynamic_index.size() &&
-           model_.dynamic_index[old] < next[k])
-      ++old;
-    if (old < model_.dynamic_index.size() &&
-        model_.dynamic_index[old] == next[k]) {
-      times[k] = model_.start_times[old];
-    } else {
-      times[k] = options_.random_start
-                     ? DrawStartTime(options_.cycle_length, &rng_)
-                     : 0;
-    }
-  }
-  model_.dynamic_index = next;
-  model_.start_times = std::move(times);
+  FollowDynamicSet(options_,
+                   DynamicSet(model_.gaussians, options_.dynamic_threshold),
+                   &rng_, &model_);
   UpdateScaleBounds();
 }
 
@@ -202,27 +100,9 @@ void JointTrainer::ClampDynamicScales() {
   ClampScales(model_.dynamic_index, dynamic_max_scale_, &model_.gaussians);
 }
 
-std::vector<double> JointTrainer::FieldLearningRates() const {
-  auto decayed = [this](double initial) {
-    return LogLinearLr(initial, initial * options_.field_lr_final_factor,
-                       iteration_, options_.iterations);
-  };
-  std::vector<double> lr;
-  if (model_.motion) {
-    lr.push_back(decayed(options_.lr_motion_triplane));
-    lr.push_back(decayed(options_.lr_motion_mlp));
-  }
-  if (model_.residual) {
-    lr.push_back(decayed(options_.lr_residual_triplane));
-    lr.push_back(decayed(options_.lr_residual_mlp));
-  }
-  return lr;
-}
-
 JointIterationStats JointTrainer::Step() {
   ScopedStage timer(Stage::kIteration);
-  if (iteration_ > 0 && iteration_ % options_.refresh_interval == 0)
-    RefreshDynamicSet();
+  if (DynamicSetRefreshDue(options_, iteration_)) RefreshDynamicSet();
   JointIterationStats out;
   out.frame = sampler_.Next();
   out.num_dynamic = model_.num_dynamic();
@@ -231,7 +111,7 @@ JointIterationStats JointTrainer::Step() {
     grad_ = ZeroGaussians(n, model_.gaussians.sh_degree);
   const Frame& frame = (*frames_)[out.frame];
   cost_->Reset(&frame, frame.time_index, LoopStructure::Of(model_));
-  const int partner = energy_on() ? partner_[out.frame] : -1;
+  const int partner = WaterEnergyOn(options_) ? partner_[out.frame] : -1;
   if (partner >= 0) {
     out.loss = PairLossGradient(frame, partner, &out);
   } else {
@@ -285,8 +165,9 @@ JointIterationStats JointTrainer::Step() {
              grad_, &model_.gaussians);
   ClampDynamicScales();
   ++field_step_;
-  const std::vector<double> lr = FieldLearningRates();
-  std::vector<std::vector<double>*> blocks = FieldBlocks();
+  const std::vector<double> lr =
+      FieldLearningRates(options_, iteration_, model_);
+  std::vector<std::vector<double>*> blocks = FieldParamBlocks(&model_);
   bool params_finite = AllFinite(model_.gaussians);
   for (size_t b = 0; b < blocks.size(); ++b) {
     params_finite = field_adam_[b].Step(field_step_, lr[b],
@@ -301,9 +182,7 @@ JointIterationStats JointTrainer::Step() {
   }
   ++iteration_;
   guard_.CheckParameters(iteration_, params_finite);
-  const WaterDensifyOptions& d = options_.water_densify;
-  if (d.interval > 0 && iteration_ % d.interval == 0 &&
-      iteration_ <= options_.iterations / 2 && model_.num_dynamic() > 0)
+  if (WaterDensifyDue(options_, iteration_, model_.num_dynamic()))
     out.densified = DensifyWaterNow();
   return out;
 }
@@ -385,8 +264,7 @@ double JointTrainer::PairLossGradient(const Frame& frame, int partner,
 
 WaterDensifyResult JointTrainer::DensifyWaterNow() {
   ScopedStage timer(Stage::kDensify);
-  const WaterDensifyOptions& d = options_.water_densify;
-  const int budget = static_cast<int>(d.max_growth * initial_dynamic_);
+  const int budget = WaterBudget(options_, initial_dynamic_);
   if (model_.num_dynamic() >= budget) return {};  // skip the ranking pass
   const int n = model_.gaussians.size();
   if (grad_.size() != n || grad_.sh_degree != model_.gaussians.sh_degree)
@@ -399,12 +277,8 @@ WaterDensifyResult JointTrainer::DensifyWaterNow() {
   stats.Reset(n);
   std::vector<int> radii;
   std::vector<double> mean2d_grads;
-  const int views = std::min<int>(d.views, train_.size());
-  const int offset = static_cast<int>(iteration_ / d.interval);
-  for (int k = 0; k < views; ++k) {
-    const int t = (static_cast<int>(k * train_.size() / views) + offset) %
-                  static_cast<int>(train_.size());
-    const Frame& frame = (*frames_)[train_[t]];
+  for (int f : WaterDensifyViews(options_, train_, iteration_)) {
+    const Frame& frame = (*frames_)[f];
     cost_->Reset(&frame, frame.time_index, LoopStructure::Of(model_));
     cost_->LossGradient(params.data(), gradients.data());
     rasterizer_.Radii(&radii);
@@ -415,157 +289,52 @@ WaterDensifyResult JointTrainer::DensifyWaterNow() {
   // Step expects the field gradients zero.
   for (std::vector<double>& g : field_grad_) std::fill(g.begin(), g.end(), 0.0);
   std::vector<double> mean_grad;
-  for (int i : model_.dynamic_index) {
-    const double g = stats.MeanGrad(i);
-    mean_grad.push_back(std::isfinite(g) ? g : 0.0);
-  }
-  const std::vector<int> picked =
-      PickWaterToDensify(model_.dynamic_index, mean_grad, d.fraction, budget);
-  if (picked.empty()) return {};
-  const std::vector<double> split_scale = PixelSizeInWorld(
-      model_.gaussians, picked, *frames_, train_, d.split_pixels);
-  std::seed_seq seq{static_cast<uint32_t>(options_.seed),
-                    static_cast<uint32_t>(options_.seed >> 32),
-                    static_cast<uint32_t>(iteration_),
-                    static_cast<uint32_t>(iteration_ >> 32), 0x57u};
-  std::mt19937_64 rng(seq);
+  for (int i : model_.dynamic_index) mean_grad.push_back(stats.MeanGrad(i));
   const WaterDensifyResult result =
-      DensifyWater(picked, split_scale, &rng, &model_.gaussians, &adam_,
-                   &model_.dynamic_index, &model_.start_times);
-  UpdateScaleBounds();
+      DensifyRankedWater(options_, std::move(mean_grad), budget, iteration_,
+                         *frames_, train_, &model_, &adam_);
+  if (result.split + result.cloned > 0) UpdateScaleBounds();
   return result;
 }
 
 JointCheckpoint JointTrainer::Save() const {
-  JointCheckpoint c;
-  c.iteration = iteration_;
-  c.gaussians = model_.gaussians;
-  c.adam = adam_.state();
-  c.dynamic_index = model_.dynamic_index;
-  c.start_times = model_.start_times;
-  auto append = [&c](const FieldParams& p, const Triplane& t, const Mlp& m) {
-    c.field_params.emplace_back(p.triplane, p.triplane + t.num_params());
-    c.field_params.emplace_back(p.mlp, p.mlp + m.num_params());
-  };
-  if (model_.motion) {
-    append(model_.motion->params(), model_.motion->triplane(),
-           model_.motion->mlp());
-  }
-  if (model_.residual) {
-    append(model_.residual->params(), model_.residual->triplane(),
-           model_.residual->mlp());
-  }
+  std::vector<std::vector<double>> m, v;
   for (const SparseAdam& adam : field_adam_) {
-    c.field_m.push_back(adam.m());
-    c.field_v.push_back(adam.v());
+    m.push_back(adam.m());
+    v.push_back(adam.v());
   }
-  if (model_.motion) AppendBox(model_.motion->triplane(), &c.field_boxes);
-  if (model_.residual) AppendBox(model_.residual->triplane(), &c.field_boxes);
-  c.field_step = field_step_;
-  c.sampler = sampler_.state();
-  c.rng = RngState(rng_);
-  return c;
+  return PackJointCheckpoint(model_, iteration_, adam_.state(), std::move(m),
+                             std::move(v), field_step_, sampler_.state(),
+                             rng_);
 }
 
 void JointTrainer::Restore(const JointCheckpoint& c,
                            const std::string& source) {
-  std::vector<std::vector<double>*> blocks = FieldBlocks();
-  bool match = c.field_params.size() == blocks.size() &&
-               c.gaussians.sh_degree == model_.gaussians.sh_degree;
-  match = match && c.field_m.size() == blocks.size() &&
-          c.field_v.size() == blocks.size();
-  for (size_t b = 0; match && b < blocks.size(); ++b) {
-    match = c.field_params[b].size() == blocks[b]->size() &&
-            c.field_m[b].size() == blocks[b]->size() &&
-            c.field_v[b].size() == blocks[b]->size();
-  }
-  if (!match)
-    throw InputError(source +
-                     ": checkpoint fields or SH degree do not match the "
-                     "options of this run");
+  UnpackJointCheckpoint(c, source, &model_);
   iteration_ = c.iteration;
-  model_.gaussians = c.gaussians;
   adam_.Restore(c.adam);
-  model_.dynamic_index = c.dynamic_index;
-  model_.start_times = c.start_times;
   UpdateScaleBounds();
-  for (size_t b = 0; b < blocks.size(); ++b) *blocks[b] = c.field_params[b];
-  for (size_t b = 0; b < blocks.size(); ++b) {
+  for (size_t b = 0; b < field_adam_.size(); ++b) {
     field_adam_[b].Restore(c.field_m[b], c.field_v[b]);
     std::fill(field_grad_[b].begin(), field_grad_[b].end(), 0.0);
   }
   fields_checked_ = false;
-  auto box = [&c](int field, Eigen::Vector3d* lo, Eigen::Vector3d* hi) {
-    *lo = Eigen::Vector3d(&c.field_boxes[6 * field]);
-    *hi = Eigen::Vector3d(&c.field_boxes[6 * field + 3]);
-  };
-  Eigen::Vector3d lo, hi;
-  int field = 0;
-  if (model_.motion) {
-    box(field++, &lo, &hi);
-    model_.motion->SetBox(lo, hi);
-  }
-  if (model_.residual) {
-    box(field++, &lo, &hi);
-    model_.residual->SetBox(lo, hi);
-  }
   field_step_ = c.field_step;
-  try {
-    sampler_.Restore(c.sampler);
-  } catch (const InputError& e) {
-    throw InputError(source + ": " + e.what());
-  }
-  if (!RestoreRngState(c.rng, &rng_))
-    throw InputError(source + ": bad RNG state in checkpoint");
+  RestoreSamplerAndRng(c, source, &sampler_, &rng_);
   grad_ = GaussianSet();
 }
 
 LoopModel JointTrainer::FinalModel(int* pruned) const {
-  LoopModel model = model_;
-  // Every frame of the video, registered by COLMAP or not.
-  int video_frames = 0;
-  for (const Frame& f : *frames_)
-    video_frames = std::max(video_frames, f.time_index + 1);
-  const int removed = PruneInvisible(video_frames, &model);
-  if (pruned) *pruned = removed;
-  return model;
+  return FinalLoopModel(model_, *frames_, pruned);
 }
 
-int PruneInvisible(int num_frames, LoopModel* model) {
-  GaussianSet& g = model->gaussians;
-  std::vector<double> peak(g.opacity_logits);  // largest logit shown
-  if (model->num_dynamic() > 0 && model->residual) {
-    const LoopModelView view = LoopModelView::Of(*model);
-    FrameComposer composer;
-    const int frames = std::max(num_frames, 2 * model->cycle_length);
-    for (int i = 0; i < frames; ++i) {
-      const SplatView& splats = composer.Compose(view, i);
-      for (int g_index : model->dynamic_index)
-        peak[g_index] =
-            std::max(peak[g_index], splats.opacity_logits[g_index]);
-    }
-  }
-  const double threshold = Logit(kInvisibleOpacity);
-  std::vector<bool> keep(g.size());
-  std::vector<int> new_index(g.size(), -1);
-  int kept = 0;
-  for (int i = 0; i < g.size(); ++i) {
-    keep[i] = peak[i] >= threshold;
-    if (keep[i]) new_index[i] = kept++;
-  }
-  const int removed = g.size() - kept;
-  if (removed == 0) return 0;
-  g.Filter(keep);
-  std::vector<int> dynamic_index, start_times;
-  for (int k = 0; k < model->num_dynamic(); ++k) {
-    const int i = model->dynamic_index[k];
-    if (!keep[i]) continue;
-    dynamic_index.push_back(new_index[i]);
-    start_times.push_back(model->start_times[k]);
-  }
-  model->dynamic_index = std::move(dynamic_index);
-  model->start_times = std::move(start_times);
-  return removed;
+std::unique_ptr<JointStageTrainer> MakeJointTrainer(
+    const std::vector<Frame>* frames, std::vector<int> train,
+    const JointTrainerOptions& options, GaussianSet initial,
+    std::optional<MotionField> motion) {
+  return std::make_unique<JointTrainer>(frames, std::move(train), options,
+                                        std::move(initial),
+                                        std::move(motion));
 }
 
 }  // namespace es

@@ -17,6 +17,10 @@ class DeviceGaussians {
  public:
   void Upload(const GaussianSet& g);
   void Download(GaussianSet* g) const;
+  // The dynamic logits alone (N doubles), for the dynamic set's refresh.
+  std::vector<double> DownloadDynamicLogits() const {
+    return dynamic_logits_.Download();
+  }
   // `count` Gaussians of degree `sh_degree`, every value zero.
   void ResizeZero(int count, int sh_degree);
 

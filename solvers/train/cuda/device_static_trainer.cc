@@ -13,22 +13,6 @@
 
 namespace es {
 namespace cuda {
-namespace {
-
-// A frame's float image (or mask) of `channels` channels as one device
-// array in row-major order.
-void UploadImage(const cv::Mat& image, const Camera& camera, int channels,
-                 DeviceBuffer<float>* device) {
-  CHECK_EQ(image.type(), CV_MAKETYPE(CV_32F, channels));
-  CHECK(image.cols == camera.width && image.rows == camera.height)
-      << "image " << image.cols << "x" << image.rows << " for a camera of "
-      << camera.width << "x" << camera.height;
-  const cv::Mat dense = image.isContinuous() ? image : image.clone();
-  device->Upload(dense.ptr<float>(), dense.total() * channels);
-}
-
-}  // namespace
-
 DeviceStaticTrainer::DeviceStaticTrainer(const std::vector<Frame>* frames,
                                          std::vector<int> train,
                                          const StaticTrainerOptions& options,
@@ -38,6 +22,7 @@ DeviceStaticTrainer::DeviceStaticTrainer(const std::vector<Frame>* frames,
       options_(options),
       use_masks_(options.mask_weight > 0 && AllHaveMasks(*frames, train_)),
       extent_(CameraExtent(*frames, train_)),
+      images_(*frames, train_, use_masks_),
       sampler_(train_, options.seed),
       rng_(options.seed + 1),
       cost_(StaticLossTerms(options, use_masks_), options.background,
@@ -45,13 +30,6 @@ DeviceStaticTrainer::DeviceStaticTrainer(const std::vector<Frame>* frames,
       guard_("Stage 1 training", options.max_nonfinite_steps) {
   initial.CheckConsistent();
   CHECK_LE(initial.sh_degree, options_.max_sh_degree);
-  images_.resize(frames->size());
-  masks_.resize(frames->size());
-  for (int i : train_) {
-    const Frame& f = (*frames)[i];
-    UploadImage(f.image, f.camera, 3, &images_[i]);
-    if (use_masks_) UploadImage(f.mask, f.camera, 1, &masks_[i]);
-  }
   HostState start;
   start.g = std::move(initial);
   start.adam.Reset(start.g);
@@ -77,9 +55,8 @@ IterationStats DeviceStaticTrainer::Step() {
   const int n = g_.size();
   if (grad_.size() != n || grad_.sh_degree() != g_.sh_degree())
     grad_.ResizeZero(n, g_.sh_degree());
-  cost_.Reset(frame.camera, images_[out.frame].data(),
-              use_masks_ ? masks_[out.frame].data() : nullptr, n,
-              g_.sh_degree());
+  cost_.Reset(frame.camera, images_.image(out.frame),
+              images_.mask(out.frame), n, g_.sh_degree());
   std::vector<double*> params = g_.BlockPointers();
   std::vector<double*> gradients = grad_.BlockPointers();
   out.loss = EvaluateDeviceScalarLossGradient(cost_, params.data(),

@@ -25,6 +25,7 @@
 #include "solvers/optim/adam.h"
 #include "solvers/optim/cuda/device_adam.h"
 #include "solvers/train/cuda/device_density_stats.h"
+#include "solvers/train/cuda/device_frame_images.h"
 #include "solvers/train/cuda/device_gaussians.h"
 #include "solvers/train/densify.h"
 #include "solvers/train/divergence_guard.h"
@@ -72,8 +73,7 @@ class DeviceStaticTrainer : public StaticStageTrainer {
   StaticTrainerOptions options_;
   bool use_masks_ = false;
   double extent_ = 1;
-  // Per frame index; empty for frames not trained on.
-  std::vector<DeviceBuffer<float>> images_, masks_;
+  DeviceFrameImages images_;
   DeviceGaussians g_;
   DeviceGaussians grad_;
   DeviceGaussianAdam adam_;

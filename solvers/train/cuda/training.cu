@@ -1,6 +1,7 @@
 // The device trainer's kernels (training_kernels.h): the densification
-// statistics in DensityStats::AddView's arithmetic, and the finiteness
-// check of the divergence guard.
+// statistics in DensityStats::AddView's arithmetic, the finiteness check
+// of the divergence guard, the water's scale bound and gradient
+// averaging.
 
 #include "core/render/cuda/cuda_check.h"
 #include "solvers/train/cuda/training_kernels.h"
@@ -35,6 +36,28 @@ __global__ void NonFiniteKernel(long long n, const double* x, int* flag) {
   if (i < n && !(x[i] - x[i] == 0.0)) atomicMax(flag, 1);
 }
 
+__global__ void ClampLogScalesKernel(int m, const int* dynamic,
+                                     const double* max_log_scale,
+                                     double* log_scales) {
+  const int k = blockIdx.x * blockDim.x + threadIdx.x;
+  if (k >= m) return;
+  double* s = log_scales + 3 * static_cast<long long>(dynamic[k]);
+  for (int a = 0; a < 3; ++a)
+    if (s[a] > max_log_scale[k]) s[a] = max_log_scale[k];
+}
+
+__global__ void AverageIntoKernel(long long n, const double* b, double* a) {
+  const long long i = static_cast<long long>(blockIdx.x) * blockDim.x +
+                      threadIdx.x;
+  if (i < n) a[i] = 0.5 * (a[i] + b[i]);
+}
+
+__global__ void ScaleValuesKernel(long long n, double factor, double* x) {
+  const long long i = static_cast<long long>(blockIdx.x) * blockDim.x +
+                      threadIdx.x;
+  if (i < n) x[i] *= factor;
+}
+
 }  // namespace
 
 void AddViewStats(int count, double half_w, double half_h, const int* radii,
@@ -51,6 +74,26 @@ void FlagNonFinite(long long n, const double* x, int* flag) {
   if (n == 0) return;
   NonFiniteKernel<<<Blocks(n), kThreads>>>(n, x, flag);
   ES_CUDA_CHECK_LAUNCH("NonFiniteKernel");
+}
+
+void ClampLogScales(int m, const int* dynamic, const double* max_log_scale,
+                    double* log_scales) {
+  if (m == 0) return;
+  ClampLogScalesKernel<<<Blocks(m), kThreads>>>(m, dynamic, max_log_scale,
+                                                log_scales);
+  ES_CUDA_CHECK_LAUNCH("ClampLogScalesKernel");
+}
+
+void AverageInto(long long n, const double* b, double* a) {
+  if (n == 0) return;
+  AverageIntoKernel<<<Blocks(n), kThreads>>>(n, b, a);
+  ES_CUDA_CHECK_LAUNCH("AverageIntoKernel");
+}
+
+void ScaleValues(long long n, double factor, double* x) {
+  if (n == 0) return;
+  ScaleValuesKernel<<<Blocks(n), kThreads>>>(n, factor, x);
+  ES_CUDA_CHECK_LAUNCH("ScaleValuesKernel");
 }
 
 }  // namespace cuda

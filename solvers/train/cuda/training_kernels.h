@@ -19,6 +19,16 @@ void AddViewStats(int count, double half_w, double half_h, const int* radii,
 // it otherwise.
 void FlagNonFinite(long long n, const double* x, int* flag);
 
+// ClampScales (solvers/train/water_particles.h): for the m Gaussians
+// dynamic[k], each of their three log-scales at most max_log_scale[k].
+void ClampLogScales(int m, const int* dynamic, const double* max_log_scale,
+                    double* log_scales);
+
+// a[i] = 0.5 (a[i] + b[i]) for i < n: the mean of two gradients.
+void AverageInto(long long n, const double* b, double* a);
+// x[i] *= factor for i < n.
+void ScaleValues(long long n, double factor, double* x);
+
 }  // namespace cuda
 }  // namespace es
 
