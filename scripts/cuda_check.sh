@@ -200,9 +200,10 @@ timeout 150 "$build/bin/bench_cuda_loop" \
 note "bench_cuda_loop exit status $?"
 tee -a "$summary" < "$logs/bench_loop.txt"
 
-# Second step: the device trainer (Stage 1), its test and benchmark, and
-# the --device flag need Ceres and OpenCV, so they are not in the
-# check-only build above; where those are installed, a full build with
+# Second step: the device trainers (Stages 1 and 3), their tests and
+# benchmarks, and the --device flag need Ceres and OpenCV, so they are
+# not in the check-only build above; where those are installed, a full
+# build with
 # -DES_CUDA=ON builds and runs them (otherwise this says so and skips;
 # the verdict then covers the first step only).
 full=build_cuda_full
@@ -214,11 +215,14 @@ if dpkg-query -W -f='${Status}\n' "${full_deps[@]}" 2>/dev/null |
          -DCMAKE_CUDA_ARCHITECTURES="$arch" "${cmake_args[@]}" \
          > "$logs/build_full.txt" 2>&1 &&
      cmake --build "$full" -j"${ES_JOBS:-16}" --target \
-         cuda_static_trainer_test device_flag_test bench_cuda_static \
+         cuda_static_trainer_test cuda_joint_trainer_test device_flag_test \
+         bench_cuda_static bench_cuda_joint \
          >> "$logs/build_full.txt" 2>&1; then
     ES_CUDA_SYNC=1 timeout 300 "$full/bin/cuda_static_trainer_test" \
       > "$logs/trainer_tests.txt" 2>&1
     trainer_status=$?
+    ES_CUDA_SYNC=1 timeout 300 "$full/bin/cuda_joint_trainer_test" \
+      >> "$logs/trainer_tests.txt" 2>&1 || trainer_status=1
     "$full/bin/device_flag_test" >> "$logs/trainer_tests.txt" 2>&1 ||
       trainer_status=1
     grep -E "PASSED|FAILED|SKIPPED|Failure" -A3 "$logs/trainer_tests.txt" |
@@ -229,6 +233,10 @@ if dpkg-query -W -f='${Status}\n' "${full_deps[@]}" 2>/dev/null |
       --benchmark_counters_tabular=true > "$logs/bench_static.txt" 2>&1
     note "bench_cuda_static exit status $?"
     tee -a "$summary" < "$logs/bench_static.txt"
+    timeout 200 "$full/bin/bench_cuda_joint" \
+      --benchmark_counters_tabular=true > "$logs/bench_joint.txt" 2>&1
+    note "bench_cuda_joint exit status $?"
+    tee -a "$summary" < "$logs/bench_joint.txt"
   else
     grep -E -B2 -A8 "error|Error" "$logs/build_full.txt" | head -60 |
       tee -a "$summary"

@@ -26,6 +26,7 @@
 #include "solvers/train/cuda/device_gaussians.h"
 #include "solvers/train/cuda/device_static_trainer.h"
 #include "solvers/train/static_trainer.h"
+#include "tests/cuda/expect_twins_near.h"
 #include "tests/cuda/require_gpu.h"
 
 namespace es {
@@ -142,48 +143,6 @@ double MaxDiff(const std::vector<double>& a, const std::vector<double>& b) {
   return m;
 }
 
-// Adam moves a value by at most about its rate per step, whatever the
-// gradient's size, so where float rounding flips a tiny gradient's sign
-// the two trainers part by up to twice that, and elsewhere by the
-// gradients' relative float error times the rate: every value must agree
-// within `tolerance` (twice the rate times the steps), and 95% of them
-// within a tenth of it.
-void ExpectClose(const std::vector<double>& cpu,
-                 const std::vector<double>& device, double tolerance,
-                 const char* what) {
-  ASSERT_EQ(cpu.size(), device.size()) << what;
-  std::vector<double> diff(cpu.size());
-  for (size_t i = 0; i < cpu.size(); ++i)
-    diff[i] = std::abs(cpu[i] - device[i]);
-  std::sort(diff.begin(), diff.end());
-  const double p50 = diff[diff.size() / 2];
-  const double p95 = diff[diff.size() * 95 / 100];
-  const std::string quantiles = std::string(what) + ": median " +
-                                std::to_string(p50 / tolerance) + ", 95% " +
-                                std::to_string(p95 / tolerance) + ", max " +
-                                std::to_string(diff.back() / tolerance) +
-                                " of the tolerance";
-  EXPECT_LE(diff.back(), tolerance) << quantiles;
-  EXPECT_LE(p95, 0.1 * tolerance) << quantiles;
-}
-
-void ExpectModelsClose(const GaussianSet& cpu, const GaussianSet& device,
-                       int steps, const StaticTrainerOptions& o,
-                       double extent) {
-  ASSERT_EQ(cpu.size(), device.size());
-  ASSERT_EQ(cpu.sh_degree, device.sh_degree);
-  const SplatLearningRateOptions& lr = o.splat_lr;
-  const double k = 2.0 * steps;
-  ExpectClose(cpu.means, device.means, k * lr.means_initial * extent, "means");
-  ExpectClose(cpu.log_scales, device.log_scales, k * lr.log_scales, "scales");
-  ExpectClose(cpu.quats, device.quats, k * lr.quats, "quats");
-  ExpectClose(cpu.opacity_logits, device.opacity_logits, k * lr.opacity,
-              "opacity");
-  ExpectClose(cpu.sh, device.sh, k * lr.sh_dc, "sh");
-  ExpectClose(cpu.dynamic_logits, device.dynamic_logits, k * lr.dynamic,
-              "dynamic");
-}
-
 void ExpectSameStep(const IterationStats& cpu, const IterationStats& device,
                     int step) {
   EXPECT_EQ(cpu.frame, device.frame) << "step " << step;
@@ -288,8 +247,8 @@ TEST(CudaStaticTrainerTest, StepsMatchTheCpuTrainer) {
   }
   EXPECT_EQ(device.iteration(), kSteps);
   EXPECT_EQ(device.gaussians().sh_degree, 2);
-  ExpectModelsClose(cpu.gaussians(), device.gaussians(), kSteps, o,
-                    cpu.scene_extent());
+  ExpectGaussiansWithinAdamSteps(cpu.gaussians(), device.gaussians(), kSteps,
+                                 o.splat_lr, cpu.scene_extent());
   // The parameters moved: a trainer that did nothing would not pass.
   EXPECT_GT(MaxDiff(device.gaussians().means, scene.Initial().means), 0);
 }
@@ -349,7 +308,7 @@ TEST(CudaStaticTrainerTest, DensifyStepGivesTheCpuModel) {
   EXPECT_GT(c.size(), kGaussians);  // the step added Gaussians
   ASSERT_EQ(g.size(), c.size());
   for (double logit : g.opacity_logits) EXPECT_LE(Sigmoid(logit), 0.01 + 1e-12);
-  ExpectModelsClose(c, g, 3, o, cpu.scene_extent());
+  ExpectGaussiansWithinAdamSteps(c, g, 3, o.splat_lr, cpu.scene_extent());
   // Moments and statistics followed the Gaussians.
   const Checkpoint after = device.Save();
   EXPECT_EQ(after.adam.m.size(), c.size());
@@ -391,8 +350,8 @@ TEST(CudaStaticTrainerTest, CheckpointsResumeOnTheOtherTrainer) {
   EXPECT_EQ(cpu.iteration(), 3);
   EXPECT_EQ(cpu.gaussians().means, device.gaussians().means);
   for (int i = 3; i < 5; ++i) ExpectSameStep(cpu.Step(), device.Step(), i);
-  ExpectModelsClose(cpu.gaussians(), device.gaussians(), 2, o,
-                    cpu.scene_extent());
+  ExpectGaussiansWithinAdamSteps(cpu.gaussians(), device.gaussians(), 2,
+                                 o.splat_lr, cpu.scene_extent());
 
   DeviceStaticTrainer resumed(&scene.frames, scene.train, o, scene.Initial());
   resumed.Restore(cpu.Save());

@@ -8,9 +8,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
+
+#include "core/model/gaussians.h"
+#include "solvers/train/splat_training.h"
 
 namespace es {
 namespace cuda {
@@ -45,6 +49,54 @@ inline void ExpectSomeNonZero(const std::vector<double>& v,
     if (std::isfinite(x)) largest = std::max(largest, std::abs(x));
   }
   EXPECT_GT(largest, 1e-6) << what << " is all zero: nothing was checked";
+}
+
+// Adam moves a value by at most about its rate per step, whatever the
+// gradient's size, so where float rounding flips a tiny gradient's sign
+// the two trainers part by up to twice that, and elsewhere by the
+// gradients' relative float error times the rate: every value must agree
+// within `tolerance` (twice the rate times the steps), and 95% of them
+// within a tenth of it.
+inline void ExpectWithinAdamSteps(const std::vector<double>& cpu,
+                                  const std::vector<double>& device,
+                                  double tolerance, const char* what) {
+  ASSERT_EQ(cpu.size(), device.size()) << what;
+  std::vector<double> diff(cpu.size());
+  for (size_t i = 0; i < cpu.size(); ++i)
+    diff[i] = std::abs(cpu[i] - device[i]);
+  std::sort(diff.begin(), diff.end());
+  const double p50 = diff[diff.size() / 2];
+  const double p95 = diff[diff.size() * 95 / 100];
+  const std::string quantiles = std::string(what) + ": median " +
+                                std::to_string(p50 / tolerance) + ", 95% " +
+                                std::to_string(p95 / tolerance) + ", max " +
+                                std::to_string(diff.back() / tolerance) +
+                                " of the tolerance";
+  EXPECT_LE(diff.back(), tolerance) << quantiles;
+  EXPECT_LE(p95, 0.1 * tolerance) << quantiles;
+}
+
+// Two trainers' Gaussians after `steps` Adam steps from the same start:
+// each block within ExpectWithinAdamSteps of twice its rate per step (the
+// positions' rate times the scene extent).
+inline void ExpectGaussiansWithinAdamSteps(const GaussianSet& cpu,
+                                           const GaussianSet& device,
+                                           int steps,
+                                           const SplatLearningRateOptions& lr,
+                                           double extent) {
+  ASSERT_EQ(cpu.size(), device.size());
+  ASSERT_EQ(cpu.sh_degree, device.sh_degree);
+  const double k = 2.0 * steps;
+  ExpectWithinAdamSteps(cpu.means, device.means,
+                        k * lr.means_initial * extent, "means");
+  ExpectWithinAdamSteps(cpu.log_scales, device.log_scales, k * lr.log_scales,
+                        "scales");
+  ExpectWithinAdamSteps(cpu.quats, device.quats, k * lr.quats, "quats");
+  ExpectWithinAdamSteps(cpu.opacity_logits, device.opacity_logits,
+                        k * lr.opacity, "opacity");
+  ExpectWithinAdamSteps(cpu.sh, device.sh, k * lr.sh_dc, "sh");
+  ExpectWithinAdamSteps(cpu.dynamic_logits, device.dynamic_logits,
+                        k * lr.dynamic, "dynamic");
 }
 
 }  // namespace cuda
