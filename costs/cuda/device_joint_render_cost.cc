@@ -147,7 +147,8 @@ void DeviceJointRenderCost::Backward(double const* const* parameters,
 bool DeviceJointRenderCost::Evaluate(double const* const* parameters,
                                      double* residuals,
                                      double** jacobians) const {
-  const double r = ScalarLossResidual(Forward(parameters, jacobians != nullptr));
+  const double r =
+      ScalarLossResidual(Forward(parameters, jacobians != nullptr));
   residuals[0] = r;
   if (jacobians == nullptr) return true;
   const std::vector<int32_t>& sizes = layout_.sizes();

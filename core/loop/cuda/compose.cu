@@ -67,8 +67,7 @@ __global__ void MeansGradientKernel(int count, const int* slot,
   const int n = blockIdx.x * blockDim.x + threadIdx.x;
   if (n >= count) return;
   const int k = slot[n];
-  const double* from =
-      k < 0 ? d_means + 3LL * n : d_x0 + 3LL * k;
+  const double* from = k < 0 ? d_means + 3LL * n : d_x0 + 3LL * k;
   for (int j = 0; j < 3; ++j) out[3LL * n + j] += from[j];
 }
 

@@ -93,8 +93,8 @@ void DeviceFrameComposer::SetFrame(int frame) {
   const int m = num_dynamic_;
   const int* start = structure_.start_times->data();
   const int length = structure_.cycle_length;
-  bool changed = !cycles_uploaded_ ||
-                 static_cast<int>(cycle_index_.size()) != m;
+  bool changed =
+      !cycles_uploaded_ || static_cast<int>(cycle_index_.size()) != m;
   cycle_index_.resize(m);
   cycle_number_.resize(m);
   for (int k = 0; k < m; ++k) {
