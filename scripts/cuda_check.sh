@@ -1,13 +1,14 @@
 #!/usr/bin/env bash
 # The CUDA backend's check, the one command a session with an NVIDIA GPU
 # runs: builds only the CUDA rasterizer, losses, Adam, fields (V, D),
-# Euler chain and loop renderer, their tests and the benchmarks
+# Euler chain, frame composer and loop renderer, their tests and the
+# benchmarks
 # (-DES_CUDA=ON -DES_CUDA_CHECK_ONLY=ON: no Ceres or OpenCV needed),
 # prints the GPU, runs the tests, once more under compute-sanitizer's
 # memcheck (and some under racecheck) when it is installed and time
 # allows, then the benchmarks; then, where Ceres and OpenCV are
 # installed, a full -DES_CUDA=ON build of the device Stage 1 trainer's
-# test and benchmark, run too. Copies the logs to $OUT when that is set.
+# test and benchmark and the device joint render cost's test, run too. Copies the logs to $OUT when that is set.
 # Under 8 minutes on 16 cores for the first step (the full build adds
 # minutes of its own); the summary at the
 # end holds what a reader needs.
@@ -117,7 +118,7 @@ if ! cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release -DES_CUDA=ON \
        cuda_residual_l2_loss_test cuda_adam_test cuda_fields_test \
        cuda_residual_field_test cuda_euler_chain_test \
        cuda_loop_animator_test cuda_loop_renderer_test cuda_loop_frames_test \
-       bench_cuda_rasterizer \
+       cuda_frame_composer_test bench_cuda_rasterizer \
        bench_cuda_loop \
        >> "$logs/build.txt" 2>&1; then
   grep -E -B2 -A8 "error|Error|CMake Error" "$logs/build.txt" | head -80
@@ -163,7 +164,7 @@ if command -v compute-sanitizer > /dev/null && ((SECONDS - start < 240)); then
            cuda_residual_l2_loss_test cuda_adam_test cuda_fields_test \
            cuda_residual_field_test cuda_euler_chain_test \
            cuda_loop_animator_test cuda_loop_renderer_test \
-           cuda_loop_frames_test; do
+           cuda_loop_frames_test cuda_frame_composer_test; do
     timeout 60 compute-sanitizer --tool memcheck --error-exitcode 3 \
       "$build/bin/$t" >> "$logs/memcheck.txt" 2>&1
     note "memcheck of $t exit status $?"
@@ -200,43 +201,42 @@ timeout 150 "$build/bin/bench_cuda_loop" \
 note "bench_cuda_loop exit status $?"
 tee -a "$summary" < "$logs/bench_loop.txt"
 
-# Second step: the device trainers (Stages 1 and 3), their tests and
-# benchmarks, and the --device flag need Ceres and OpenCV, so they are
-# not in the check-only build above; where those are installed, a full
-# build with
-# -DES_CUDA=ON builds and runs them (otherwise this says so and skips;
-# the verdict then covers the first step only).
+# Second step: what needs Ceres and OpenCV (the device trainers of Stages
+# 1 and 3, the device joint render cost, the --device flag, their tests
+# and benchmarks) is not in the check-only build above; where those are
+# installed, a full build with -DES_CUDA=ON builds and runs them
+# (otherwise this says so and skips; the verdict then covers the first
+# step only).
 full=build_cuda_full
 full_deps=(libceres-dev libopencv-dev nlohmann-json3-dev)
+full_tests=(cuda_static_trainer_test cuda_joint_render_cost_test
+            cuda_joint_trainer_test device_flag_test)
+full_benches=(bench_cuda_static bench_cuda_joint)
 if dpkg-query -W -f='${Status}\n' "${full_deps[@]}" 2>/dev/null |
      grep -c "install ok installed" | grep -qx "${#full_deps[@]}"; then
-  note "== full build: device trainer (sm_$arch)"
+  note "== full build: device trainers (sm_$arch)"
   if cmake -S . -B "$full" -DCMAKE_BUILD_TYPE=Release -DES_CUDA=ON \
          -DCMAKE_CUDA_ARCHITECTURES="$arch" "${cmake_args[@]}" \
          > "$logs/build_full.txt" 2>&1 &&
      cmake --build "$full" -j"${ES_JOBS:-16}" --target \
-         cuda_static_trainer_test cuda_joint_trainer_test device_flag_test \
-         bench_cuda_static bench_cuda_joint \
+         "${full_tests[@]}" "${full_benches[@]}" \
          >> "$logs/build_full.txt" 2>&1; then
-    ES_CUDA_SYNC=1 timeout 300 "$full/bin/cuda_static_trainer_test" \
-      > "$logs/trainer_tests.txt" 2>&1
-    trainer_status=$?
-    ES_CUDA_SYNC=1 timeout 300 "$full/bin/cuda_joint_trainer_test" \
-      >> "$logs/trainer_tests.txt" 2>&1 || trainer_status=1
-    "$full/bin/device_flag_test" >> "$logs/trainer_tests.txt" 2>&1 ||
-      trainer_status=1
+    : > "$logs/trainer_tests.txt"
+    trainer_status=0
+    for t in "${full_tests[@]}"; do
+      ES_CUDA_SYNC=1 timeout 300 "$full/bin/$t" \
+        >> "$logs/trainer_tests.txt" 2>&1 || trainer_status=1
+    done
     grep -E "PASSED|FAILED|SKIPPED|Failure" -A3 "$logs/trainer_tests.txt" |
-      head -40 | tee -a "$summary"
+      head -60 | tee -a "$summary"
     ((trainer_status == 0)) || tests_status=1
     grep -q "SKIPPED" "$logs/trainer_tests.txt" && tests_status=1
-    timeout 200 "$full/bin/bench_cuda_static" \
-      --benchmark_counters_tabular=true > "$logs/bench_static.txt" 2>&1
-    note "bench_cuda_static exit status $?"
-    tee -a "$summary" < "$logs/bench_static.txt"
-    timeout 200 "$full/bin/bench_cuda_joint" \
-      --benchmark_counters_tabular=true > "$logs/bench_joint.txt" 2>&1
-    note "bench_cuda_joint exit status $?"
-    tee -a "$summary" < "$logs/bench_joint.txt"
+    for b in "${full_benches[@]}"; do
+      timeout 200 "$full/bin/$b" \
+        --benchmark_counters_tabular=true > "$logs/$b.txt" 2>&1
+      note "$b exit status $?"
+      tee -a "$summary" < "$logs/$b.txt"
+    done
   else
     grep -E -B2 -A8 "error|Error" "$logs/build_full.txt" | head -60 |
       tee -a "$summary"
@@ -245,7 +245,7 @@ if dpkg-query -W -f='${Status}\n' "${full_deps[@]}" 2>/dev/null |
   fi
 else
   note "full build skipped: not all of ${full_deps[*]} installed" \
-       "(the device trainer's test and benchmark need them)"
+       "(the device trainers' tests and benchmarks need them)"
 fi
 
 verdict=$([[ $tests_status == 0 ]] && echo passed || echo FAILED)

@@ -1,5 +1,5 @@
-// DeviceSplatRenderCost's element-wise kernels (splat_cost_kernels.h),
-// with the CPU cost's arithmetic in double.
+// The device render costs' element-wise kernels (splat_cost_kernels.h),
+// with the CPU costs' arithmetic in double.
 
 #include "core/render/cuda/cuda_check.h"
 #include "costs/cuda/splat_cost_kernels.h"
@@ -22,11 +22,18 @@ __global__ void SigmoidKernel(int n, const double* logits,
 
 __global__ void LogitGradientKernel(int n, const double* d_probability,
                                     const double* probability, double scale,
-                                    double* out) {
+                                    bool add, double* out) {
   const int i = blockIdx.x * blockDim.x + threadIdx.x;
   if (i >= n) return;
   const double p = probability[i];
-  out[i] = d_probability[i] * p * (1 - p) * scale;
+  const double g = d_probability[i] * p * (1 - p) * scale;
+  out[i] = add ? out[i] + g : g;
+}
+
+__global__ void AddFloatKernel(long long n, const float* from, float* to) {
+  const long long i = static_cast<long long>(blockIdx.x) * blockDim.x +
+                      threadIdx.x;
+  if (i < n) to[i] += from[i];
 }
 
 __global__ void ScaleKernel(long long n, double scale, double* x) {
@@ -48,7 +55,16 @@ void DynamicLogitGradient(int n, const double* d_probability,
                           double* out) {
   if (n == 0) return;
   LogitGradientKernel<<<Blocks(n), kThreads>>>(n, d_probability, probability,
-                                               scale, out);
+                                               scale, false, out);
+  ES_CUDA_CHECK_LAUNCH("LogitGradientKernel");
+}
+
+void AddDynamicLogitGradient(int n, const double* d_probability,
+                             const double* probability, double scale,
+                             double* out) {
+  if (n == 0) return;
+  LogitGradientKernel<<<Blocks(n), kThreads>>>(n, d_probability, probability,
+                                               scale, true, out);
   ES_CUDA_CHECK_LAUNCH("LogitGradientKernel");
 }
 
@@ -56,6 +72,12 @@ void ScaleArray(long long n, double scale, double* x) {
   if (n == 0) return;
   ScaleKernel<<<Blocks(n), kThreads>>>(n, scale, x);
   ES_CUDA_CHECK_LAUNCH("ScaleKernel");
+}
+
+void AddFloatArray(long long n, const float* from, float* to) {
+  if (n == 0) return;
+  AddFloatKernel<<<Blocks(n), kThreads>>>(n, from, to);
+  ES_CUDA_CHECK_LAUNCH("AddFloatKernel");
 }
 
 }  // namespace cuda

@@ -1,9 +1,10 @@
 #ifndef EULERSPLAT_COSTS_CUDA_SPLAT_COST_KERNELS_H_
 #define EULERSPLAT_COSTS_CUDA_SPLAT_COST_KERNELS_H_
 
-// The element-wise steps of DeviceSplatRenderCost (splat_cost.cu) around
-// the rasterizer and the losses: plain types only, device pointers, one
-// thread per value, double as the CPU's cost computes them.
+// The element-wise steps of the device render costs (DeviceSplatRenderCost,
+// DeviceJointRenderCost; splat_cost.cu) around the rasterizer and the
+// losses: plain types only, device pointers, one thread per value, double
+// as the CPU's costs compute them (images in float, as rendered).
 
 namespace es {
 namespace cuda {
@@ -16,9 +17,16 @@ void SigmoidArray(int n, const double* logits, double* probability);
 void DynamicLogitGradient(int n, const double* d_probability,
                           const double* probability, double scale,
                           double* out);
+// The same added (+=) into out, for callers that accumulate gradients.
+void AddDynamicLogitGradient(int n, const double* d_probability,
+                             const double* probability, double scale,
+                             double* out);
 
 // x[i] *= scale, i < n.
 void ScaleArray(long long n, double scale, double* x);
+
+// to[i] += from[i], i < n (float images, e.g. image gradients).
+void AddFloatArray(long long n, const float* from, float* to);
 
 }  // namespace cuda
 }  // namespace es

@@ -1,7 +1,5 @@
 #include "core/loop/cuda/device_loop_renderer.h"
 
-#include <algorithm>
-
 #include <glog/logging.h>
 
 #include "core/fields/residual_field.h"
@@ -111,14 +109,12 @@ const DeviceSplatView& DeviceLoopRenderer::Compose() {
     view_.opacity_logits = opacity_logits;
     view_.sh = sh;
   }
-  // D offsets its 16 SH coefficients, or fewer when the model has fewer.
-  const int offset_coeffs =
-      std::min(coeffs, (kResidualDim - kResidualSh) / 3);
   const ResidualLayout layout{kResidualDim, kResidualPosition,
                               kResidualOpacity, kResidualSh};
   ComposeDynamicKernel(m, dynamic_index_.data(),
                        animator_ ? animator_->positions() : x0_.data(),
-                       residuals, layout, coeffs, offset_coeffs, means_.data(),
+                       residuals, layout, coeffs,
+                       OffsetShCoeffs(layout, coeffs), means_.data(),
                        opacity_logits, sh);
   return view_;
 }

@@ -1,0 +1,202 @@
+#include "costs/cuda/device_joint_render_cost.h"
+
+#include <glog/logging.h>
+
+#include "core/fields/residual_field.h"
+#include "core/model/gaussians.h"
+#include "costs/cuda/splat_cost_kernels.h"
+#include "costs/scalar_loss.h"
+#include "costs/splat_render_cost.h"
+
+namespace es {
+namespace cuda {
+
+DeviceJointRenderCost::DeviceJointRenderCost(const JointRenderTerms& terms,
+                                             const Eigen::Vector3d& background,
+                                             DeviceRasterizer* rasterizer,
+                                             const EulerOptions& euler)
+    : terms_(terms),
+      background_(background),
+      rasterizer_(rasterizer),
+      layout_(LoopStructure()),
+      composer_(euler),
+      photometric_(terms.ssim_weight) {
+  CHECK(rasterizer_ != nullptr);
+  set_num_residuals(1);
+}
+
+void DeviceJointRenderCost::Reset(const Camera& camera, const float* image,
+                                  const float* mask, int frame_index,
+                                  const LoopStructure& structure) {
+  CHECK(image != nullptr || terms_.photometric_weight == 0)
+      << "the photometric term needs the frame's image";
+  CHECK(mask != nullptr || !mask_on())
+      << "the mask term needs the frame's mask";
+  composer_.SetStructure(structure);
+  camera_ = camera;
+  image_ = image;
+  mask_ = mask;
+  frame_index_ = frame_index;
+  structure_ = structure;
+  layout_ = JointBlockLayout(structure);
+  *mutable_parameter_block_sizes() = layout_.sizes();
+}
+
+DeviceLoopModelView DeviceJointRenderCost::View(
+    double const* const* parameters, bool attach) const {
+  DeviceLoopModelView v;
+  DeviceSplatView& c = v.canonical;
+  c.count = structure_.count;
+  c.sh_degree = structure_.sh_degree;
+  c.means = parameters[kMeansBlock];
+  c.log_scales = parameters[kLogScalesBlock];
+  c.quats = parameters[kQuatsBlock];
+  c.opacity_logits = parameters[kOpacityBlock];
+  c.sh = parameters[kShBlock];
+  if (attach && mask_on()) {
+    probability_.Resize(c.count);
+    SigmoidArray(c.count, parameters[kDynamicBlock], probability_.data());
+    c.num_extra = 1;
+    c.extra = probability_.data();
+  }
+  if (layout_.motion_triplane() >= 0) {
+    v.motion_params = {parameters[layout_.motion_triplane()],
+                       parameters[layout_.motion_mlp()]};
+  }
+  if (layout_.residual_triplane() >= 0) {
+    v.residual_params = {parameters[layout_.residual_triplane()],
+                         parameters[layout_.residual_mlp()]};
+  }
+  return v;
+}
+
+double DeviceJointRenderCost::Forward(double const* const* parameters,
+                                      bool want_grad) const {
+  const DeviceSplatView& view =
+      composer_.Compose(View(parameters, /*attach=*/true), frame_index_);
+  render_ = rasterizer_->ForwardDevice(camera_, view, background_);
+
+  // RenderedFrameLoss::Score, then D's L2.
+  const int w = camera_.width, h = camera_.height;
+  const size_t pixels = static_cast<size_t>(w) * h;
+  double loss = 0;
+  last_photometric_ = last_mask_ = last_residual_ = 0;
+  if (terms_.photometric_weight != 0) {
+    d_rgb_.Resize(3 * pixels);
+    last_photometric_ = photometric_.Evaluate(
+        render_.rgb, image_, w, h, terms_.photometric_weight,
+        want_grad ? d_rgb_.data() : nullptr);
+    loss += terms_.photometric_weight * last_photometric_;
+  }
+  if (mask_on()) {
+    d_extra_.Resize(pixels);
+    last_mask_ = mask_loss_.Evaluate(render_.extra, 1, 0, mask_, w, h,
+                                     terms_.mask_weight,
+                                     want_grad ? d_extra_.data() : nullptr);
+    loss += terms_.mask_weight * last_mask_;
+  }
+  if (residual_on()) {
+    const long long outputs =
+        static_cast<long long>(composer_.num_dynamic()) * kResidualDim;
+    d_residuals_.Resize(outputs);
+    last_residual_ = residual_loss_.Evaluate(
+        composer_.residuals(), outputs, terms_.residual_weight,
+        want_grad ? d_residuals_.data() : nullptr);
+    loss += terms_.residual_weight * last_residual_;
+  }
+  gradients_ready_ = want_grad;
+  return loss;
+}
+
+void DeviceJointRenderCost::Backward(double const* const* parameters,
+                                     double** gradients) const {
+  CHECK(gradients_ready_)
+      << "DeviceJointRenderCost: a backward without a forward for it";
+  DeviceImageGradients image_grads;
+  if (terms_.photometric_weight != 0) image_grads.d_rgb = d_rgb_.data();
+  if (mask_on()) image_grads.d_extra = d_extra_.data();
+  const int count = structure_.count;
+  splat_grads_.Resize(count, structure_.sh_degree, mask_on() ? 1 : 0);
+  const DeviceSplatGradients grads = splat_grads_.View();
+  rasterizer_->BackwardDevice(image_grads, grads);
+
+  DeviceLoopModelGradients out;
+  out.means = gradients[kMeansBlock];
+  out.log_scales = gradients[kLogScalesBlock];
+  out.quats = gradients[kQuatsBlock];
+  out.opacity_logits = gradients[kOpacityBlock];
+  out.sh = gradients[kShBlock];
+  if (layout_.motion_triplane() >= 0) {
+    out.motion = {gradients[layout_.motion_triplane()],
+                  gradients[layout_.motion_mlp()]};
+  }
+  if (layout_.residual_triplane() >= 0) {
+    out.residual = {gradients[layout_.residual_triplane()],
+                    gradients[layout_.residual_mlp()]};
+  }
+  composer_.Backward(View(parameters, /*attach=*/false), grads,
+                     residual_on() ? d_residuals_.data() : nullptr, out);
+  // The extra channel is the canonical probability (D does not touch it).
+  double* dynamic = gradients[kDynamicBlock];
+  if (dynamic != nullptr && mask_on()) {
+    AddDynamicLogitGradient(count, grads.extra, probability_.data(), 1.0,
+                            dynamic);
+  }
+}
+
+bool DeviceJointRenderCost::Evaluate(double const* const* parameters,
+                                     double* residuals,
+                                     double** jacobians) const {
+  const double r =
+      ScalarLossResidual(Forward(parameters, jacobians != nullptr));
+  residuals[0] = r;
+  if (jacobians == nullptr) return true;
+  const std::vector<int32_t>& sizes = layout_.sizes();
+  for (int b = 0; b < layout_.num_blocks(); ++b) {
+    if (jacobians[b] != nullptr)
+      DeviceZero(jacobians[b], sizeof(double) * sizes[b]);
+  }
+  Backward(parameters, jacobians);
+  const double inv_r = 1.0 / r;
+  for (int b = 0; b < layout_.num_blocks(); ++b) {
+    if (jacobians[b] != nullptr) ScaleArray(sizes[b], inv_r, jacobians[b]);
+  }
+  return true;
+}
+
+double DeviceJointRenderCost::AddLossGradient(double const* const* parameters,
+                                              double** gradients) const {
+  const double loss = RenderForGradient(parameters);
+  Backward(parameters, gradients);
+  return loss;
+}
+
+double DeviceJointRenderCost::RenderForGradient(
+    double const* const* parameters) const {
+  const double r = ScalarLossResidual(Forward(parameters, true));
+  return 0.5 * r * r;
+}
+
+void DeviceJointRenderCost::BackwardWithImageGradient(
+    double const* const* parameters, const float* extra_d_rgb,
+    double** gradients, bool accumulate) const {
+  if (extra_d_rgb != nullptr) {
+    CHECK(terms_.photometric_weight != 0)
+        << "an image gradient needs the photometric term on";
+    CHECK(gradients_ready_) << "BackwardWithImageGradient before "
+                               "RenderForGradient";
+    AddFloatArray(3LL * camera_.width * camera_.height, extra_d_rgb,
+                  d_rgb_.data());
+  }
+  if (!accumulate) {
+    const std::vector<int32_t>& sizes = layout_.sizes();
+    for (int b = 0; b < layout_.num_blocks(); ++b) {
+      if (gradients[b] != nullptr)
+        DeviceZero(gradients[b], sizeof(double) * sizes[b]);
+    }
+  }
+  Backward(parameters, gradients);
+}
+
+}  // namespace cuda
+}  // namespace es
