@@ -14,19 +14,6 @@ using internal::BlurScratch;
 
 constexpr int kChannels = 3;  // RGB, and the opponent channels
 
-std::vector<double> GaussianKernel(double sigma) {
-  CHECK_GT(sigma, 0);
-  const int radius = std::max(1, static_cast<int>(std::ceil(3 * sigma)));
-  std::vector<double> k(2 * radius + 1);
-  double sum = 0;
-  for (int i = -radius; i <= radius; ++i) {
-    k[i + radius] = std::exp(-0.5 * i * i / (sigma * sigma));
-    sum += k[i + radius];
-  }
-  for (double& v : k) v /= sum;
-  return k;
-}
-
 // The blurs below clamp the borders: out[i] = sum_j k[j] in[clamp(i + j -
 // r)]. Rows are padded with their clamped ends, and columns are blurred a
 // whole row at a time, so every inner loop runs over contiguous memory
@@ -132,20 +119,11 @@ void BlurAdjoint(const std::vector<double>& g_out, int w, int h,
   BlurRowsAdjoint(tmp->image.data(), w, h, k, &tmp->line, g_in->data());
 }
 
-// An orthonormal opponent colour basis: luminance, red-green,
-// yellow-blue. Water's change and texture are mostly of luminance; in
-// RGB, a render could match each channel's amplitude with a tint that
-// flickers (red up while green goes down), which the chroma rows count.
-constexpr double kOpponent[kChannels][kChannels] = {
-    {0.57735026918962576, 0.57735026918962576, 0.57735026918962576},
-    {0.70710678118654752, -0.70710678118654752, 0.0},
-    {0.40824829046386302, 0.40824829046386302, -0.81649658092772603}};
-
 // Opponent channel c of an H x W x 3 RGB image.
 void ChannelOf(const double* rgb, size_t pixels, int c,
                std::vector<double>* out) {
   out->resize(pixels);
-  const double* k = kOpponent[c];
+  const double* k = kWaterOpponent[c];
   for (size_t p = 0; p < pixels; ++p) {
     const double* v = rgb + kChannels * p;
     (*out)[p] = k[0] * v[0] + k[1] * v[1] + k[2] * v[2];
@@ -157,7 +135,7 @@ void ChannelOf(const double* rgb, size_t pixels, int c,
 void AddChannelGradient(const std::vector<double>& d_channel, int c,
                         double* d_rgb) {
   if (d_rgb == nullptr) return;
-  const double* k = kOpponent[c];
+  const double* k = kWaterOpponent[c];
   for (size_t p = 0; p < d_channel.size(); ++p) {
     double* d = d_rgb + kChannels * p;
     d[0] += k[0] * d_channel[p];
@@ -219,15 +197,7 @@ void Energy(const std::vector<double>& x, int w, int h,
 }  // namespace
 
 WaterEnergyLoss::WaterEnergyLoss(const WaterEnergyOptions& options)
-    : options_(options) {
-  CHECK_GT(options.eps, 0);
-  CHECK_GE(options.detail_octaves, 1);
-  for (int k = 0; k < options.detail_octaves; ++k) {
-    const double octave = std::ldexp(1.0, k);
-    detail_kernels_.push_back(GaussianKernel(options.detail_sigma * octave));
-    window_kernels_.push_back(GaussianKernel(options.window_sigma * octave));
-  }
-}
+    : options_(options), kernels_(MakeWaterEnergyKernels(options)) {}
 
 double WaterEnergyLoss::AmplitudeL1(const std::vector<double>& e_rendered,
                                     const std::vector<double>& e_input,
@@ -311,13 +281,13 @@ void WaterEnergyLoss::EvaluateChannel(int c, const double* rendered_a,
   if (options_.motion_weight != 0) {
     s->diff.resize(pixels);
     for (size_t p = 0; p < pixels; ++p) s->diff[p] = s->ib[p] - s->ia[p];
-    Energy(s->diff, w, h, window_kernels_[0], &s->blur, &s->g, &s->e_i);
+    Energy(s->diff, w, h, kernels_.window[0], &s->blur, &s->g, &s->e_i);
     for (size_t p = 0; p < pixels; ++p) s->diff[p] = s->yb[p] - s->ya[p];
-    Energy(s->diff, w, h, window_kernels_[0], &s->blur, &s->g, &s->e_r);
+    Energy(s->diff, w, h, kernels_.window[0], &s->blur, &s->g, &s->e_r);
     *motion = AmplitudeL1(s->e_r, s->e_i, mask_,
                           channel_scale * options_.motion_weight, &s->d_e) /
               kChannels;
-    BlurAdjoint(s->d_e, w, h, window_kernels_[0], &s->blur, &s->g);
+    BlurAdjoint(s->d_e, w, h, kernels_.window[0], &s->blur, &s->g);
     for (size_t p = 0; p < pixels; ++p) {
       const double g = 2 * s->diff[p] * s->g[p];
       s->dyb[p] += g;
@@ -334,17 +304,17 @@ void WaterEnergyLoss::EvaluateChannel(int c, const double* rendered_a,
       const std::vector<double>& water = f == 0 ? mask_a_ : mask_b_;
       std::vector<double>& dy = f == 0 ? s->dya : s->dyb;
       for (int k = 0; k < octaves; ++k) {
-        const std::vector<double>& window = window_kernels_[k];
-        Band(input, w, h, k, detail_kernels_, &s->blur, &s->low, &s->high);
+        const std::vector<double>& window = kernels_.window[k];
+        Band(input, w, h, k, kernels_.detail, &s->blur, &s->low, &s->high);
         Energy(s->high, w, h, window, &s->blur, &s->g, &s->e_i);
-        Band(y, w, h, k, detail_kernels_, &s->blur, &s->low, &s->high);
+        Band(y, w, h, k, kernels_.detail, &s->blur, &s->low, &s->high);
         Energy(s->high, w, h, window, &s->blur, &s->g, &s->e_r);
         *detail += 0.5 *
                    AmplitudeL1(s->e_r, s->e_i, water, band_scale, &s->d_e) /
                    (kChannels * octaves);
         BlurAdjoint(s->d_e, w, h, window, &s->blur, &s->g);
         for (size_t p = 0; p < pixels; ++p) s->g[p] *= 2 * s->high[p];
-        AddBandAdjoint(s->g, w, h, k, detail_kernels_, &s->blur, &s->low,
+        AddBandAdjoint(s->g, w, h, k, kernels_.detail, &s->blur, &s->low,
                        &s->diff, &dy);
       }
     }

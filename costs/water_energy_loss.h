@@ -6,7 +6,25 @@
 
 #include <opencv2/core.hpp>
 
+#include "costs/water_energy_terms.h"
+
 namespace es {
+
+namespace internal {
+// Scratch of a 2D blur: the image between its two passes, and one padded
+// row.
+struct BlurScratch {
+  std::vector<double> image, line;
+};
+
+// Scratch of one opponent channel's terms: the channel of the two renders
+// and inputs, its gradient per render, and the blurs' images.
+struct ChannelScratch {
+  std::vector<double> ya, yb, ia, ib, dya, dyb, diff, e_r, e_i, d_e, g,
+      high, low;
+  BlurScratch blur;
+};
+}  // namespace internal
 
 // A loss on the statistics of water rather than its pixels. The L1 / SSIM
 // loss of one frame is lowest at the temporal mean of stochastic water (a
@@ -32,40 +50,8 @@ namespace es {
 // faint tinted streaks: each channel's amplitude matched, their signs
 // not). The motion term uses the
 // pixels that are water in A or B; the detail term each frame's own;
-// without masks, every pixel.
-struct WaterEnergyOptions {
-  double motion_weight = 1.0;
-  double detail_weight = 1.0;
-  double detail_sigma = 1.0;  // pixels: what G keeps is "texture"
-  double window_sigma = 2.0;  // pixels: the neighbourhood an energy covers
-  int detail_octaves = 1;     // bands of the detail term, finest first
-  // Floor of the energies (an amplitude of 1e-3 of the 0..1 range): keeps
-  // the gradient finite where a render is perfectly flat.
-  double eps = 1e-6;
-};
-
-// The loss's terms, unweighted.
-struct WaterEnergyTerms {
-  double motion = 0;
-  double detail = 0;  // mean of the two frames'
-};
-
-namespace internal {
-// Scratch of a 2D blur: the image between its two passes, and one padded
-// row.
-struct BlurScratch {
-  std::vector<double> image, line;
-};
-
-// Scratch of one opponent channel's terms: the channel of the two renders
-// and inputs, its gradient per render, and the blurs' images.
-struct ChannelScratch {
-  std::vector<double> ya, yb, ia, ib, dya, dyb, diff, e_r, e_i, d_e, g,
-      high, low;
-  BlurScratch blur;
-};
-}  // namespace internal
-
+// without masks, every pixel. Options and terms: costs/water_energy_terms.h.
+//
 // Evaluates the loss for one pair; reuses its buffers between calls, so
 // not thread-safe.
 class WaterEnergyLoss {
@@ -103,9 +89,8 @@ class WaterEnergyLoss {
                        double* motion, double* detail) const;
 
   WaterEnergyOptions options_;
-  // G_k and W_k of the detail bands (k < detail_octaves); W_0 is also the
-  // motion term's window.
-  std::vector<std::vector<double>> detail_kernels_, window_kernels_;
+  // G_k and W_k of the detail bands.
+  WaterEnergyKernels kernels_;
   // Per-frame scratch, reused; the channels are evaluated in parallel.
   cv::Mat input_a_, input_b_;  // CV_64FC3
   std::vector<double> mask_, mask_a_, mask_b_;

@@ -8,7 +8,9 @@
 # memcheck (and some under racecheck) when it is installed and time
 # allows, then the benchmarks; then, where Ceres and OpenCV are
 # installed, a full -DES_CUDA=ON build of the device Stage 1 trainer's
-# test and benchmark and the device joint render cost's test, run too. Copies the logs to $OUT when that is set.
+# test and benchmark, the Stage 3 trainer's, and the Stage 3 losses'
+# tests (joint render cost, water energy, flow prior), run too. Copies the
+# logs to $OUT when that is set.
 # Under 8 minutes on 16 cores for the first step (the full build adds
 # minutes of its own); the summary at the
 # end holds what a reader needs.
@@ -210,6 +212,7 @@ tee -a "$summary" < "$logs/bench_loop.txt"
 full=build_cuda_full
 full_deps=(libceres-dev libopencv-dev nlohmann-json3-dev)
 full_tests=(cuda_static_trainer_test cuda_joint_render_cost_test
+            cuda_water_energy_loss_test cuda_flow_prior_test
             cuda_joint_trainer_test device_flag_test)
 full_benches=(bench_cuda_static bench_cuda_joint)
 if dpkg-query -W -f='${Status}\n' "${full_deps[@]}" 2>/dev/null |

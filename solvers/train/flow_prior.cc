@@ -10,6 +10,31 @@
 
 namespace es {
 
+void DrawFlowPriorBatch(uint64_t seed, int64_t iteration, int num_samples,
+                        std::vector<int>* indices) {
+  CHECK_GT(num_samples, 0);
+  std::seed_seq seq{static_cast<uint32_t>(seed),
+                    static_cast<uint32_t>(seed >> 32),
+                    static_cast<uint32_t>(iteration),
+                    static_cast<uint32_t>(iteration >> 32)};
+  std::mt19937 rng(seq);
+  std::uniform_int_distribution<int> pick(0, num_samples - 1);
+  for (int& i : *indices) i = pick(rng);
+}
+
+double FlowPriorWeight(const FlowPriorOptions& options, int64_t iteration,
+                       int64_t iterations) {
+  return LogLinearLr(options.weight, options.weight * options.final_factor,
+                     iteration, iterations);
+}
+
+double InverseMeanSquareSpeed(const std::vector<SceneFlowSample>& samples) {
+  double sum = 0;
+  for (const SceneFlowSample& s : samples) sum += s.v.squaredNorm();
+  const double mean = sum / samples.size();
+  return mean > 0 ? 1.0 / mean : 1.0;
+}
+
 SceneFlowPrior::SceneFlowPrior(const MotionField* field,
                                std::vector<SceneFlowSample> samples,
                                const FlowPriorOptions& options)
@@ -20,10 +45,7 @@ SceneFlowPrior::SceneFlowPrior(const MotionField* field,
   CHECK(field != nullptr);
   CHECK(!samples_.empty());
   CHECK_GT(options_.batch_size, 0);
-  double sum = 0;
-  for (const SceneFlowSample& s : samples_) sum += s.v.squaredNorm();
-  const double mean = sum / samples_.size();
-  inverse_mean_square_speed_ = mean > 0 ? 1.0 / mean : 1.0;
+  inverse_mean_square_speed_ = InverseMeanSquareSpeed(samples_);
   indices_.resize(std::min<size_t>(options_.batch_size, samples_.size()));
   grad_triplane_.resize(field->triplane().num_params());
   chunks_.resize(NumGradientChunks(grad_triplane_.size()));
@@ -31,8 +53,7 @@ SceneFlowPrior::SceneFlowPrior(const MotionField* field,
 }
 
 double SceneFlowPrior::Weight(int64_t iteration, int64_t iterations) const {
-  return LogLinearLr(options_.weight, options_.weight * options_.final_factor,
-                     iteration, iterations);
+  return FlowPriorWeight(options_, iteration, iterations);
 }
 
 double SceneFlowPrior::AddLossAndGradient(const FieldParams& params,
@@ -42,13 +63,7 @@ double SceneFlowPrior::AddLossAndGradient(const FieldParams& params,
   const double scale =
       Weight(iteration, iterations) * inverse_mean_square_speed_;
   if (scale <= 0) return 0;
-  std::seed_seq seq{static_cast<uint32_t>(seed),
-                    static_cast<uint32_t>(seed >> 32),
-                    static_cast<uint32_t>(iteration),
-                    static_cast<uint32_t>(iteration >> 32)};
-  std::mt19937 rng(seq);
-  std::uniform_int_distribution<int> pick(0, num_samples() - 1);
-  for (int& i : indices_) i = pick(rng);
+  DrawFlowPriorBatch(seed, iteration, num_samples(), &indices_);
   batch_.Assign(samples_, indices_);
   // grad_triplane_ is all zero between calls: only the chunks the batch
   // writes are added and cleared.

@@ -19,6 +19,22 @@ struct FlowPriorOptions {
   int batch_size = 1024;  // samples per iteration
 };
 
+// Iteration `iteration`'s mini-batch of a run seeded `seed`: each of
+// indices->size() entries drawn uniformly from [0, num_samples). A function
+// of (seed, iteration) alone, shared by SceneFlowPrior and its device twin
+// (solvers/train/cuda/device_flow_prior.h) so both train on the same batches.
+void DrawFlowPriorBatch(uint64_t seed, int64_t iteration, int num_samples,
+                        std::vector<int>* indices);
+
+// w(it) of a run of `iterations`: options.weight decaying log-linearly to
+// options.weight * options.final_factor.
+double FlowPriorWeight(const FlowPriorOptions& options, int64_t iteration,
+                       int64_t iterations);
+
+// 1 / mean_s |V'(x_s)|^2 over `samples` (1 when every target is 0): the
+// prior's normalization.
+double InverseMeanSquareSpeed(const std::vector<SceneFlowSample>& samples);
+
 // Stage 2's scene-flow loss kept during joint training (V otherwise drifts
 // from the flow initialization, since the photometric loss of stochastic
 // water does not pin V to the true velocity):

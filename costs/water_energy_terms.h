@@ -1,0 +1,81 @@
+#ifndef EULERSPLAT_COSTS_WATER_ENERGY_TERMS_H_
+#define EULERSPLAT_COSTS_WATER_ENERGY_TERMS_H_
+
+// What the water energy loss (costs/water_energy_loss.h) and its device
+// twin (costs/cuda/device_water_energy_loss.h) share, without OpenCV: the
+// options, the terms, the opponent colour basis and the blur kernels.
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include <glog/logging.h>
+
+namespace es {
+
+// See WaterEnergyLoss for what each term measures.
+struct WaterEnergyOptions {
+  double motion_weight = 1.0;
+  double detail_weight = 1.0;
+  double detail_sigma = 1.0;  // pixels: what G keeps is "texture"
+  double window_sigma = 2.0;  // pixels: the neighbourhood an energy covers
+  int detail_octaves = 1;     // bands of the detail term, finest first
+  // Floor of the energies (an amplitude of 1e-3 of the 0..1 range): keeps
+  // the gradient finite where a render is perfectly flat.
+  double eps = 1e-6;
+};
+
+// The loss's terms, unweighted.
+struct WaterEnergyTerms {
+  double motion = 0;
+  double detail = 0;  // mean of the two frames'
+};
+
+// An orthonormal opponent colour basis: luminance, red-green,
+// yellow-blue, one row per channel. Water's change and texture are mostly
+// of luminance; in RGB, a render could match each channel's amplitude
+// with a tint that flickers (red up while green goes down), which the
+// chroma rows count.
+constexpr double kWaterOpponent[3][3] = {
+    {0.57735026918962576, 0.57735026918962576, 0.57735026918962576},
+    {0.70710678118654752, -0.70710678118654752, 0.0},
+    {0.40824829046386302, 0.40824829046386302, -0.81649658092772603}};
+
+// A normalized Gaussian of `sigma` pixels, radius max(1, ceil(3 sigma)):
+// the taps of the loss's blurs.
+inline std::vector<double> WaterEnergyGaussian(double sigma) {
+  CHECK_GT(sigma, 0);
+  const int radius = std::max(1, static_cast<int>(std::ceil(3 * sigma)));
+  std::vector<double> k(2 * radius + 1);
+  double sum = 0;
+  for (int i = -radius; i <= radius; ++i) {
+    k[i + radius] = std::exp(-0.5 * i * i / (sigma * sigma));
+    sum += k[i + radius];
+  }
+  for (double& v : k) v /= sum;
+  return k;
+}
+
+// The blurs of the detail bands k < detail_octaves: G_k of detail_sigma
+// 2^k and W_k of window_sigma 2^k pixels (W_0 is also the motion term's
+// window).
+struct WaterEnergyKernels {
+  std::vector<std::vector<double>> detail, window;
+};
+
+inline WaterEnergyKernels MakeWaterEnergyKernels(
+    const WaterEnergyOptions& options) {
+  CHECK_GT(options.eps, 0);
+  CHECK_GE(options.detail_octaves, 1);
+  WaterEnergyKernels kernels;
+  for (int k = 0; k < options.detail_octaves; ++k) {
+    const double octave = std::ldexp(1.0, k);
+    kernels.detail.push_back(WaterEnergyGaussian(options.detail_sigma * octave));
+    kernels.window.push_back(WaterEnergyGaussian(options.window_sigma * octave));
+  }
+  return kernels;
+}
+
+}  // namespace es
+
+#endif  // EULERSPLAT_COSTS_WATER_ENERGY_TERMS_H_
