@@ -7,7 +7,7 @@
 # memcheck (and some under racecheck) when it is installed and time
 # allows, then the benchmarks; then, where Ceres and OpenCV are
 # installed, a full -DES_CUDA=ON build of the device Stage 1 trainer's
-# test and benchmark, run too. Copies the logs to $OUT when that is set.
+# test and benchmark and es_eval's device rendering test, run too. Copies the logs to $OUT when that is set.
 # Under 8 minutes on 16 cores for the first step (the full build adds
 # minutes of its own); the summary at the
 # end holds what a reader needs.
@@ -200,11 +200,12 @@ timeout 150 "$build/bin/bench_cuda_loop" \
 note "bench_cuda_loop exit status $?"
 tee -a "$summary" < "$logs/bench_loop.txt"
 
-# Second step: the device trainer (Stage 1), its test and benchmark, and
-# the --device flag need Ceres and OpenCV, so they are not in the
-# check-only build above; where those are installed, a full build with
-# -DES_CUDA=ON builds and runs them (otherwise this says so and skips;
-# the verdict then covers the first step only).
+# Second step: the device trainer (Stage 1), its test and benchmark, the
+# test of es_eval's device rendering and the --device flag need Ceres and
+# OpenCV, so they are not in the check-only build above; where those are
+# installed, a full build with -DES_CUDA=ON builds and runs them
+# (otherwise this says so and skips; the verdict then covers the first
+# step only).
 full=build_cuda_full
 full_deps=(libceres-dev libopencv-dev nlohmann-json3-dev)
 if dpkg-query -W -f='${Status}\n' "${full_deps[@]}" 2>/dev/null |
@@ -214,11 +215,14 @@ if dpkg-query -W -f='${Status}\n' "${full_deps[@]}" 2>/dev/null |
          -DCMAKE_CUDA_ARCHITECTURES="$arch" "${cmake_args[@]}" \
          > "$logs/build_full.txt" 2>&1 &&
      cmake --build "$full" -j"${ES_JOBS:-16}" --target \
-         cuda_static_trainer_test device_flag_test bench_cuda_static \
+         cuda_static_trainer_test cuda_eval_rendering_test device_flag_test \
+         bench_cuda_static \
          >> "$logs/build_full.txt" 2>&1; then
     ES_CUDA_SYNC=1 timeout 300 "$full/bin/cuda_static_trainer_test" \
       > "$logs/trainer_tests.txt" 2>&1
     trainer_status=$?
+    ES_CUDA_SYNC=1 timeout 120 "$full/bin/cuda_eval_rendering_test" \
+      >> "$logs/trainer_tests.txt" 2>&1 || trainer_status=1
     "$full/bin/device_flag_test" >> "$logs/trainer_tests.txt" 2>&1 ||
       trainer_status=1
     grep -E "PASSED|FAILED|SKIPPED|Failure" -A3 "$logs/trainer_tests.txt" |
