@@ -7,6 +7,7 @@
 //
 //   eulersplat --video FILE --out DIR [--preset quick|paper]
 //   eulersplat --scene DIR --out DIR [--preset quick|paper]
+//              [--device cpu|cuda]
 //
 // OUT/scene/           the frames of --video, or a view of --scene that
 //                      adds what it lacks (poses, masks) without writing
@@ -42,6 +43,7 @@
 
 #include "apps/common/app_main.h"
 #include "apps/common/child_process.h"
+#include "apps/common/device_flag.h"
 #include "apps/common/flag_checks.h"
 #include "apps/common/run_lock.h"
 #include "apps/common/scene_inputs.h"
@@ -52,6 +54,33 @@
 #include "core/io/ply_io.h"
 #include "core/viz/video_writer.h"
 #include "solvers/train/joint_trainer.h"
+
+namespace {
+
+// The stage binaries that take --device (apps/common/device_flag.h): the
+// driver passes its own on to every run of them (RunStage); the other
+// stages run on the CPU. A stage that gains a device path joins here.
+const std::vector<std::string> kDeviceStages = {"es_static", "es_train",
+                                                "es_animate", "es_eval"};
+
+std::string DeviceStageNames() {
+  std::string names;
+  for (const std::string& s : kDeviceStages)
+    names += (names.empty() ? "" : ", ") + s;
+  return names;
+}
+
+std::string DeviceHelp() {
+  return "Where the stages with a CUDA path run: cpu, or cuda (the first "
+         "NVIDIA GPU; needs a build with the CUDA backend, -DES_CUDA=ON or "
+         "AUTO with the CUDA toolkit installed; checked before any work). "
+         "Passed on as --device to " + DeviceStageNames() +
+         "; the other stages run on the CPU, and so does the tracks video "
+         "(es_animate --tracks draws positions kept on the host).";
+}
+const std::string kDeviceHelp = DeviceHelp();
+
+}  // namespace
 
 DEFINE_string(scene, "", "Scene directory: images/ (or a video), optional "
               "masks/, sparse/0/ (made with COLMAP if missing). Never "
@@ -100,6 +129,7 @@ DEFINE_string(train_flags, "", "Extra flags for es_train, space-separated, "
               "(ablations).");
 DEFINE_bool(animate, true, "Render the looping videos and contact sheet "
             "(off: train and evaluate only).");
+DEFINE_string(device, "cpu", kDeviceHelp.c_str());
 DEFINE_string(pose_script, "", "Run as `bash SCRIPT SCENE` instead of "
               "es_poses (COLMAP) when the scene has no sparse/0; it must "
               "write SCENE/sparse/0.");
@@ -144,13 +174,29 @@ std::string Join(const std::vector<std::string>& args) {
   return out;
 }
 
+// True if `binary` takes --device (kDeviceStages) and `args` do not set
+// it already (a stage that must run on the CPU says --device cpu).
+bool PassDevice(const std::string& binary,
+                const std::vector<std::string>& args) {
+  const std::string name = fs::path(binary).filename().string();
+  if (std::find(kDeviceStages.begin(), kDeviceStages.end(), name) ==
+      kDeviceStages.end())
+    return false;
+  return std::none_of(args.begin(), args.end(), [](const std::string& a) {
+    return a == "--device" || a.rfind("--device=", 0) == 0;
+  });
+}
+
 // Runs a stage binary from this binary's directory (no shell: arguments go
-// through untouched). Returns its exit status; the stage dies with the
-// driver.
-int RunStage(const std::string& binary, const std::vector<std::string>& args) {
+// through untouched), with --device where it takes it. Returns its exit
+// status; the stage dies with the driver.
+int RunStage(const std::string& binary, std::vector<std::string> args) {
   const std::string path = binary.find('/') == std::string::npos
                                ? (BinaryDir() / binary).string()
                                : binary;
+  if (PassDevice(binary, args)) {
+    args.insert(args.end(), {"--device", FLAGS_device});
+  }
   std::vector<std::string> all = {path};
   all.insert(all.end(), args.begin(), args.end());
   std::printf("\n$ %s\n", Join(all).c_str());
@@ -307,6 +353,7 @@ struct Pipeline {
   Preset preset;
   fs::path scene, out, static_folder;
   bool has_masks = false;
+  es::ComputeDevice device = es::ComputeDevice::kCpu;
   std::vector<std::string> common;      // --scene, --image_scale
   std::vector<std::string> background;  // --white_background or nothing
 
@@ -433,11 +480,13 @@ void AnimateStage(const Pipeline& run) {
     std::string name;
     std::string last_output;  // written last: its presence means done
     std::vector<std::string> flags;
+    bool tracks;
   };
   for (const Video& v :
-       {Video{"animate", "tracks.mp4", {"--camera", "input", "--tracks"}},
+       {Video{"animate", "tracks.mp4", {"--camera", "input", "--tracks"},
+              true},
         Video{"animate_fixed", "xt_slice.png",
-              {"--camera", "fixed", "--xt_slice", "auto"}}}) {
+              {"--camera", "fixed", "--xt_slice", "auto"}, false}}) {
     const fs::path dir = run.out / v.name;
     run.stages->Begin(v.name + " video (es_animate)");
     if (AllExist({dir / "animation.mp4", dir / v.last_output})) {
@@ -449,6 +498,12 @@ void AnimateStage(const Pipeline& run) {
                   std::to_string(frames), "--out", dir.string()},
                  true);
     args.insert(args.end(), v.flags.begin(), v.flags.end());
+    if (v.tracks && run.device != es::ComputeDevice::kCpu) {
+      std::printf("[%s] rendered on the CPU: es_animate --tracks draws the "
+                  "Gaussians' positions, which the GPU keeps\n",
+                  v.name.c_str());
+      args.insert(args.end(), {"--device", "cpu"});
+    }
     RunOrThrow("[" + v.name + "]", "es_animate", args);
   }
 }
@@ -555,7 +610,8 @@ void RequirePresetOrAtLeast(const std::string& flag, int value, int min) {
   if (value != -1) es::RequireAtLeast(flag, value, min);
 }
 
-void CheckFlags() {
+// Returns the device the stages in kDeviceStages run on, saying so.
+es::ComputeDevice CheckFlags() {
   if (FLAGS_out.empty() || FLAGS_scene.empty() == FLAGS_video.empty()) {
     throw es::InputError("--out and one of --scene or --video are required");
   }
@@ -568,11 +624,18 @@ void CheckFlags() {
     es::RequirePositive("image_scale", FLAGS_image_scale);
   }
   es::RequireInOpenRange("dynamic_threshold", FLAGS_dynamic_threshold, 0, 1);
+  std::string name;
+  const es::ComputeDevice device = es::ParseDeviceFlag(FLAGS_device, &name);
+  if (device != es::ComputeDevice::kCpu) {
+    std::printf("[eulersplat] %s run on %s; the other stages on the CPU\n",
+                DeviceStageNames().c_str(), name.c_str());
+  }
+  return device;
 }
 
 int Main() {
-  CheckFlags();
   Pipeline run;
+  run.device = CheckFlags();
   run.preset = MakePreset(FLAGS_preset);
   Preset& p = run.preset;
   if (FLAGS_static_iterations >= 0) {
@@ -674,9 +737,9 @@ int main(int argc, char** argv) {
                     "flow init -> joint -> animate -> export -> eval -> "
                     "plots.\n"
                     "  eulersplat --video FILE --out DIR [--preset "
-                    "quick|paper]\n"
+                    "quick|paper] [--device cpu|cuda]\n"
                     "  eulersplat --scene DIR --out DIR [--preset "
-                    "quick|paper]\n"
+                    "quick|paper] [--device cpu|cuda]\n"
                     "Writes OUT/static, OUT/model, OUT/animate, "
                     "OUT/animate_fixed, OUT/eval, OUT/plots and "
                     "OUT/contact_sheet.png; a stage whose outputs exist is "

@@ -8,9 +8,9 @@
 # memcheck (and some under racecheck) when it is installed and time
 # allows, then the benchmarks; then, where Ceres and OpenCV are
 # installed, a full -DES_CUDA=ON build of the device Stage 1 trainer's
-# test and benchmark, the Stage 3 trainer's, and the Stage 3 losses'
-# tests (joint render cost, water energy, flow prior), run too. Copies the
-# logs to $OUT when that is set.
+# test and benchmark, the Stage 3 trainer's, the Stage 3 losses' tests
+# (joint render cost, water energy, flow prior) and es_eval's device
+# rendering test, run too. Copies the logs to $OUT when that is set.
 # Under 8 minutes on 16 cores for the first step (the full build adds
 # minutes of its own); the summary at the
 # end holds what a reader needs.
@@ -204,16 +204,17 @@ note "bench_cuda_loop exit status $?"
 tee -a "$summary" < "$logs/bench_loop.txt"
 
 # Second step: what needs Ceres and OpenCV (the device trainers of Stages
-# 1 and 3, the device joint render cost, the --device flag, their tests
-# and benchmarks) is not in the check-only build above; where those are
-# installed, a full build with -DES_CUDA=ON builds and runs them
-# (otherwise this says so and skips; the verdict then covers the first
-# step only).
+# 1 and 3, the device joint render cost, es_eval's device rendering, the
+# --device flag, their tests and benchmarks) is not in the check-only
+# build above; where those are installed, a full build with -DES_CUDA=ON
+# builds and runs them (otherwise this says so and skips; the verdict then
+# covers the first step only).
 full=build_cuda_full
 full_deps=(libceres-dev libopencv-dev nlohmann-json3-dev)
 full_tests=(cuda_static_trainer_test cuda_joint_render_cost_test
             cuda_water_energy_loss_test cuda_flow_prior_test
-            cuda_joint_trainer_test device_flag_test)
+            cuda_joint_trainer_test cuda_eval_rendering_test
+            device_flag_test)
 full_benches=(bench_cuda_static bench_cuda_joint)
 if dpkg-query -W -f='${Status}\n' "${full_deps[@]}" 2>/dev/null |
      grep -c "install ok installed" | grep -qx "${#full_deps[@]}"; then

@@ -14,6 +14,7 @@
 #include <regex>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #ifdef ES_HAVE_CUDA
@@ -216,6 +217,35 @@ TEST_F(CliTest, AnimateDeviceIsCheckedBeforeAnyWork) {
   const std::string refusal = "this build has no CUDA backend";
 #endif
   ExpectRefused("es_animate", args + " --device cuda --tracks", refusal);
+  EXPECT_FALSE(fs::exists(root_ / "o")) << "work started anyway";
+}
+
+// es_eval and the driver --device: an unknown value is named, and cuda is
+// refused where this build or machine cannot run it, before any work (the
+// driver before any stage runs).
+TEST_F(CliTest, EvalAndDriverDeviceIsCheckedBeforeAnyWork) {
+  const std::string out = (root_ / "o").string();
+  const std::string scene = " --scene " + scene_.string();
+  const std::vector<std::pair<std::string, std::string>> commands = {
+      {"es_eval", scene + " --model m --out " + out},
+      {"eulersplat", scene + " --out " + out}};
+  for (const auto& [binary, args] : commands) {
+    ExpectRefused(binary, args + " --device gpu",
+                  "--device must be cpu or cuda, not 'gpu'");
+  }
+#ifdef ES_HAVE_CUDA
+  std::string why;
+  if (es::cuda::CudaDeviceAvailable(&why)) {
+    GTEST_SKIP() << "a CUDA device is present (" << why
+                 << "): --device cuda is not refused here";
+  }
+  const std::string refusal = "--device cuda: no CUDA device found";
+#else
+  const std::string refusal = "--device cuda: this build has no CUDA backend";
+#endif
+  for (const auto& [binary, args] : commands) {
+    ExpectRefused(binary, args + " --device cuda", refusal);
+  }
   EXPECT_FALSE(fs::exists(root_ / "o")) << "work started anyway";
 }
 

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <sstream>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -47,6 +48,21 @@ TEST(EndToEndTest, DriverRunsEveryStageAndResumes) {
   log.clear();
   ASSERT_EQ(RunCommand(driver, &log), 0) << log;
 
+  // --device (default cpu) reaches every stage run that takes it:
+  // es_static, es_train, both es_animate videos and es_eval.
+  int device_stages = 0;
+  std::istringstream lines(log);
+  for (std::string line; std::getline(lines, line);) {
+    if (line.rfind("$ ", 0) != 0) continue;
+    for (const char* stage :
+         {"/es_static ", "/es_train ", "/es_animate ", "/es_eval "}) {
+      if (line.find(stage) == std::string::npos) continue;
+      ++device_stages;
+      EXPECT_NE(line.find(" --device cpu"), std::string::npos) << line;
+    }
+  }
+  EXPECT_EQ(device_stages, 5) << log;
+
   for (const char* file :
        {"static/static.ply", "static/motion_field.bin", "model/loop.txt",
         "model/canonical.ply", "animate/animation.mp4", "animate/tracks.mp4",
@@ -74,6 +90,7 @@ TEST(EndToEndTest, DriverRunsEveryStageAndResumes) {
   }
   EXPECT_GT(JsonNumber(json, "psnr"), 5.0) << json;
   EXPECT_GT(JsonNumber(json, "dynamic_gaussians"), 0) << json;
+  EXPECT_NE(json.find("\"device\": \"cpu\""), std::string::npos) << json;
 
   // The fixed-view video loops: frame k and frame k + L are the same image.
   const fs::path frames = out / "animate_fixed" / "frames";

@@ -29,24 +29,45 @@ cv::Mat WrapRgb(const RenderResult& r) {
                  const_cast<double*>(r.rgb.data()));
 }
 
+cv::Mat WrapRgb(const std::vector<double>& rgb, const Camera& camera) {
+  return cv::Mat(camera.height, camera.width, CV_64FC3,
+                 const_cast<double*>(rgb.data()));
+}
+
 }  // namespace
 
 LoopMetrics EvaluateLoopModel(const LoopModel& model,
                               const std::vector<Frame>& frames,
                               const std::vector<int>& indices,
+                              ImageRasterizer* rasterizer) {
+  return CompareWithFrames(
+      RenderCompositions(model, frames, indices, rasterizer), frames,
+      indices);
+}
+
+LoopMetrics EvaluateLoopModel(const LoopModel& model,
+                              const std::vector<Frame>& frames,
+                              const std::vector<int>& indices,
                               const RenderOptions& options) {
+  CpuImageRasterizer rasterizer(options);
+  return EvaluateLoopModel(model, frames, indices, &rasterizer);
+}
+
+std::vector<cv::Mat> RenderCompositions(const LoopModel& model,
+                                        const std::vector<Frame>& frames,
+                                        const std::vector<int>& indices,
+                                        ImageRasterizer* rasterizer) {
   const LoopModelView view = LoopModelView::Of(model);
   FrameComposer composer;
-  Rasterizer rasterizer;
-  RenderResult render;
   std::vector<cv::Mat> images;
   for (int index : indices) {
     const Frame& f = frames[index];
-    rasterizer.Forward(f.camera, composer.Compose(view, f.time_index),
-                       options, &render);
-    images.push_back(WrapRgb(render).clone());
+    images.push_back(
+        WrapRgb(rasterizer->Render(f.camera,
+                                   composer.Compose(view, f.time_index)))
+            .clone());
   }
-  return CompareWithFrames(images, frames, indices);
+  return images;
 }
 
 LoopMetrics CompareWithFrames(const std::vector<cv::Mat>& images,
@@ -74,18 +95,23 @@ LoopMetrics CompareWithFrames(const std::vector<cv::Mat>& images,
   return out;
 }
 
+LoopSeamScore EvaluateLoopSeam(LoopFrames* loop, int cycle_length,
+                               const Camera& camera, int cycles) {
+  CHECK_GE(cycles, 1);
+  std::vector<cv::Mat> frames;
+  const int count = cycles * cycle_length + 1;
+  loop->Start(0);
+  for (int k = 0; k < count; ++k) {
+    if (k > 0) loop->Advance();
+    frames.push_back(WrapRgb(loop->Rgb(camera), camera).clone());
+  }
+  return ComputeLoopSeam(frames, cycle_length, 0);
+}
+
 LoopSeamScore EvaluateLoopSeam(const LoopModel& model, const Camera& camera,
                                int cycles, const RenderOptions& options) {
-  CHECK_GE(cycles, 1);
-  LoopRenderer renderer(&model, options);
-  std::vector<cv::Mat> frames;
-  const int count = cycles * model.cycle_length + 1;
-  renderer.Start(0);
-  for (int k = 0; k < count; ++k) {
-    if (k > 0) renderer.Advance();
-    frames.push_back(WrapRgb(renderer.Render(camera)).clone());
-  }
-  return ComputeLoopSeam(frames, model.cycle_length, 0);
+  CpuLoopFrames loop(&model, options);
+  return EvaluateLoopSeam(&loop, model.cycle_length, camera, cycles);
 }
 
 AnimationTiming TimeAnimation(const LoopModel& model, const Camera& camera,

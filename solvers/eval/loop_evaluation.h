@@ -3,10 +3,14 @@
 
 #include <vector>
 
+#include <opencv2/core.hpp>
+
 #include "core/io/scene.h"
+#include "core/loop/loop_frames.h"
 #include "core/metrics/loop_seam.h"
 #include "core/model/camera.h"
 #include "core/model/loop_model.h"
+#include "core/render/image_rasterizer.h"
 #include "core/render/rasterizer.h"
 
 namespace es {
@@ -21,10 +25,23 @@ struct LoopMetrics {
   double psnr_water = 0, ssim_water = 0;
 };
 
+// `rasterizer` renders the compositions (CPU or device); the options
+// overload renders on the CPU.
+LoopMetrics EvaluateLoopModel(const LoopModel& model,
+                              const std::vector<Frame>& frames,
+                              const std::vector<int>& indices,
+                              ImageRasterizer* rasterizer);
 LoopMetrics EvaluateLoopModel(const LoopModel& model,
                               const std::vector<Frame>& frames,
                               const std::vector<int>& indices,
                               const RenderOptions& options);
+
+// The images EvaluateLoopModel measures: frames[indices[k]]'s composition
+// (Alg. 1 at its time index) seen by its camera, CV_64FC3, RGB.
+std::vector<cv::Mat> RenderCompositions(const LoopModel& model,
+                                        const std::vector<Frame>& frames,
+                                        const std::vector<int>& indices,
+                                        ImageRasterizer* rasterizer);
 
 // The same figures for given images: images[k] (CV_64FC3, RGB in [0, 1])
 // against frames[indices[k]].
@@ -34,7 +51,10 @@ LoopMetrics CompareWithFrames(const std::vector<cv::Mat>& images,
 
 // Loop-seam score (core/metrics/loop_seam.h) of a fixed-view animation of
 // `cycles` loops (cycles * L + 1 frames from frame 0, Alg. 2, p = 0) seen
-// by `camera`.
+// by `camera`. `loop` plays the model (CPU or device; LoopFrames); the
+// options overload plays it on the CPU.
+LoopSeamScore EvaluateLoopSeam(LoopFrames* loop, int cycle_length,
+                               const Camera& camera, int cycles);
 LoopSeamScore EvaluateLoopSeam(const LoopModel& model, const Camera& camera,
                                int cycles, const RenderOptions& options);
 
@@ -42,7 +62,8 @@ LoopSeamScore EvaluateLoopSeam(const LoopModel& model, const Camera& camera,
 // re-integrates every dynamic Gaussian from its canonical position (t Euler
 // steps each, O(N L) per frame), Alg. 2 advances the previous frame by one
 // step (O(N)). Composition (D, p = 0) and rasterization are the same for
-// both and timed once. Also checks the two agree.
+// both and timed once. Also checks the two agree. On the CPU only: the
+// figures are the CPU's cost, and the positions compared stay on the host.
 struct AnimationTiming {
   int frames = 0;
   int num_dynamic = 0;

@@ -4,22 +4,19 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <numeric>
 
 #include <glog/logging.h>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "core/io/atomic_file.h"
-
-#include "core/loop/frame_composer.h"
-#include "core/loop/loop_renderer.h"
+#include "solvers/eval/loop_evaluation.h"
 
 namespace es {
 
-std::vector<cv::Mat> RenderAtInputCameras(const LoopModel& model,
-                                          const std::vector<Frame>& frames,
-                                          const RenderOptions& options) {
-  LoopRenderer renderer(&model, options);
+std::vector<cv::Mat> RenderAtInputCameras(LoopFrames* loop,
+                                          const std::vector<Frame>& frames) {
   std::vector<cv::Mat> out;
   // Each frame at its place in the video: frames COLMAP did not register
   // are stepped over, not closed up.
@@ -27,12 +24,12 @@ std::vector<cv::Mat> RenderAtInputCameras(const LoopModel& model,
   for (size_t i = 0; i < frames.size(); ++i) {
     if (i == 0 || frames[i].time_index < time) {
       time = frames[i].time_index;
-      renderer.Start(time);
+      loop->Start(time);
     }
-    for (; time < frames[i].time_index; ++time) renderer.Advance();
-    const RenderResult& r = renderer.Render(frames[i].camera);
-    out.push_back(cv::Mat(r.height, r.width, CV_64FC3,
-                          const_cast<double*>(r.rgb.data()))
+    for (; time < frames[i].time_index; ++time) loop->Advance();
+    const Camera& camera = frames[i].camera;
+    out.push_back(cv::Mat(camera.height, camera.width, CV_64FC3,
+                          const_cast<double*>(loop->Rgb(camera).data()))
                       .clone());
   }
   return out;
@@ -40,19 +37,10 @@ std::vector<cv::Mat> RenderAtInputCameras(const LoopModel& model,
 
 std::vector<cv::Mat> RenderTrainingComposition(
     const LoopModel& model, const std::vector<Frame>& frames,
-    const RenderOptions& options) {
-  const LoopModelView view = LoopModelView::Of(model);
-  FrameComposer composer;
-  Rasterizer rasterizer;
-  RenderResult r;
-  std::vector<cv::Mat> out;
-  for (const Frame& f : frames) {
-    rasterizer.Forward(f.camera, composer.Compose(view, f.time_index),
-                       options, &r);
-    out.push_back(
-        cv::Mat(r.height, r.width, CV_64FC3, r.rgb.data()).clone());
-  }
-  return out;
+    ImageRasterizer* rasterizer) {
+  std::vector<int> all(frames.size());
+  std::iota(all.begin(), all.end(), 0);
+  return RenderCompositions(model, frames, all, rasterizer);
 }
 
 RealismMetrics EvaluateRealism(const std::vector<cv::Mat>& rendered,

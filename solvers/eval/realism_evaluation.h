@@ -7,25 +7,27 @@
 #include <opencv2/core.hpp>
 
 #include "core/io/scene.h"
+#include "core/loop/loop_frames.h"
 #include "core/metrics/realism.h"
 #include "core/model/loop_model.h"
-#include "core/render/rasterizer.h"
+#include "core/render/image_rasterizer.h"
 
 namespace es {
 
-// The looping model played with Alg. 2 (p = 0) from frame 0 and seen by
-// every input camera: element i is the loop at frames[i].time_index (its
-// place in the video) rendered at frames[i]'s camera (CV_64FC3, RGB). Training and held-out frames alike.
-std::vector<cv::Mat> RenderAtInputCameras(const LoopModel& model,
-                                          const std::vector<Frame>& frames,
-                                          const RenderOptions& options);
+// The looping model played with Alg. 2 (p = 0) by `loop` (its frames on
+// the CPU or a device) and seen by every input camera: element i is the
+// loop at frames[i].time_index (its place in the video) rendered at
+// frames[i]'s camera (CV_64FC3, RGB). Training and held-out frames alike.
+std::vector<cv::Mat> RenderAtInputCameras(LoopFrames* loop,
+                                          const std::vector<Frame>& frames);
 
 // What training optimizes at the same cameras: Alg. 1 at each frame's
 // true place in the video, D with its true cycle number (the loop above
-// plays every cycle with p = 0).
+// plays every cycle with p = 0), composed on the host and rendered by
+// `rasterizer`.
 std::vector<cv::Mat> RenderTrainingComposition(
     const LoopModel& model, const std::vector<Frame>& frames,
-    const RenderOptions& options);
+    ImageRasterizer* rasterizer);
 
 // core/metrics/realism.h of that video against the input frames, inside
 // the input's water masks (when the scene has them), the static rest and

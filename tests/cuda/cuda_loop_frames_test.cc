@@ -1,9 +1,8 @@
 // es_animate's frames on the device (cuda::DeviceLoopFrames, what
 // --device cuda plays) against the CPU's (CpuLoopFrames, --device cpu):
 // a tiny looping model with V and D, a non-black background, frame by
-// frame over more than a cycle from a late start. Two float rasterizers
-// apart: at most 0.5% of the RGB values off by more than 2e-5 of the
-// largest, none by more than 0.05. Skips when no CUDA device is present.
+// frame over more than a cycle from a late start, two float rasterizers
+// apart (expect_frames_close.h). Skips when no CUDA device is present.
 
 #include <algorithm>
 #include <cmath>
@@ -14,6 +13,7 @@
 
 #include "core/loop/cuda/device_loop_frames.h"
 #include "core/loop/loop_frames.h"
+#include "tests/cuda/expect_frames_close.h"
 #include "tests/cuda/require_gpu.h"
 #include "tests/cuda/tiny_loop_model.h"
 
@@ -31,27 +31,6 @@ Camera TestCamera() {
   c.cx = 16;
   c.cy = 12;
   return c;
-}
-
-// How many values differ by more than tol times the largest |want|, and
-// the largest difference so scaled.
-void ExpectFramesClose(const std::vector<double>& got,
-                       const std::vector<double>& want) {
-  ASSERT_EQ(got.size(), want.size());
-  double scale = 0;
-  for (double v : want) scale = std::max(scale, std::abs(v));
-  ASSERT_GT(scale, 0);
-  size_t off = 0;
-  double largest = 0;
-  for (size_t i = 0; i < want.size(); ++i) {
-    const double d = std::abs(got[i] - want[i]) / scale;
-    if (!(d <= 2e-5)) ++off;  // NaN counts
-    if (!(d <= largest)) largest = d;
-  }
-  EXPECT_LE(off, 0.005 * want.size())
-      << off << " of " << want.size() << " values off (largest " << largest
-      << ")";
-  EXPECT_LE(largest, 0.05);
 }
 
 TEST(CudaLoopFramesTest, DeviceFramesAreTheCpuFrames) {

@@ -1,0 +1,20 @@
+#ifndef EULERSPLAT_APPS_COMMON_IMAGE_RASTERIZER_ON_H_
+#define EULERSPLAT_APPS_COMMON_IMAGE_RASTERIZER_ON_H_
+
+// Host splats rendered on the device --device chose
+// (apps/common/device_flag.h): CpuImageRasterizer or
+// cuda::DeviceImageRasterizer.
+
+#include <memory>
+
+#include "apps/common/device_flag.h"
+#include "core/render/image_rasterizer.h"
+
+namespace es {
+
+std::unique_ptr<ImageRasterizer> ImageRasterizerOn(
+    ComputeDevice device, const RenderOptions& options);
+
+}  // namespace es
+
+#endif  // EULERSPLAT_APPS_COMMON_IMAGE_RASTERIZER_ON_H_
