@@ -70,8 +70,10 @@ inline WaterEnergyKernels MakeWaterEnergyKernels(
   WaterEnergyKernels kernels;
   for (int k = 0; k < options.detail_octaves; ++k) {
     const double octave = std::ldexp(1.0, k);
-    kernels.detail.push_back(WaterEnergyGaussian(options.detail_sigma * octave));
-    kernels.window.push_back(WaterEnergyGaussian(options.window_sigma * octave));
+    kernels.detail.push_back(
+        WaterEnergyGaussian(options.detail_sigma * octave));
+    kernels.window.push_back(
+        WaterEnergyGaussian(options.window_sigma * octave));
   }
   return kernels;
 }

@@ -64,8 +64,8 @@ double DeviceWaterEnergyLoss::Evaluate(
   // The sums, a segment of partials each: the 3 water counts (water_a,
   // water_b, either), the motion term's 3 channels, then per band k the
   // detail term's 6 planes (frame A's channels, then B's).
-  const int segments =
-      kChannels + (motion ? kChannels : 0) + (detail ? 2 * kChannels * octaves : 0);
+  const int segments = kChannels + (motion ? kChannels : 0) +
+                       (detail ? 2 * kChannels * octaves : 0);
   partials_.Resize(static_cast<size_t>(segments) * blocks);
   sums_.Resize(segments);
   double* counts = sums_.data();
@@ -157,19 +157,24 @@ double DeviceWaterEnergyLoss::Evaluate(
     }
   }
   if (gradient) AddRgbGradients(pixels, basis, dy_.data(), d_a, d_b);
-  SumSegments(segments - kChannels, blocks,
-              partials_.data() + kChannels * blocks, sums_.data() + kChannels);
+  if (segments > kChannels) {  // (no launch of no blocks: both weights 0)
+    SumSegments(segments - kChannels, blocks,
+                partials_.data() + kChannels * blocks,
+                sums_.data() + kChannels);
+  }
   const std::vector<double> sums = sums_.Download();
 
   // The CPU's means and order: per channel its motion term, then its
   // detail over the frames and bands; the channels' sum.
+  // A sum over the water of mask 0 (A), 1 (B) or 2 (either), / its count.
   auto mean = [&](double sum, int mask) {
     return sums[mask] > 0 ? sum / sums[mask] : 0.0;
   };
   WaterEnergyTerms t;
   int at = kChannels;
   if (motion) {
-    for (int c = 0; c < kChannels; ++c) t.motion += mean(sums[at + c], 2) / kChannels;
+    for (int c = 0; c < kChannels; ++c)
+      t.motion += mean(sums[at + c], 2) / kChannels;
     at += kChannels;
   }
   if (detail) {
@@ -185,8 +190,8 @@ double DeviceWaterEnergyLoss::Evaluate(
     }
   }
   if (terms != nullptr) *terms = t;
-  return scale *
-         (options_.motion_weight * t.motion + options_.detail_weight * t.detail);
+  return scale * (options_.motion_weight * t.motion +
+                  options_.detail_weight * t.detail);
 }
 
 }  // namespace cuda

@@ -1,10 +1,10 @@
 // The device water energy loss against its CPU twin (WaterEnergyLoss):
 // the loss, both unweighted terms and both images' gradients on random
 // images of odd sizes (border and indexing bugs), with and without masks,
-// one and three detail bands (the coarse bands' windows wider than the
-// image), weights other than 1; gradients added (+=) to non-zero arrays;
-// a flat render (the eps floor keeps its gradient finite); and a central
-// difference of the device loss at two pixels. Double on both sides,
+// one to three detail bands (the coarse bands' windows wider than the
+// image), weights other than 1 and 0; gradients added (+=) to non-zero
+// arrays; a flat render (the eps floor keeps its gradient finite); and a
+// central difference of the device loss at two pixels. Double on both sides,
 // summed in another order; the gradients come back as floats. Skips when
 // no CUDA device is present.
 
@@ -228,6 +228,33 @@ INSTANTIATE_TEST_SUITE_P(
              (std::get<2>(info.param) ? "_masks" : "_no_masks") +
              "_octaves" + std::to_string(std::get<3>(info.param));
     });
+
+// A term weighted 0 is skipped on both sides (its unweighted value 0);
+// both off, a loss of 0 and nothing added.
+TEST(DeviceWaterEnergyLoss, TermsOff) {
+  ES_REQUIRE_GPU("CUDA water energy loss");
+  const Pair p = RandomPair(5, 3, true, 11);
+  const size_t n = p.rendered_a.size();
+  const std::vector<float> zeros(n, 0.0f);
+  for (const auto& [motion, detail] : {std::make_pair(0.0, 1.0),
+                                       std::make_pair(1.0, 0.0),
+                                       std::make_pair(0.0, 0.0)}) {
+    WaterEnergyOptions options;
+    options.motion_weight = motion;
+    options.detail_weight = detail;
+    const Result want = CpuLoss(p, options, 1.0);
+    const Result got = DeviceLoss(p, options, 1.0, zeros, zeros);
+    if (motion == 0 && detail == 0) {
+      EXPECT_EQ(got.loss, 0.0);
+      for (double g : got.d_a) ASSERT_EQ(g, 0.0);
+      for (double g : got.d_b) ASSERT_EQ(g, 0.0);
+      continue;
+    }
+    EXPECT_EQ(got.terms.motion == 0, motion == 0);
+    EXPECT_EQ(got.terms.detail == 0, detail == 0);
+    ExpectTwins(got, want);
+  }
+}
 
 // A flat render of frame A against textured input: its detail energies
 // are 0, so its amplitudes sit on the eps floor (without it, 1 / (2 a)
