@@ -44,9 +44,10 @@ constexpr int kCycle = 4;
 constexpr int kFrames[] = {1, 6, 13};
 // Float renders in different orders: a gradient block within this much of
 // its largest entry, the loss and its terms within kLossTolerance of
-// themselves; D's L2 is double on both sides.
-constexpr double kGradientTolerance = 2e-3;
-constexpr double kLossTolerance = 2e-5;
+// themselves (emulated, the largest errors were 6e-7 and 8e-9); D's L2 is
+// double on both sides.
+constexpr double kGradientTolerance = 2e-4;
+constexpr double kLossTolerance = 1e-6;
 constexpr double kResidualTolerance = 1e-9;
 
 struct JointCase {
