@@ -112,6 +112,12 @@ void ExpectFieldsClose(const LoopModel& cpu, const LoopModel& device, int steps,
                           "field block");
 }
 
+// The Gaussians and fields of two trainers after `steps` steps. Densified
+// children inherit their parents' float differences (within the
+// tolerance, beyond a tenth of it: with a dozen Gaussians that is more
+// than 5%), so half of the values, not 95%, must lie within a tenth; a
+// systematic error (a wrong gradient) moves nearly all of them by the
+// whole tolerance.
 void ExpectModelsClose(const JointStageTrainer& cpu,
                        const JointStageTrainer& device, int steps,
                        const JointTrainerOptions& o, double extent) {
@@ -119,8 +125,17 @@ void ExpectModelsClose(const JointStageTrainer& cpu,
   const LoopModel& d = device.model();
   EXPECT_EQ(d.dynamic_index, c.dynamic_index);
   EXPECT_EQ(d.start_times, c.start_times);
+  double largest_scale = 0;
+  for (double s : c.gaussians.log_scales)
+    largest_scale = std::max(largest_scale, std::exp(s));
+  AdamStepSlack slack;
+  slack.tenth_share = 0.5;
+  // A child's draw (|z| < 4) of a parent whose scale and rotation parted
+  // by at most their Adam-step tolerances.
+  slack.means = 4 * largest_scale * 2.0 * steps *
+                (o.splat_lr.log_scales + o.splat_lr.quats);
   ExpectGaussiansWithinAdamSteps(c.gaussians, d.gaussians, steps, o.splat_lr,
-                                 extent);
+                                 extent, slack);
   ExpectFieldsClose(c, d, steps, o);
 }
 
@@ -144,14 +159,15 @@ TEST(CudaJointTrainerTest, StepsMatchTheCpuTrainer) {
   EXPECT_GT(densified, 0) << "no densification: that path went unchecked";
   EXPECT_EQ(device.iteration(), kSteps);
   ExpectModelsClose(cpu, device, kSteps, o, CameraExtent(frames, kTrain));
-  // The parameters moved (the static Gaussians keep their indices): a
-  // trainer that did nothing would not pass.
+  // The parameters moved by about their rate per step (the static
+  // Gaussians keep their indices): a trainer that did nothing would not
+  // pass.
   const GaussianSet start = TrueCanonical();
   double moved = 0;
   for (int i = 0; i < 3 * kNumStatic; ++i)
-    moved =
-        std::max(moved, std::abs(device.model().gaussians.sh[i] - start.sh[i]));
-  EXPECT_GT(moved, 1e-4);
+    moved = std::max(moved, std::abs(device.model().gaussians.sh[i] -
+                                     start.sh[i]));
+  EXPECT_GT(moved, 0.5 * kSteps * o.splat_lr.sh_dc);
 }
 
 // The water-energy pairs (es_train's default): two renders, the energy's

@@ -55,11 +55,12 @@ inline void ExpectSomeNonZero(const std::vector<double>& v,
 // gradient's size, so where float rounding flips a tiny gradient's sign
 // the two trainers part by up to twice that, and elsewhere by the
 // gradients' relative float error times the rate: every value must agree
-// within `tolerance` (twice the rate times the steps), and 95% of them
-// within a tenth of it.
+// within `tolerance` (twice the rate times the steps), and a share of
+// them (95% unless told) within a tenth of it.
 inline void ExpectWithinAdamSteps(const std::vector<double>& cpu,
                                   const std::vector<double>& device,
-                                  double tolerance, const char* what) {
+                                  double tolerance, const char* what,
+                                  double tenth_share = 0.95) {
   ASSERT_EQ(cpu.size(), device.size()) << what;
   std::vector<double> diff(cpu.size());
   for (size_t i = 0; i < cpu.size(); ++i)
@@ -67,14 +68,27 @@ inline void ExpectWithinAdamSteps(const std::vector<double>& cpu,
   std::sort(diff.begin(), diff.end());
   const double p50 = diff[diff.size() / 2];
   const double p95 = diff[diff.size() * 95 / 100];
+  const double share =
+      diff[std::min(diff.size() - 1,
+                    static_cast<size_t>(diff.size() * tenth_share))];
   const std::string quantiles = std::string(what) + ": median " +
                                 std::to_string(p50 / tolerance) + ", 95% " +
                                 std::to_string(p95 / tolerance) + ", max " +
                                 std::to_string(diff.back() / tolerance) +
                                 " of the tolerance";
   EXPECT_LE(diff.back(), tolerance) << quantiles;
-  EXPECT_LE(p95, 0.1 * tolerance) << quantiles;
+  EXPECT_LE(share, 0.1 * tolerance) << quantiles;
 }
+
+// What ExpectGaussiansWithinAdamSteps allows beyond the Adam-step rule.
+struct AdamStepSlack {
+  // ExpectWithinAdamSteps' tenth_share.
+  double tenth_share = 0.95;
+  // Added to the means' tolerance: a densified child sits at its parent's
+  // position plus the parent's scaled and rotated draw, so it inherits
+  // the parents' scale and rotation differences.
+  double means = 0;
+};
 
 // Two trainers' Gaussians after `steps` Adam steps from the same start:
 // each block within ExpectWithinAdamSteps of twice its rate per step (the
@@ -83,20 +97,24 @@ inline void ExpectGaussiansWithinAdamSteps(const GaussianSet& cpu,
                                            const GaussianSet& device,
                                            int steps,
                                            const SplatLearningRateOptions& lr,
-                                           double extent) {
+                                           double extent,
+                                           const AdamStepSlack& slack = {}) {
   ASSERT_EQ(cpu.size(), device.size());
   ASSERT_EQ(cpu.sh_degree, device.sh_degree);
   const double k = 2.0 * steps;
+  const double share = slack.tenth_share;
   ExpectWithinAdamSteps(cpu.means, device.means,
-                        k * lr.means_initial * extent, "means");
+                        k * lr.means_initial * extent + slack.means, "means",
+                        share);
   ExpectWithinAdamSteps(cpu.log_scales, device.log_scales, k * lr.log_scales,
-                        "scales");
-  ExpectWithinAdamSteps(cpu.quats, device.quats, k * lr.quats, "quats");
+                        "scales", share);
+  ExpectWithinAdamSteps(cpu.quats, device.quats, k * lr.quats, "quats",
+                        share);
   ExpectWithinAdamSteps(cpu.opacity_logits, device.opacity_logits,
-                        k * lr.opacity, "opacity");
-  ExpectWithinAdamSteps(cpu.sh, device.sh, k * lr.sh_dc, "sh");
+                        k * lr.opacity, "opacity", share);
+  ExpectWithinAdamSteps(cpu.sh, device.sh, k * lr.sh_dc, "sh", share);
   ExpectWithinAdamSteps(cpu.dynamic_logits, device.dynamic_logits,
-                        k * lr.dynamic, "dynamic");
+                        k * lr.dynamic, "dynamic", share);
 }
 
 }  // namespace cuda
