@@ -60,7 +60,7 @@ FlowPretrainOptions TinyFit(std::vector<double>* rmse) {
 
 TEST(CudaTotalVariationTest, MatchesTheCpuValueAndGradient) {
   ES_REQUIRE_GPU("triplane total variation");
-  const MotionField field = SmallMotionField(3);
+  MotionField field = SmallMotionField(3);
   const Triplane& triplane = field.triplane();
   const int n = triplane.num_params();
   const double weight = 0.7;
