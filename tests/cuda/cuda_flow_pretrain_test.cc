@@ -8,6 +8,7 @@
 // finite stopped by the divergence guard on both. Skips when no CUDA
 // device is present.
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <string>
