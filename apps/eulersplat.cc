@@ -50,6 +50,7 @@
 #include "core/io/input_error.h"
 #include "core/io/output_dir.h"
 #include "core/io/ply_io.h"
+#include "core/model/dynamic_set.h"
 #include "core/viz/video_writer.h"
 #include "solvers/train/joint_trainer.h"
 
