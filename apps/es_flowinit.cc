@@ -11,6 +11,7 @@
 #include <gflags/gflags.h>
 
 #include "apps/common/app_main.h"
+#include "apps/common/device_flag.h"
 #include "apps/common/flag_checks.h"
 #include "core/flow/flow_lifting.h"
 #include "core/io/field_io.h"
@@ -102,6 +103,7 @@ DEFINE_double(tv_weight, 1.0,
               "sample lies (0: off).");
 DEFINE_int32(lbfgs_max_samples, 200000,
              "LBFGS fits a random subset of at most this many samples.");
+DEFINE_string(device, "cpu", es::kDeviceFlagHelp);
 DEFINE_int32(seed, 1, "Seed of the field's initialization and sampling.");
 DEFINE_int32(log_every, 100, "Print pretraining progress this often.");
 DEFINE_bool(profile, false,
@@ -141,6 +143,21 @@ void CheckFlags() {
   es::RequirePositive("max_fb_px", FLAGS_max_fb_px);
   es::RequirePositive("max_depth_jump", FLAGS_max_depth_jump);
   es::RequireNonNegative("tv_weight", FLAGS_tv_weight);
+}
+
+// --device's pretraining, checked before the optical flow is computed: the
+// CUDA device fits V with Adam only.
+es::FlowPretrainer PretrainerFromFlags() {
+  std::string device_name;
+  const es::ComputeDevice device =
+      es::ParseDeviceFlag(FLAGS_device, &device_name);
+  if (device == es::ComputeDevice::kCuda) {
+    if (es::ParsePretrainSolver(FLAGS_solver) != es::PretrainSolver::kAdam)
+      throw es::InputError("--device cuda pretrains with --solver adam only, "
+                           "not " + FLAGS_solver + "; use --device cpu");
+    std::printf("pretraining on %s\n", device_name.c_str());
+  }
+  return es::FlowPretrainerOn(device);
 }
 
 // Keeps a random subset of at most `max` samples.
@@ -241,7 +258,8 @@ es::SceneFlowResult LiftWaterFlow(const es::Scene& scene,
 
 // Fits V, spanning the dynamic Gaussians' box, to the lifted samples; one
 // progress line (with ETA) and one <out>/flow_history.csv row per log.
-es::FlowPretrainReport PretrainField(const es::SceneFlowResult& lifted,
+es::FlowPretrainReport PretrainField(es::FlowPretrainer pretrain,
+                                     const es::SceneFlowResult& lifted,
                                      const es::GaussianSet& model,
                                      const std::vector<int>& dynamic,
                                      es::TrainingHistory* history,
@@ -260,7 +278,7 @@ es::FlowPretrainReport PretrainField(const es::SceneFlowResult& lifted,
     history->Add(it, seconds, {rmse});
   };
   const es::FlowPretrainReport fit =
-      es::PretrainMotionField(lifted.samples, fit_options, field);
+      pretrain(lifted.samples, fit_options, field);
   std::printf("fit rmse %.4g (targets rms %.4g, start %.4g) in %.1f s\n",
               fit.fit_rmse, fit.target_rms, fit.initial_rmse, fit.seconds);
   return fit;
@@ -329,6 +347,7 @@ void WriteFlowMetrics(const std::string& path, double seconds,
 
 int Run() {
   CheckFlags();
+  const es::FlowPretrainer pretrain = PretrainerFromFlags();
   const auto start = std::chrono::steady_clock::now();
   const std::string static_path = FLAGS_static.empty()
                                       ? FLAGS_scene + "/static.ply"
@@ -359,7 +378,7 @@ int Run() {
   es::MotionField field(field_options);
   es::TrainingHistory history(out_dir + "/flow_history.csv", {"rmse"});
   const es::FlowPretrainReport fit =
-      PretrainField(lifted, model, dynamic, &history, &field);
+      PretrainField(pretrain, lifted, model, dynamic, &history, &field);
   es::StageProfile::Get().PrintAndStop(
       "es_flowinit, " + std::to_string(FLAGS_iterations) +
       " pretraining iterations of " + std::to_string(FLAGS_batch_size) +
@@ -388,6 +407,7 @@ int main(int argc, char** argv) {
       "Stage 2: motion-field initialization from optical flow.\n"
       "  es_flowinit --scene DIR [--static DIR/static.ply] [--out DIR]\n"
       "              [--flow dis|farneback|...] [--solver adam|lbfgs|lm]\n"
+      "              [--device cpu|cuda]\n"
       "Lifts the optical flow of training frames --frame_gap apart (by "
       "default of each frame minus the static model's render of it) to 3D "
       "with the static model's depth, keeps water pixels (masks/ or the "

@@ -61,8 +61,8 @@ namespace {
 // The stage binaries that take --device (apps/common/device_flag.h): the
 // driver passes its own on to every run of them (RunStage); the other
 // stages run on the CPU. A stage that gains a device path joins here.
-const std::vector<std::string> kDeviceStages = {"es_static", "es_train",
-                                                "es_animate", "es_eval"};
+const std::vector<std::string> kDeviceStages = {
+    "es_static", "es_flowinit", "es_train", "es_animate", "es_eval"};
 
 std::string DeviceStageNames() {
   std::string names;

@@ -213,8 +213,8 @@ full=build_cuda_full
 full_deps=(libceres-dev libopencv-dev nlohmann-json3-dev)
 full_tests=(cuda_static_trainer_test cuda_joint_render_cost_test
             cuda_water_energy_loss_test cuda_flow_prior_test
-            cuda_joint_trainer_test cuda_eval_rendering_test
-            device_flag_test)
+            cuda_flow_pretrain_test cuda_joint_trainer_test
+            cuda_eval_rendering_test device_flag_test)
 full_benches=(bench_cuda_static bench_cuda_joint)
 if dpkg-query -W -f='${Status}\n' "${full_deps[@]}" 2>/dev/null |
      grep -c "install ok installed" | grep -qx "${#full_deps[@]}"; then

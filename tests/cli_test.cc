@@ -249,6 +249,28 @@ TEST_F(CliTest, EvalAndDriverDeviceIsCheckedBeforeAnyWork) {
   EXPECT_FALSE(fs::exists(root_ / "o")) << "work started anyway";
 }
 
+// es_flowinit --device: an unknown value is named; cuda is refused where
+// this build or machine cannot run it, and with a Ceres solver (the device
+// fits with Adam only) where it can, before the optical flow is computed.
+TEST_F(CliTest, FlowinitDeviceIsCheckedBeforeAnyWork) {
+  const std::string args =
+      " --scene " + scene_.string() + " --out " + (root_ / "o").string();
+  ExpectRefused("es_flowinit", args + " --device gpu",
+                "--device must be cpu or cuda, not 'gpu'");
+#ifdef ES_HAVE_CUDA
+  std::string why;
+  const std::string refusal =
+      es::cuda::CudaDeviceAvailable(&why)
+          ? "--device cuda pretrains with --solver adam only"
+          : "no CUDA device found";
+#else
+  const std::string refusal = "this build has no CUDA backend";
+#endif
+  ExpectRefused("es_flowinit", args + " --device cuda --solver lbfgs",
+                refusal);
+  EXPECT_FALSE(fs::exists(root_ / "o")) << "work started anyway";
+}
+
 // The loop cannot be longer than the video (and its cost grows with L):
 // es_train refuses it, and the driver before Stage 1 trains.
 TEST_F(CliTest, CycleLengthLongerThanTheVideoIsRefused) {

@@ -1,5 +1,6 @@
 // --device (apps/common/device_flag.h): cpu always works, an unknown value
-// and cuda where it cannot run are InputErrors that say why.
+// and cuda where it cannot run are InputErrors that say why; each device
+// picks its own V pretraining.
 
 #include "apps/common/device_flag.h"
 
@@ -11,6 +12,7 @@
 
 #ifdef ES_HAVE_CUDA
 #include "core/render/cuda/cuda_error.h"
+#include "solvers/train/cuda/device_flow_pretrain.h"
 #endif
 
 namespace es {
@@ -54,6 +56,14 @@ TEST(DeviceFlagTest, CudaWorksOnlyWithTheBackendAndADevice) {
             std::string::npos)
       << ErrorOf("cuda");
   EXPECT_NE(ErrorOf("cuda").find("-DES_CUDA=ON"), std::string::npos);
+#endif
+}
+
+TEST(DeviceFlagTest, EachDevicePretrainsOnItsOwn) {
+  EXPECT_EQ(FlowPretrainerOn(ComputeDevice::kCpu), &PretrainMotionField);
+#ifdef ES_HAVE_CUDA
+  EXPECT_EQ(FlowPretrainerOn(ComputeDevice::kCuda),
+            &cuda::PretrainMotionFieldOnDevice);
 #endif
 }
 

@@ -49,19 +49,20 @@ TEST(EndToEndTest, DriverRunsEveryStageAndResumes) {
   ASSERT_EQ(RunCommand(driver, &log), 0) << log;
 
   // --device (default cpu) reaches every stage run that takes it:
-  // es_static, es_train, both es_animate videos and es_eval.
+  // es_static, es_flowinit, es_train, both es_animate videos and es_eval.
   int device_stages = 0;
   std::istringstream lines(log);
   for (std::string line; std::getline(lines, line);) {
     if (line.rfind("$ ", 0) != 0) continue;
     for (const char* stage :
-         {"/es_static ", "/es_train ", "/es_animate ", "/es_eval "}) {
+         {"/es_static ", "/es_flowinit ", "/es_train ", "/es_animate ",
+          "/es_eval "}) {
       if (line.find(stage) == std::string::npos) continue;
       ++device_stages;
       EXPECT_NE(line.find(" --device cpu"), std::string::npos) << line;
     }
   }
-  EXPECT_EQ(device_stages, 5) << log;
+  EXPECT_EQ(device_stages, 6) << log;
 
   for (const char* file :
        {"static/static.ply", "static/motion_field.bin", "model/loop.txt",

@@ -5,6 +5,7 @@
 
 #ifdef ES_HAVE_CUDA
 #include "core/render/cuda/cuda_error.h"
+#include "solvers/train/cuda/device_flow_pretrain.h"
 #include "solvers/train/cuda/device_joint_trainer.h"
 #include "solvers/train/cuda/device_static_trainer.h"
 #endif
@@ -46,6 +47,13 @@ StaticTrainerFactory StaticTrainerOn(ComputeDevice device) {
   if (device == ComputeDevice::kCuda) return cuda::MakeDeviceStaticTrainer;
 #endif
   return MakeStaticTrainer;
+}
+
+FlowPretrainer FlowPretrainerOn(ComputeDevice device) {
+#ifdef ES_HAVE_CUDA
+  if (device == ComputeDevice::kCuda) return cuda::PretrainMotionFieldOnDevice;
+#endif
+  return PretrainMotionField;
 }
 
 JointTrainerFactory JointTrainerOn(ComputeDevice device) {

@@ -6,6 +6,7 @@
 
 #include <string>
 
+#include "solvers/train/flow_pretrain.h"
 #include "solvers/train/joint_stage_trainer.h"
 #include "solvers/train/static_stage.h"
 
@@ -27,6 +28,8 @@ ComputeDevice ParseDeviceFlag(const std::string& value,
 
 // The Stage 1 trainer for a device.
 StaticTrainerFactory StaticTrainerOn(ComputeDevice device);
+// The Stage 2 V pretraining for a device.
+FlowPretrainer FlowPretrainerOn(ComputeDevice device);
 // The Stage 3 trainer for a device.
 JointTrainerFactory JointTrainerOn(ComputeDevice device);
 

@@ -1,7 +1,6 @@
 #include "solvers/train/flow_pretrain.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <memory>
 #include <numeric>
@@ -14,24 +13,11 @@
 #include "core/profile/stage_profile.h"
 #include "costs/scene_flow_cost.h"
 #include "solvers/optim/adam.h"
-#include "solvers/optim/lr_schedule.h"
 #include "solvers/train/divergence_guard.h"
+#include "solvers/train/flow_pretrain_steps.h"
 
 namespace es {
 namespace {
-
-class Stopwatch {
- public:
-  double seconds() const {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() -
-                                         start_)
-        .count();
-  }
-
- private:
-  std::chrono::steady_clock::time_point start_ =
-      std::chrono::steady_clock::now();
-};
 
 // k distinct indices out of n (all of them when k >= n).
 std::vector<int> RandomSubset(int n, int k, std::mt19937* rng) {
@@ -43,35 +29,22 @@ std::vector<int> RandomSubset(int n, int k, std::mt19937* rng) {
   return all;
 }
 
-void ReportProgress(const FlowPretrainOptions& options, int iteration,
-                    int iterations, double seconds, double loss) {
-  if (!options.progress || options.log_every <= 0) return;
-  if (iteration % options.log_every == 0 || iteration == iterations) {
-    options.progress(iteration, seconds, std::sqrt(2.0 * loss));
-  }
-}
-
 int FitWithAdam(const std::vector<SceneFlowSample>& samples,
-                const FlowPretrainOptions& options, const Stopwatch& clock,
-                MotionField* field) {
+                const FlowPretrainOptions& options,
+                const PretrainStopwatch& clock, MotionField* field) {
   const int n_tri = field->triplane().num_params();
   const int n_mlp = field->mlp().num_params();
   std::vector<double> g_tri(n_tri), m_tri(n_tri, 0.0), v_tri(n_tri, 0.0);
   std::vector<double> g_mlp(n_mlp), m_mlp(n_mlp, 0.0), v_mlp(n_mlp, 0.0);
   SceneFlowBatch batch;
   const SceneFlowCost cost(field, &batch);
-  std::mt19937 rng(options.seed);
-  std::uniform_int_distribution<int> pick(0,
-                                          static_cast<int>(samples.size()) - 1);
-  std::vector<int> indices(std::min<size_t>(options.batch_size,
-                                            samples.size()));
-  AdamOptions adam;
-  adam.eps = options.adam_eps;
+  PretrainBatches batches(options.seed, static_cast<int>(samples.size()),
+                          options.batch_size);
+  const AdamOptions adam = PretrainAdamOptions(options);
   DivergenceGuard guard("V pretraining", options.max_nonfinite_steps);
   for (int it = 1; it <= options.iterations; ++it) {
     ScopedStage timer(Stage::kIteration);
-    for (int& i : indices) i = pick(rng);
-    batch.Assign(samples, indices);
+    batch.Assign(samples, batches.Next());
     std::fill(g_tri.begin(), g_tri.end(), 0.0);
     std::fill(g_mlp.begin(), g_mlp.end(), 0.0);
     const double loss =
@@ -83,15 +56,15 @@ int FitWithAdam(const std::vector<SceneFlowSample>& samples,
     if (!guard.Accept(it, std::isfinite(loss) && AllFinite(g_tri) &&
                               AllFinite(g_mlp)))
       continue;
-    const double decay = LogLinearLr(1.0, options.final_lr_factor, it - 1,
-                                     options.iterations - 1);
+    const double decay = PretrainLrDecay(options, it);
     AdamUpdate(adam, it, options.lr_triplane * decay, n_tri, g_tri.data(),
                m_tri.data(), v_tri.data(), field->triplane_params().data());
     AdamUpdate(adam, it, options.lr_mlp * decay, n_mlp, g_mlp.data(),
                m_mlp.data(), v_mlp.data(), field->mlp_params().data());
     guard.CheckParameters(it, AllFinite(field->triplane_params()) &&
                                   AllFinite(field->mlp_params()));
-    ReportProgress(options, it, options.iterations, clock.seconds(), loss);
+    ReportPretrainProgress(options, it, options.iterations, clock.seconds(),
+                           loss);
   }
   return options.iterations;
 }
@@ -133,18 +106,19 @@ class SceneFlowObjective : public ceres::FirstOrderFunction {
 // Forwards Ceres' per-iteration summaries to the progress callback.
 class ProgressCallback : public ceres::IterationCallback {
  public:
-  ProgressCallback(const FlowPretrainOptions& options, const Stopwatch& clock)
+  ProgressCallback(const FlowPretrainOptions& options,
+                   const PretrainStopwatch& clock)
       : options_(options), clock_(clock) {}
   ceres::CallbackReturnType operator()(
       const ceres::IterationSummary& summary) override {
-    ReportProgress(options_, summary.iteration, options_.iterations,
-                   clock_.seconds(), summary.cost);
+    ReportPretrainProgress(options_, summary.iteration, options_.iterations,
+                           clock_.seconds(), summary.cost);
     return ceres::SOLVER_CONTINUE;
   }
 
  private:
   const FlowPretrainOptions& options_;
-  const Stopwatch& clock_;
+  const PretrainStopwatch& clock_;
 };
 
 // Makes a Ceres solver run the iterations asked for rather than stop on its
@@ -161,8 +135,8 @@ void RunAllIterations(int iterations, ceres::IterationCallback* callback,
 }
 
 int FitWithLbfgs(const std::vector<SceneFlowSample>& samples,
-                 const FlowPretrainOptions& options, const Stopwatch& clock,
-                 MotionField* field) {
+                 const FlowPretrainOptions& options,
+                 const PretrainStopwatch& clock, MotionField* field) {
   std::mt19937 rng(options.seed);
   SceneFlowBatch subset;
   subset.Assign(samples, RandomSubset(static_cast<int>(samples.size()),
@@ -188,8 +162,8 @@ int FitWithLbfgs(const std::vector<SceneFlowSample>& samples,
 }
 
 int FitWithLm(const std::vector<SceneFlowSample>& samples,
-              const FlowPretrainOptions& options, const Stopwatch& clock,
-              MotionField* field) {
+              const FlowPretrainOptions& options,
+              const PretrainStopwatch& clock, MotionField* field) {
   const int batch_size =
       std::min<int>(options.batch_size, static_cast<int>(samples.size()));
   const int64_t num_params =
@@ -265,21 +239,11 @@ FlowPretrainReport PretrainMotionField(
     const std::vector<SceneFlowSample>& samples,
     const FlowPretrainOptions& options, MotionField* field) {
   CHECK(field != nullptr);
-  CHECK_GE(options.iterations, 0);
-  CHECK_GT(options.batch_size, 0);
-  if (samples.empty()) {
-    throw InputError("no scene-flow samples to pretrain the motion field on");
-  }
   FlowPretrainReport report;
-  report.num_samples = static_cast<int>(samples.size());
-  double target_sq = 0;
-  for (const SceneFlowSample& s : samples) target_sq += s.v.squaredNorm();
-  report.target_rms = std::sqrt(target_sq / samples.size());
-  report.initial_rmse = FitRmse(*field, samples);
   // The fits below take the TV weight in the data term's units.
-  FlowPretrainOptions fit = options;
-  fit.tv_weight = options.tv_weight * target_sq / samples.size();
-  const Stopwatch clock;
+  const FlowPretrainOptions fit = StartPretraining(samples, options, &report);
+  report.initial_rmse = FitRmse(*field, samples);
+  const PretrainStopwatch clock;
   switch (options.solver) {
     case PretrainSolver::kAdam:
       report.iterations = FitWithAdam(samples, fit, clock, field);
@@ -293,13 +257,9 @@ FlowPretrainReport PretrainMotionField(
   }
   report.seconds = clock.seconds();
   report.fit_rmse = FitRmse(*field, samples);
-  // Whatever the solver, a field that does not evaluate finitely is never
-  // handed on to be written.
-  if (!AllFinite(field->triplane_params()) || !AllFinite(field->mlp_params()) ||
-      !std::isfinite(report.fit_rmse))
-    throw TrainingDiverged(
-        "V pretraining diverged: the fitted motion field is not finite "
-        "(learning rates too high?); no field was written");
+  CheckPretrainedField(AllFinite(field->triplane_params()) &&
+                       AllFinite(field->mlp_params()) &&
+                       std::isfinite(report.fit_rmse));
   return report;
 }
 

@@ -75,6 +75,12 @@ FlowPretrainReport PretrainMotionField(
     const std::vector<SceneFlowSample>& samples,
     const FlowPretrainOptions& options, MotionField* field);
 
+// What fits V: PretrainMotionField, or its device twin
+// (cuda::PretrainMotionFieldOnDevice); apps pick one by --device.
+using FlowPretrainer = FlowPretrainReport (*)(
+    const std::vector<SceneFlowSample>& samples,
+    const FlowPretrainOptions& options, MotionField* field);
+
 }  // namespace es
 
 #endif  // EULERSPLAT_SOLVERS_TRAIN_FLOW_PRETRAIN_H_

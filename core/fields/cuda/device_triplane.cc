@@ -32,5 +32,21 @@ void DeviceTriplane::Backward(const double* params, int n, const double* x,
                          d_params, d_x);
 }
 
+double DeviceTriplane::TotalVariation(const double* params, double weight,
+                                      double* d_params,
+                                      DeviceBuffer<double>* scratch) const {
+  const int r = geometry_.resolution, c = geometry_.channels;
+  // Triplane::TotalVariation's normalization: the number of pairs.
+  const double scale = weight / (3.0 * c * 2.0 * r * (r - 1));
+  const int blocks = TotalVariationBlocks(num_params_);
+  scratch->Resize(blocks + 1);
+  double* sum = scratch->data() + blocks;
+  TotalVariationKernel(r, c, params, scale, d_params, scratch->data());
+  SumTotalVariationPartials(blocks, scratch->data(), sum);
+  double value;
+  CopyToHost(&value, sum, sizeof(double));
+  return scale * value;
+}
+
 }  // namespace cuda
 }  // namespace es

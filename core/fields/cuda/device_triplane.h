@@ -7,6 +7,7 @@
 
 #include "core/fields/cuda/field_kernels.h"
 #include "core/fields/triplane.h"
+#include "core/render/cuda/device_buffer.h"
 
 namespace es {
 namespace cuda {
@@ -28,6 +29,11 @@ class DeviceTriplane {
   void Backward(const double* params, int n, const double* x,
                 const double* d_out, double* d_params, double* d_x,
                 int d_out_stride = 0) const;
+  // Triplane::TotalVariation on device params: returns the value (the one
+  // double that comes back) and accumulates its gradient into d_params
+  // (nullable). *scratch holds the partial sums (it only grows).
+  double TotalVariation(const double* params, double weight,
+                        double* d_params, DeviceBuffer<double>* scratch) const;
 
  private:
   TriplaneGeometry geometry_;

@@ -31,6 +31,19 @@ void TriplaneBackwardKernel(const TriplaneGeometry& g, const double* params,
                             int n, const double* x, const double* d_out,
                             int d_out_stride, double* d_params, double* d_x);
 
+// Triplane::TotalVariation's terms (total_variation.cu), one thread per
+// parameter of a resolution x resolution x channels triplane: partials[b]
+// = block b's sum of the squared differences to the right and lower
+// neighbours, and with d_params set, d_params += grad_scale times that
+// sum's derivative. Blocks: TotalVariationBlocks(3 R R C).
+int TotalVariationBlocks(long long num_params);
+void TotalVariationKernel(int resolution, int channels, const double* params,
+                          double grad_scale, double* d_params,
+                          double* partials);
+// sum[0]: the partials of `blocks` blocks, added in block order.
+void SumTotalVariationPartials(int blocks, const double* partials,
+                               double* sum);
+
 // One dense layer, rows x in -> rows x out, W out x in row-major, bias b:
 // y = a W^T + b, then max(y, 0) as std::max keeps NaN when relu.
 void LayerForwardKernel(int rows, int in, int out, const double* a,

@@ -5,15 +5,14 @@
 // scene-flow loss of V kept during joint training,
 //   l = w(it) mean_s 0.5 |V(x_s) - V'(x_s)|^2 / mean_all |V'|^2,
 // over the same mini-batch as the CPU's for the same (seed, iteration)
-// (DrawFlowPriorBatch draws it on the host; only its indices are uploaded
-// per call). No CUDA types; failures throw CudaError.
+// (DrawFlowPriorBatch draws it on the host; DeviceSceneFlowLoss evaluates
+// it). No CUDA types; failures throw CudaError.
 
 #include <cstdint>
 #include <vector>
 
-#include "core/fields/cuda/device_field_workspace.h"
 #include "core/fields/cuda/device_motion_field.h"
-#include "core/render/cuda/device_buffer.h"
+#include "solvers/train/cuda/device_scene_flow_loss.h"
 #include "solvers/train/flow_prior.h"
 
 namespace es {
@@ -37,20 +36,13 @@ class DeviceSceneFlowPrior {
                             int64_t iterations, uint64_t seed,
                             const FieldGradients& grads);
 
-  int num_samples() const { return num_samples_; }
+  int num_samples() const { return loss_.num_samples(); }
 
  private:
-  const DeviceMotionField* field_;
-  int num_samples_;
   FlowPriorOptions options_;
   double inverse_mean_square_speed_;
   std::vector<int> indices_;  // the batch, drawn on the host
-  DeviceBuffer<double> samples_x_, samples_v_;  // num_samples x 3 each
-  DeviceBuffer<int> batch_indices_;
-  // The batch's positions, targets, V (then V - V') and d l / d V.
-  DeviceBuffer<double> x_, target_, velocity_, d_velocity_;
-  DeviceBuffer<double> partials_, sum_;
-  DeviceFieldWorkspace workspace_;
+  DeviceSceneFlowLoss loss_;
 };
 
 }  // namespace cuda
