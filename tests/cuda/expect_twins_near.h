@@ -56,7 +56,7 @@ inline void ExpectSomeNonZero(const std::vector<double>& v,
 // the two trainers part by up to twice that, and elsewhere by the
 // gradients' relative float error times the rate: every value must agree
 // within `tolerance` (twice the rate times the steps), and a share of
-// them (95% unless told) within a tenth of it.
+// them (95% unless told; 0: no such check) within a tenth of it.
 inline void ExpectWithinAdamSteps(const std::vector<double>& cpu,
                                   const std::vector<double>& device,
                                   double tolerance, const char* what,
@@ -77,13 +77,14 @@ inline void ExpectWithinAdamSteps(const std::vector<double>& cpu,
                                 std::to_string(diff.back() / tolerance) +
                                 " of the tolerance";
   EXPECT_LE(diff.back(), tolerance) << quantiles;
-  EXPECT_LE(share, 0.1 * tolerance) << quantiles;
+  if (tenth_share > 0) EXPECT_LE(share, 0.1 * tolerance) << quantiles;
 }
 
 // What ExpectGaussiansWithinAdamSteps allows beyond the Adam-step rule.
 struct AdamStepSlack {
-  // ExpectWithinAdamSteps' tenth_share.
+  // ExpectWithinAdamSteps' tenth_share, for the rotations and the rest.
   double tenth_share = 0.95;
+  double quats_tenth_share = 0.95;
   // Added to the means' tolerance: a densified child sits at its parent's
   // position plus the parent's scaled and rotated draw, so it inherits
   // the parents' scale and rotation differences.
@@ -109,7 +110,7 @@ inline void ExpectGaussiansWithinAdamSteps(const GaussianSet& cpu,
   ExpectWithinAdamSteps(cpu.log_scales, device.log_scales, k * lr.log_scales,
                         "scales", share);
   ExpectWithinAdamSteps(cpu.quats, device.quats, k * lr.quats, "quats",
-                        share);
+                        slack.quats_tenth_share);
   ExpectWithinAdamSteps(cpu.opacity_logits, device.opacity_logits,
                         k * lr.opacity, "opacity", share);
   ExpectWithinAdamSteps(cpu.sh, device.sh, k * lr.sh_dc, "sh", share);
