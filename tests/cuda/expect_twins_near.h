@@ -77,7 +77,9 @@ inline void ExpectWithinAdamSteps(const std::vector<double>& cpu,
                                 std::to_string(diff.back() / tolerance) +
                                 " of the tolerance";
   EXPECT_LE(diff.back(), tolerance) << quantiles;
-  if (tenth_share > 0) EXPECT_LE(share, 0.1 * tolerance) << quantiles;
+  if (tenth_share > 0) {
+    EXPECT_LE(share, 0.1 * tolerance) << quantiles;
+  }
 }
 
 // What ExpectGaussiansWithinAdamSteps allows beyond the Adam-step rule.
