@@ -25,24 +25,6 @@ namespace {
 namespace fs = std::filesystem;
 using namespace tiny_loop;  // NOLINT: the scene's constants
 
-JointTrainerOptions TinyOptions() {
-  JointTrainerOptions o;
-  o.iterations = 200;
-  o.cycle_length = kCycle;
-  o.random_start = false;
-  o.mask_weight = 0;
-  o.motion.triplane.resolution = 8;
-  o.motion.triplane.channels = 4;
-  o.motion.mlp_width = 16;
-  o.motion.velocity_scale = 0.05;
-  o.residual.triplane.resolution = 8;
-  o.residual.triplane.channels = 4;
-  o.residual.mlp_width = 16;
-  o.lr_motion_triplane = 1e-2;
-  o.lr_motion_mlp = 1e-2;
-  return o;
-}
-
 const std::vector<int> kTrain = {0, 1, 2, 4, 5, 7, 8, 9, 10};
 const std::vector<int> kTest = {3, 6, 11};
 

@@ -16,6 +16,7 @@
 #include "core/io/scene.h"
 #include "core/model/gaussians.h"
 #include "core/render/rasterizer.h"
+#include "solvers/train/joint_stage_trainer.h"
 
 namespace es {
 namespace tiny_loop {
@@ -104,6 +105,26 @@ inline std::vector<SceneFlowSample> FlowSamples(const Eigen::Vector3d& v) {
     }
   }
   return samples;
+}
+
+// Stage 3 options for the scene: its cycle, fields small enough for tests,
+// all loops starting at 0, no mask term.
+inline JointTrainerOptions TinyOptions() {
+  JointTrainerOptions o;
+  o.iterations = 200;
+  o.cycle_length = kCycle;
+  o.random_start = false;
+  o.mask_weight = 0;
+  o.motion.triplane.resolution = 8;
+  o.motion.triplane.channels = 4;
+  o.motion.mlp_width = 16;
+  o.motion.velocity_scale = 0.05;
+  o.residual.triplane.resolution = 8;
+  o.residual.triplane.channels = 4;
+  o.residual.mlp_width = 16;
+  o.lr_motion_triplane = 1e-2;
+  o.lr_motion_mlp = 1e-2;
+  return o;
 }
 
 }  // namespace tiny_loop

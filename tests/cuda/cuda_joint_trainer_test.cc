@@ -37,19 +37,11 @@ const std::vector<int> kTrain = {0, 1, 2, 4, 5, 7, 8, 9, 10};
 // size the emulated device runs quickly: refreshes every 2 steps and
 // densification every 3.
 JointTrainerOptions FullOptions() {
-  JointTrainerOptions o;
+  JointTrainerOptions o = TinyOptions();
   o.iterations = 40;
-  o.cycle_length = kCycle;
   o.random_start = true;
   o.mask_weight = 0.5;
   o.refresh_interval = 2;
-  o.motion.triplane.resolution = 8;
-  o.motion.triplane.channels = 4;
-  o.motion.mlp_width = 16;
-  o.motion.velocity_scale = 0.05;
-  o.residual.triplane.resolution = 8;
-  o.residual.triplane.channels = 4;
-  o.residual.mlp_width = 16;
   // Adam's first steps move each value by its rate times the sign of its
   // gradient (eps 1e-15), so where float rounding flips a near-zero
   // gradient the trainers part by twice the rate; at real rates that
