@@ -44,7 +44,8 @@ JointTrainer::JointTrainer(const std::vector<Frame>* frames,
   }
   cost_.emplace(&(*frames_)[train_.at(0)],
                 (*frames_)[train_.at(0)].time_index,
-                LoopStructure::Of(model_), JointLossTerms(options_, use_masks_),
+                LoopStructure::Of(model_),
+                JointLossTerms(options_, use_masks_),
                 render_options(), &rasterizer_);
   if (WaterEnergyOn(options_)) {
     partner_ = TrainingNeighbours(*frames_, train_);
@@ -53,7 +54,8 @@ JointTrainer::JointTrainer(const std::vector<Frame>* frames,
     // Its own rasterizer: both renders are kept until both backward passes.
     pair_cost_.emplace(&(*frames_)[train_.at(0)],
                        (*frames_)[train_.at(0)].time_index,
-                       LoopStructure::Of(model_), JointLossTerms(options_, use_masks_),
+                       LoopStructure::Of(model_),
+                       JointLossTerms(options_, use_masks_),
                        render_options());
   }
 }

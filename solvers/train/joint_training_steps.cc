@@ -174,7 +174,8 @@ std::vector<int> WaterDensifyViews(const JointTrainerOptions& o,
   const int views = std::min(d.views, n);
   const int offset = static_cast<int>(iteration / d.interval);
   std::vector<int> frames;
-  for (int k = 0; k < views; ++k) frames.push_back(train[(k * n / views + offset) % n]);
+  for (int k = 0; k < views; ++k)
+    frames.push_back(train[(k * n / views + offset) % n]);
   return frames;
 }
 

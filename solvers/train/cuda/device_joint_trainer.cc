@@ -260,7 +260,8 @@ WaterDensifyResult DeviceJointTrainer::DensifyWaterNow() {
   DensityStats host_stats;
   stats.Download(&host_stats);
   std::vector<double> mean_grad;
-  for (int i : model_.dynamic_index) mean_grad.push_back(host_stats.MeanGrad(i));
+  for (int i : model_.dynamic_index)
+    mean_grad.push_back(host_stats.MeanGrad(i));
   GaussianAdam adam = DownloadState();
   const WaterDensifyResult result =
       DensifyRankedWater(options_, std::move(mean_grad), budget, iteration_,
