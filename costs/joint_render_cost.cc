@@ -41,12 +41,14 @@ JointRenderCost::JointRenderCost(const Frame* frame, int frame_index,
                                  const LoopStructure& structure,
                                  const JointRenderTerms& terms,
                                  const RenderOptions& options,
-                                 Rasterizer* rasterizer)
+                                 Rasterizer* rasterizer,
+                                 const EulerOptions& euler)
     : layout_(structure),
       residual_weight_(terms.residual_weight),
       options_(options),
       rasterizer_(rasterizer),
-      image_loss_(terms, options) {
+      image_loss_(terms, options),
+      composer_(euler) {
   if (!rasterizer_) {
     owned_rasterizer_ = std::make_unique<Rasterizer>();
     rasterizer_ = owned_rasterizer_.get();

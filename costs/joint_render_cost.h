@@ -59,7 +59,8 @@ class JointRenderCost : public ceres::CostFunction {
   JointRenderCost(const Frame* frame, int frame_index,
                   const LoopStructure& structure,
                   const JointRenderTerms& terms, const RenderOptions& options,
-                  Rasterizer* rasterizer = nullptr);
+                  Rasterizer* rasterizer = nullptr,
+                  const EulerOptions& euler = {});
 
   // Points the cost at another frame or model shape, keeping its buffers.
   void Reset(const Frame* frame, int frame_index,

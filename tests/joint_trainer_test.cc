@@ -411,6 +411,31 @@ TEST(JointTrainerTest, MaxDynamicPixelsKeepsWaterGaussiansSmall) {
   EXPECT_GT(std::exp(g.log_scales[0]), 0.1);
 }
 
+// The trainer's Euler options reach the chain of its loss: a tiny step
+// limit clamps the steps that the default one leaves alone.
+TEST(JointTrainerTest, EulerOptionsReachTheChain) {
+  const std::vector<Frame> frames = TrueFrames();
+  JointTrainerOptions options = TinyOptions();
+  options.iterations = 4;
+  for (const double fraction : {0.25, 1e-6}) {
+    options.euler.max_step_fraction = fraction;
+    JointTrainer trainer(&frames, kTrain, options, TrueCanonical(),
+                         std::nullopt);
+    int64_t clamped = 0, evaluations = 0;
+    for (int i = 0; i < options.iterations; ++i) {
+      const JointIterationStats stats = trainer.Step();
+      clamped += stats.euler.clamped_steps;
+      evaluations += stats.euler.velocity_evaluations;
+    }
+    ASSERT_GT(evaluations, 0);
+    if (fraction > 0.1) {
+      EXPECT_EQ(clamped, 0);
+    } else {
+      EXPECT_GT(clamped, 0);
+    }
+  }
+}
+
 // An empty field box in a corrupt checkpoint used to reach
 // Triplane::SetBox's CHECK on resume; the reader rejects it.
 TEST(JointTrainerTest, CheckpointWithAnEmptyFieldBoxIsAnInputError) {

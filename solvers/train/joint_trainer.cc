@@ -46,7 +46,7 @@ JointTrainer::JointTrainer(const std::vector<Frame>* frames,
                 (*frames_)[train_.at(0)].time_index,
                 LoopStructure::Of(model_),
                 JointLossTerms(options_, use_masks_),
-                render_options(), &rasterizer_);
+                render_options(), &rasterizer_, options_.euler);
   if (WaterEnergyOn(options_)) {
     partner_ = TrainingNeighbours(*frames_, train_);
     energy_masks_ = AllHaveMasks(*frames_, train_);
@@ -56,7 +56,7 @@ JointTrainer::JointTrainer(const std::vector<Frame>* frames,
                        (*frames_)[train_.at(0)].time_index,
                        LoopStructure::Of(model_),
                        JointLossTerms(options_, use_masks_),
-                       render_options());
+                       render_options(), nullptr, options_.euler);
   }
 }
 
