@@ -24,6 +24,7 @@
 #include "apps/common/image_rasterizer_on.h"
 #include "apps/common/loop_frames_on.h"
 #include "apps/common/scaled_scene.h"
+#include "core/io/atomic_file.h"
 #include "core/io/input_error.h"
 #include "core/io/json_file.h"
 #include "core/io/output_dir.h"
@@ -82,6 +83,7 @@ struct Evaluation {
   es::LoopMetrics held_out;
   bool has_motion_gt = false;
   es::MotionGtMetrics motion;
+  std::vector<es::MotionGtPoint> motion_points;  // per water Gaussian
   es::RealismMetrics realism;
   // --realism_breakdown: (name, figures) per model variant.
   std::vector<std::pair<std::string, es::RealismMetrics>> breakdown;
@@ -153,8 +155,9 @@ Evaluation Evaluate(const es::LoopModel& model, const es::Scene& scene,
     for (int i : model.dynamic_index) {
       points.emplace_back(&model.gaussians.means[3 * i]);
     }
-    e.motion = es::EvaluateMotionGt(*model.motion, points,
-                                    es::LoadMotionGt(FLAGS_scene));
+    e.motion_points = es::MotionGtPoints(*model.motion, points,
+                                         es::LoadMotionGt(FLAGS_scene));
+    e.motion = es::SummarizeMotionGt(e.motion_points);
   }
   Step(2, ("realism over " + std::to_string(scene.frames.size()) +
            " input frames").c_str(),
@@ -304,6 +307,12 @@ int Run() {
   es::WriteJsonFile(path, EvalJson(model, e));
   PrintSummary(model, scene, e);
   std::printf("wrote %s\n", path.c_str());
+  if (e.has_motion_gt) {
+    const std::string points_path = FLAGS_out + "/motion_gt.csv";
+    es::WriteTextFileAtomically(points_path, es::MotionGtCsv(e.motion_points));
+    std::printf("wrote %s (V and the true velocity at each water "
+                "Gaussian)\n", points_path.c_str());
+  }
   return 0;
 }
 
@@ -316,6 +325,8 @@ int main(int argc, char** argv) {
                     "[--device cpu|cuda]\n"
                     "Writes OUT/eval.json (held-out PSNR / SSIM, motion "
                     "error vs ground truth, realism, loop seam, render "
-                    "times).",
+                    "times) and, for a scene with ground-truth motion, "
+                    "OUT/motion_gt.csv (V and the truth per water "
+                    "Gaussian).",
                     Run);
 }

@@ -1,5 +1,6 @@
 #include "solvers/train/flow_pretrain.h"
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -186,6 +187,21 @@ TEST(MotionGtTest, EndpointErrorOfFittedAndZeroFields) {
                          return TrueVelocity(x) + Eigen::Vector3d(0.3, 0, 0);
                        });
   EXPECT_NEAR(shifted.epe, 0.3, 0.02);
+
+  // Per point: the field's and the truth's velocity, summarized to the
+  // same figures, and one CSV row each in the order given.
+  const std::vector<MotionGtPoint> per_point =
+      MotionGtPoints(field, points, TrueVelocity);
+  ASSERT_EQ(per_point.size(), points.size());
+  const MotionGtMetrics summary = SummarizeMotionGt(per_point);
+  EXPECT_DOUBLE_EQ(summary.epe, fitted.epe);
+  EXPECT_DOUBLE_EQ(summary.speed_ratio, fitted.speed_ratio);
+  EXPECT_EQ(per_point[5].x, points[5]);
+  EXPECT_EQ(per_point[5].truth, TrueVelocity(points[5]));
+  const std::string csv = MotionGtCsv(per_point);
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 401);
+  EXPECT_EQ(csv.substr(0, csv.find('\n')),
+            "x,y,z,model_vx,model_vy,model_vz,true_vx,true_vy,true_vz");
 }
 
 TEST(FlowPretrainTest, RejectsEmptySamplesAndOversizedLm) {

@@ -5,6 +5,7 @@
 
 #include <glog/logging.h>
 
+#include "core/io/csv_table.h"
 #include "core/io/velocity_grid.h"
 
 namespace es {
@@ -15,19 +16,36 @@ std::string GridPath(const std::string& scene_dir) {
       .string();
 }
 
-// Mean endpoint error of `velocities` against the truth at `points`.
-MotionGtMetrics Compare(const std::vector<Eigen::Vector3d>& points,
-                        const std::vector<Eigen::Vector3d>& velocities,
-                        const VelocityFunction& truth) {
+}  // namespace
+
+std::vector<MotionGtPoint> MotionGtPoints(
+    const MotionField& field, const std::vector<Eigen::Vector3d>& points,
+    const VelocityFunction& truth) {
+  if (points.empty()) return {};
+  const int n = static_cast<int>(points.size());
+  std::vector<double> x(3 * points.size()), v(3 * points.size());
+  for (int i = 0; i < n; ++i) {
+    for (int c = 0; c < 3; ++c) x[3 * i + c] = points[i][c];
+  }
+  FieldWorkspace workspace;
+  field.Evaluate(field.params(), n, x.data(), v.data(), &workspace);
+  std::vector<MotionGtPoint> out(points.size());
+  for (int i = 0; i < n; ++i) {
+    out[i] = {points[i], Eigen::Map<const Eigen::Vector3d>(&v[3 * i]),
+              truth(points[i])};
+  }
+  return out;
+}
+
+MotionGtMetrics SummarizeMotionGt(const std::vector<MotionGtPoint>& points) {
   MotionGtMetrics m;
   m.num_points = static_cast<int>(points.size());
   if (points.empty()) return m;
   double error = 0, speed = 0, model_speed = 0;
-  for (size_t i = 0; i < points.size(); ++i) {
-    const Eigen::Vector3d gt = truth(points[i]);
-    error += (velocities[i] - gt).norm();
-    speed += gt.norm();
-    model_speed += velocities[i].norm();
+  for (const MotionGtPoint& p : points) {
+    error += (p.model - p.truth).norm();
+    speed += p.truth.norm();
+    model_speed += p.model.norm();
   }
   m.epe = error / points.size();
   m.mean_speed = speed / points.size();
@@ -36,34 +54,33 @@ MotionGtMetrics Compare(const std::vector<Eigen::Vector3d>& points,
   return m;
 }
 
-}  // namespace
+std::string MotionGtCsv(const std::vector<MotionGtPoint>& points) {
+  CsvTable table;
+  table.columns = {"x",        "y",        "z",       "model_vx",
+                   "model_vy", "model_vz", "true_vx", "true_vy",
+                   "true_vz"};
+  for (const MotionGtPoint& p : points) {
+    table.rows.push_back({p.x.x(), p.x.y(), p.x.z(), p.model.x(), p.model.y(),
+                          p.model.z(), p.truth.x(), p.truth.y(),
+                          p.truth.z()});
+  }
+  return CsvText(table);
+}
 
 MotionGtMetrics EvaluateMotionGt(const MotionField& field,
                                  const std::vector<Eigen::Vector3d>& points,
                                  const VelocityFunction& truth) {
-  if (points.empty()) return {};
-  std::vector<double> x(3 * points.size()), v(3 * points.size());
-  for (size_t i = 0; i < points.size(); ++i) {
-    for (int c = 0; c < 3; ++c) x[3 * i + c] = points[i][c];
-  }
-  FieldWorkspace workspace;
-  field.Evaluate(field.params(), static_cast<int>(points.size()), x.data(),
-                 v.data(), &workspace);
-  std::vector<Eigen::Vector3d> velocities(points.size());
-  for (size_t i = 0; i < points.size(); ++i) {
-    velocities[i] = Eigen::Map<const Eigen::Vector3d>(&v[3 * i]);
-  }
-  return Compare(points, velocities, truth);
+  return SummarizeMotionGt(MotionGtPoints(field, points, truth));
 }
 
 MotionGtMetrics EvaluateSamplesGt(const std::vector<SceneFlowSample>& samples,
                                   const VelocityFunction& truth) {
-  std::vector<Eigen::Vector3d> points, velocities;
+  std::vector<MotionGtPoint> points;
+  points.reserve(samples.size());
   for (const SceneFlowSample& s : samples) {
-    points.push_back(s.x);
-    velocities.push_back(s.v);
+    points.push_back({s.x, s.v, truth(s.x)});
   }
-  return Compare(points, velocities, truth);
+  return SummarizeMotionGt(points);
 }
 
 bool HasMotionGt(const std::string& scene_dir) {

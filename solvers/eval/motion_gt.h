@@ -24,6 +24,21 @@ struct MotionGtMetrics {
   double speed_ratio = 0;
 };
 
+// One point of the comparison: where it is, the model's velocity there and
+// the truth's. Kept per point so that where the error lies can be seen
+// (es_eval writes them to motion_gt.csv).
+struct MotionGtPoint {
+  Eigen::Vector3d x, model, truth;
+};
+
+// The field and the truth at each of `points`.
+std::vector<MotionGtPoint> MotionGtPoints(
+    const MotionField& field, const std::vector<Eigen::Vector3d>& points,
+    const VelocityFunction& truth);
+MotionGtMetrics SummarizeMotionGt(const std::vector<MotionGtPoint>& points);
+// The points as CSV: x, y, z, model_vx.., true_vx.. (one row each).
+std::string MotionGtCsv(const std::vector<MotionGtPoint>& points);
+
 // Endpoint error of the field against the true velocity at `points` (the
 // dynamic Gaussians' positions): where the model's water actually is.
 MotionGtMetrics EvaluateMotionGt(const MotionField& field,
