@@ -85,10 +85,6 @@ void DeviceFrameComposer::SetStructure(const LoopStructure& s) {
   structure_ = s;
 }
 
-const double* DeviceFrameComposer::residuals() const {
-  return residual_ ? residuals_.data() : nullptr;
-}
-
 void DeviceFrameComposer::SetFrame(int frame) {
   const int m = num_dynamic_;
   const int* start = structure_.start_times->data();
@@ -118,51 +114,26 @@ const DeviceSplatView& DeviceFrameComposer::Compose(
       << "splats of " << c.count << " Gaussians, degree " << c.sh_degree
       << ", for a structure of " << structure_.count << ", degree "
       << structure_.sh_degree;
-  view_ = c;
   euler_stats_ = EulerStats();
   backward_ready_ = true;
   const int m = num_dynamic_;
-  if (m == 0) return view_;
-  SetFrame(frame);
-  x0_.Resize(3 * static_cast<size_t>(m));
-  GatherDynamicMeansKernel(m, dynamic_.data(), c.means, x0_.data());
-  const double* positions = x0_.data();
-  if (chain_) {
-    positions_.Resize(3 * static_cast<size_t>(m));
-    chain_->Forward(model.motion_params, m, x0_.data(), cycle_index_.data(),
-                    positions_.data());
-    euler_stats_ = chain_->stats();
-    positions = positions_.data();
+  DeviceDynamicFrame dynamic;
+  if (m > 0) {
+    SetFrame(frame);
+    x0_.Resize(3 * static_cast<size_t>(m));
+    GatherDynamicMeansKernel(m, dynamic_.data(), c.means, x0_.data());
+    dynamic = {m, dynamic_.data(), x0_.data(), x0_.data(),
+               cycle_index_device_.data(), cycle_number_device_.data()};
+    if (chain_) {
+      positions_.Resize(3 * static_cast<size_t>(m));
+      chain_->Forward(model.motion_params, m, x0_.data(),
+                      cycle_index_.data(), positions_.data());
+      euler_stats_ = chain_->stats();
+      dynamic.positions = positions_.data();
+    }
   }
-  const int count = c.count;
-  const int coeffs = NumShCoeffs(c.sh_degree);
-  means_.Resize(3 * static_cast<size_t>(count));
-  CopyDoublesKernel(3LL * count, c.means, means_.data());
-  view_.means = means_.data();
-  const double* residuals = nullptr;
-  double* opacity_logits = nullptr;
-  double* sh = nullptr;
-  if (residual_) {
-    residuals_.Resize(static_cast<size_t>(m) * kResidualDim);
-    residual_->Evaluate(model.residual_params, m, x0_.data(),
-                        cycle_index_device_.data(),
-                        cycle_number_device_.data(), residuals_.data(),
-                        &residual_ws_);
-    residuals = residuals_.data();
-    opacity_logits_.Resize(count);
-    CopyDoublesKernel(count, c.opacity_logits, opacity_logits_.data());
-    const long long sh_size = 3LL * coeffs * count;
-    sh_.Resize(sh_size);
-    CopyDoublesKernel(sh_size, c.sh, sh_.data());
-    opacity_logits = opacity_logits_.data();
-    sh = sh_.data();
-    view_.opacity_logits = opacity_logits;
-    view_.sh = sh;
-  }
-  ComposeDynamicKernel(m, dynamic_.data(), positions, residuals, kLayout,
-                       coeffs, OffsetShCoeffs(kLayout, coeffs), means_.data(),
-                       opacity_logits, sh);
-  return view_;
+  return assembly_.Assemble(c, dynamic, residual_ ? &*residual_ : nullptr,
+                            model.residual_params);
 }
 
 void DeviceFrameComposer::Backward(const DeviceLoopModelView& model,
@@ -207,7 +178,7 @@ void DeviceFrameComposer::Backward(const DeviceLoopModelView& model,
   // D, then V through the Euler chain, as FrameComposer::FieldsBackward.
   if (residual_) {
     residual_->Backward(model.residual_params, d_outputs, out.residual, d_x0,
-                        &residual_ws_);
+                        assembly_.residual_workspace());
   }
   if (chain_) {
     chain_->Backward(model.motion_params, d_positions_.data(), out.motion,

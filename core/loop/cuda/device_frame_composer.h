@@ -20,6 +20,7 @@
 #include "core/fields/cuda/device_motion_field.h"
 #include "core/fields/cuda/device_residual_field.h"
 #include "core/loop/cuda/device_euler_chain.h"
+#include "core/loop/cuda/device_splat_assembly.h"
 #include "core/loop/euler_chain.h"
 #include "core/model/loop_model.h"
 #include "core/render/cuda/device_buffer.h"
@@ -80,7 +81,7 @@ class DeviceFrameComposer {
   int num_dynamic() const { return num_dynamic_; }
   // D's outputs of the last Compose (device, num_dynamic x kResidualDim);
   // nullptr without a residual field.
-  const double* residuals() const;
+  const double* residuals() const { return assembly_.residuals(); }
   // Euler-chain counts of the last Compose.
   const EulerStats& euler_stats() const { return euler_stats_; }
 
@@ -121,11 +122,9 @@ class DeviceFrameComposer {
   std::vector<int> cycle_index_, cycle_number_;
   bool cycles_uploaded_ = false;
   DeviceBuffer<int> cycle_index_device_, cycle_number_device_;
-  DeviceFieldWorkspace residual_ws_;
-  DeviceBuffer<double> x0_, positions_, residuals_;
-  DeviceBuffer<double> means_, opacity_logits_, sh_;
+  DeviceBuffer<double> x0_, positions_;
+  DeviceSplatAssembly assembly_;  // the frame's splats and D's outputs
   DeviceBuffer<double> d_positions_, d_residuals_, d_x0_;
-  DeviceSplatView view_;
 };
 
 }  // namespace cuda

@@ -2,11 +2,7 @@
 
 #include <glog/logging.h>
 
-#include "core/fields/residual_field.h"
-#include "core/loop/cuda/compose_kernels.h"
-#include "core/loop/cuda/euler_kernels.h"
 #include "core/loop/cycle_time.h"
-#include "core/model/gaussians.h"
 
 namespace es {
 namespace cuda {
@@ -81,42 +77,19 @@ EulerStats DeviceLoopRenderer::euler_stats() const {
 
 const DeviceSplatView& DeviceLoopRenderer::Compose() {
   CHECK(started_) << "Start before Compose";
-  view_ = canonical_.View();
   const int m = num_dynamic_;
-  if (m == 0) return view_;
-  const int count = view_.count;
-  const int coeffs = NumShCoeffs(view_.sh_degree);
-  const long long mean_size = 3LL * count;
-  means_.Resize(mean_size);
-  CopyDoublesKernel(mean_size, view_.means, means_.data());
-  view_.means = means_.data();
-  const double* residuals = nullptr;
-  double* opacity_logits = nullptr;
-  double* sh = nullptr;
-  if (residual_) {
-    residuals_.Resize(static_cast<size_t>(m) * kResidualDim);
-    residual_->Evaluate(residual_params_.params(), m, x0_.data(),
-                        CycleIndices(), cycle_number_.data(),
-                        residuals_.data(), &residual_ws_);
-    residuals = residuals_.data();
-    opacity_logits_.Resize(count);
-    CopyDoublesKernel(count, view_.opacity_logits, opacity_logits_.data());
-    const long long sh_size = 3LL * coeffs * count;
-    sh_.Resize(sh_size);
-    CopyDoublesKernel(sh_size, view_.sh, sh_.data());
-    opacity_logits = opacity_logits_.data();
-    sh = sh_.data();
-    view_.opacity_logits = opacity_logits;
-    view_.sh = sh;
+  DeviceDynamicFrame dynamic;
+  if (m > 0) {
+    dynamic = {m,
+               dynamic_index_.data(),
+               x0_.data(),
+               animator_ ? animator_->positions() : x0_.data(),
+               residual_ ? CycleIndices() : nullptr,
+               cycle_number_.data()};
   }
-  const ResidualLayout layout{kResidualDim, kResidualPosition,
-                              kResidualOpacity, kResidualSh};
-  ComposeDynamicKernel(m, dynamic_index_.data(),
-                       animator_ ? animator_->positions() : x0_.data(),
-                       residuals, layout, coeffs,
-                       OffsetShCoeffs(layout, coeffs), means_.data(),
-                       opacity_logits, sh);
-  return view_;
+  return assembly_.Assemble(canonical_.View(), dynamic,
+                            residual_ ? &*residual_ : nullptr,
+                            residual_params_.params());
 }
 
 const DeviceImages& DeviceLoopRenderer::Render(

@@ -15,10 +15,10 @@
 
 #include <Eigen/Core>
 
-#include "core/fields/cuda/device_field_workspace.h"
 #include "core/fields/cuda/device_motion_field.h"
 #include "core/fields/cuda/device_residual_field.h"
 #include "core/loop/cuda/device_loop_animator.h"
+#include "core/loop/cuda/device_splat_assembly.h"
 #include "core/loop/euler_chain.h"
 #include "core/model/camera.h"
 #include "core/model/loop_model.h"
@@ -60,7 +60,6 @@ class DeviceLoopRenderer {
   int frame_ = 0;
   bool started_ = false;
   DeviceSplats canonical_;
-  DeviceSplatView view_;
   DeviceBuffer<int> dynamic_index_;
   DeviceBuffer<double> x0_;  // dynamic canonical positions
   std::optional<DeviceMotionField> motion_;
@@ -69,8 +68,7 @@ class DeviceLoopRenderer {
   std::optional<DeviceLoopAnimator> animator_;  // absent without V
   std::vector<int> cycle_index_;                // without V, on the host
   DeviceBuffer<int> cycle_index_device_, cycle_number_;  // without V; p = 0
-  DeviceBuffer<double> residuals_, means_, opacity_logits_, sh_;
-  DeviceFieldWorkspace residual_ws_;
+  DeviceSplatAssembly assembly_;  // the frame's splats and D's outputs
   DeviceRasterizer rasterizer_;
 };
 
