@@ -61,11 +61,15 @@ std::vector<double*> DeviceGaussians::BlockPointers() {
 bool DeviceGaussians::AllFinite() {
   flag_.Resize(1);
   flag_.Zero();
-  for (DeviceBuffer<double>* a : Arrays())
-    FlagNonFinite(a->size(), a->data(), flag_.data());
+  MarkNonFinite(flag_.data());
   int flag = 0;
   flag_.Download(&flag);
   return flag == 0;
+}
+
+void DeviceGaussians::MarkNonFinite(int* flag) {
+  for (DeviceBuffer<double>* a : Arrays())
+    FlagNonFinite(a->size(), a->data(), flag);
 }
 
 std::vector<DeviceBuffer<double>*> DeviceGaussians::Arrays() {

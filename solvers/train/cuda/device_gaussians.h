@@ -31,6 +31,10 @@ class DeviceGaussians {
   std::vector<double*> BlockPointers();
   // Whether every value is finite: one int comes back to the host.
   bool AllFinite();
+  // Sets *flag (device) non-zero where a value is not finite and leaves it
+  // otherwise; nothing comes back, so a caller can check more arrays with
+  // the same flag and download it once.
+  void MarkNonFinite(int* flag);
 
  private:
   std::vector<DeviceBuffer<double>*> Arrays();

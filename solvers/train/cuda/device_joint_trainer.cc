@@ -119,7 +119,7 @@ JointIterationStats DeviceJointTrainer::Step() {
     out.loss += out.flow_prior;
   }
   const bool finite =
-      std::isfinite(out.loss) && grad_.AllFinite() && FieldsFinite(true);
+      std::isfinite(out.loss) && AllFinite(&grad_, /*gradients=*/true);
   if (!guard_.Accept(iteration_ + 1, finite)) {
     for (FieldBlock& f : fields_) f.grad.Zero();
     out.skipped = true;
@@ -149,7 +149,7 @@ JointIterationStats DeviceJointTrainer::Step() {
   }
   host_current_ = false;
   ++iteration_;
-  guard_.CheckParameters(iteration_, g_.AllFinite() && FieldsFinite(false));
+  guard_.CheckParameters(iteration_, AllFinite(&g_, /*gradients=*/false));
   if (WaterDensifyDue(options_, iteration_, model_.num_dynamic()))
     out.densified = DensifyWaterNow();
   return out;
@@ -273,9 +273,10 @@ WaterDensifyResult DeviceJointTrainer::DensifyWaterNow() {
   return result;
 }
 
-bool DeviceJointTrainer::FieldsFinite(bool gradients) {
+bool DeviceJointTrainer::AllFinite(DeviceGaussians* splats, bool gradients) {
   flag_.Resize(1);
   flag_.Zero();
+  splats->MarkNonFinite(flag_.data());
   for (FieldBlock& f : fields_) {
     const DeviceBuffer<double>& values = gradients ? f.grad : f.x;
     FlagNonFinite(static_cast<long long>(values.size()), values.data(),

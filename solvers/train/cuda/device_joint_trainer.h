@@ -92,8 +92,9 @@ class DeviceJointTrainer : public JointStageTrainer {
   double PairLossGradient(int frame_index, int partner,
                           JointIterationStats* out);
   WaterDensifyResult DensifyWaterNow();
-  // Whether every value of the field blocks' `grad` (or `x`) is finite.
-  bool FieldsFinite(bool gradients);
+  // Whether every value of `splats` and of the field blocks' `grad` (or
+  // `x`) is finite: one flag for all, one int back to the host.
+  bool AllFinite(DeviceGaussians* splats, bool gradients);
   LoopStructure Structure() const;
 
   const std::vector<Frame>* frames_;
