@@ -1,8 +1,6 @@
 #!/usr/bin/env python3
 """Where V's error lies: es_eval's motion_gt.csv binned along one world axis.
 
-usage: scripts/motion_error_bands.py CSV [--axis x|y|z] [--width W]
-
 Per band of the axis (width W world units): the points, their share of the
 relative EPE (the band's summed error over all points' summed true speed;
 the shares add up to es_eval's rel. EPE), the mean true and model speed and
@@ -15,10 +13,15 @@ import sys
 
 
 def main():
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(
+        prog="scripts/motion_error_bands.py",
+        description=__doc__,
+        formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("csv", help="es_eval's OUT/motion_gt.csv")
-    parser.add_argument("--axis", choices="xyz", default="y")
-    parser.add_argument("--width", type=float, default=0.5)
+    parser.add_argument("--axis", choices="xyz", default="y",
+                        help="world axis to bin along (default y)")
+    parser.add_argument("--width", type=float, default=0.5,
+                        help="band width in world units (default 0.5)")
     args = parser.parse_args()
     if args.width <= 0:
         sys.exit("motion_error_bands.py: --width must be > 0")
