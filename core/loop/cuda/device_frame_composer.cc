@@ -10,13 +10,6 @@
 
 namespace es {
 namespace cuda {
-namespace {
-
-constexpr ResidualLayout kLayout{kResidualDim, kResidualPosition,
-                                 kResidualOpacity, kResidualSh};
-
-}  // namespace
-
 DeviceFrameComposer::DeviceFrameComposer(const EulerOptions& euler_options)
     : euler_options_(euler_options) {}
 
@@ -166,8 +159,8 @@ void DeviceFrameComposer::Backward(const DeviceLoopModelView& model,
     d_outputs = d_residuals_.data();
   }
   ComposeBackwardKernel(m, dynamic_.data(), grads.means, grads.opacity_logits,
-                        grads.sh, kLayout, coeffs,
-                        OffsetShCoeffs(kLayout, coeffs), d_residuals,
+                        grads.sh, kResidualLayout, coeffs,
+                        OffsetShCoeffs(kResidualLayout, coeffs), d_residuals,
                         d_positions_.data(), d_outputs);
   double* d_x0 = nullptr;
   if (out.means != nullptr) {

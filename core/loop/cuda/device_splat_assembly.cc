@@ -1,18 +1,10 @@
 #include "core/loop/cuda/device_splat_assembly.h"
 
-#include "core/fields/residual_field.h"
-#include "core/loop/cuda/compose_kernels.h"
 #include "core/loop/cuda/euler_kernels.h"
 #include "core/model/gaussians.h"
 
 namespace es {
 namespace cuda {
-namespace {
-
-constexpr ResidualLayout kLayout{kResidualDim, kResidualPosition,
-                                 kResidualOpacity, kResidualSh};
-
-}  // namespace
 
 const DeviceSplatView& DeviceSplatAssembly::Assemble(
     const DeviceSplatView& canonical, const DeviceDynamicFrame& dynamic,
@@ -45,7 +37,7 @@ const DeviceSplatView& DeviceSplatAssembly::Assemble(
     view_.sh = sh;
   }
   ComposeDynamicKernel(m, dynamic.index, dynamic.positions, residuals(),
-                       kLayout, coeffs, OffsetShCoeffs(kLayout, coeffs),
+                       kResidualLayout, coeffs, OffsetShCoeffs(kResidualLayout, coeffs),
                        means_.data(), opacity_logits, sh);
   return view_;
 }

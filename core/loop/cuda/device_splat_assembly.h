@@ -9,11 +9,17 @@
 
 #include "core/fields/cuda/device_field_workspace.h"
 #include "core/fields/cuda/device_residual_field.h"
+#include "core/fields/residual_field.h"
+#include "core/loop/cuda/compose_kernels.h"
 #include "core/render/cuda/device_buffer.h"
 #include "core/render/cuda/device_splats.h"
 
 namespace es {
 namespace cuda {
+
+// Where D's outputs sit in its rows, for the composition kernels.
+inline constexpr ResidualLayout kResidualLayout{
+    kResidualDim, kResidualPosition, kResidualOpacity, kResidualSh};
 
 // The m dynamic Gaussians of one frame; device arrays.
 struct DeviceDynamicFrame {
