@@ -37,8 +37,9 @@ const DeviceSplatView& DeviceSplatAssembly::Assemble(
     view_.sh = sh;
   }
   ComposeDynamicKernel(m, dynamic.index, dynamic.positions, residuals(),
-                       kResidualLayout, coeffs, OffsetShCoeffs(kResidualLayout, coeffs),
-                       means_.data(), opacity_logits, sh);
+                       kResidualLayout, coeffs,
+                       OffsetShCoeffs(kResidualLayout, coeffs), means_.data(),
+                       opacity_logits, sh);
   return view_;
 }
 
