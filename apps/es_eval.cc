@@ -11,6 +11,7 @@
 #include <chrono>
 #include <cstdio>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -25,6 +26,7 @@
 #include "apps/common/loop_frames_on.h"
 #include "apps/common/scaled_scene.h"
 #include "core/io/atomic_file.h"
+#include "core/io/field_io.h"
 #include "core/io/input_error.h"
 #include "core/io/json_file.h"
 #include "core/io/output_dir.h"
@@ -63,6 +65,14 @@ DEFINE_double(realism_water_margin, 0.02, "The realism figures' water "
               "image diagonal, so that masks of single droplets do not "
               "select where the input has spray (0: the mask itself, the "
               "figures before 2026-12-02).");
+DEFINE_string(reference_motion, "", "Also measure this V (a "
+              "motion_field.bin, e.g. Stage 2's STATIC/motion_field.bin) "
+              "against the ground truth at the same water Gaussians as the "
+              "model's V: whether joint training moved V toward the truth "
+              "or away from it. (es_flowinit's flow_metrics.json measures "
+              "Stage 2's V at Stage 1's water Gaussians, another set of "
+              "points.) Used where the scene has ground-truth motion and "
+              "the model a V.");
 DEFINE_string(device, "cpu",
               "Where the images render: cpu, or cuda (the first NVIDIA GPU; "
               "needs a build with the CUDA backend, -DES_CUDA=ON or AUTO "
@@ -84,6 +94,8 @@ struct Evaluation {
   bool has_motion_gt = false;
   es::MotionGtMetrics motion;
   std::vector<es::MotionGtPoint> motion_points;  // per water Gaussian
+  // --reference_motion's V at the same points, when measured.
+  std::optional<es::MotionGtMetrics> reference_motion;
   es::RealismMetrics realism;
   // --realism_breakdown: (name, figures) per model variant.
   std::vector<std::pair<std::string, es::RealismMetrics>> breakdown;
@@ -133,8 +145,9 @@ void Step(int k, const char* what,
   std::fflush(stdout);
 }
 
-Evaluation Evaluate(const es::LoopModel& model, const es::Scene& scene,
-                    const es::RenderOptions& options,
+Evaluation Evaluate(const es::LoopModel& model,
+                    const std::optional<es::MotionField>& reference_motion,
+                    const es::Scene& scene, const es::RenderOptions& options,
                     es::ComputeDevice device) {
   const auto start = std::chrono::steady_clock::now();
   Evaluation e;
@@ -155,9 +168,13 @@ Evaluation Evaluate(const es::LoopModel& model, const es::Scene& scene,
     for (int i : model.dynamic_index) {
       points.emplace_back(&model.gaussians.means[3 * i]);
     }
-    e.motion_points = es::MotionGtPoints(*model.motion, points,
-                                         es::LoadMotionGt(FLAGS_scene));
+    const es::VelocityFunction truth = es::LoadMotionGt(FLAGS_scene);
+    e.motion_points = es::MotionGtPoints(*model.motion, points, truth);
     e.motion = es::SummarizeMotionGt(e.motion_points);
+    if (reference_motion) {
+      e.reference_motion =
+          es::EvaluateMotionGt(*reference_motion, points, truth);
+    }
   }
   Step(2, ("realism over " + std::to_string(scene.frames.size()) +
            " input frames").c_str(),
@@ -245,6 +262,13 @@ nlohmann::ordered_json EvalJson(const es::LoopModel& model,
                          {"mean_speed", e.motion.mean_speed},
                          {"rel_epe", e.motion.rel_epe},
                          {"speed_ratio", e.motion.speed_ratio}};
+    if (e.reference_motion) {
+      json["motion_gt"]["reference"] = {
+          {"field", FLAGS_reference_motion},
+          {"epe", e.reference_motion->epe},
+          {"rel_epe", e.reference_motion->rel_epe},
+          {"speed_ratio", e.reference_motion->speed_ratio}};
+    }
   }
   return json;
 }
@@ -260,6 +284,14 @@ void PrintSummary(const es::LoopModel& model, const es::Scene& scene,
                 "%.4g, speed ratio %.2f) at %d points\n",
                 e.motion.epe, 100 * e.motion.rel_epe, e.motion.mean_speed,
                 e.motion.speed_ratio, e.motion.num_points);
+    if (e.reference_motion) {
+      std::printf("  reference V there     EPE %.4g (%.1f%%, speed ratio "
+                  "%.2f): %s\n",
+                  e.reference_motion->epe,
+                  100 * e.reference_motion->rel_epe,
+                  e.reference_motion->speed_ratio,
+                  FLAGS_reference_motion.c_str());
+    }
   } else {
     std::printf("  motion vs truth       n/a (%s)\n",
                 model.motion ? "no gt/ in the scene" : "model has no V");
@@ -292,6 +324,10 @@ int Run() {
   if (FLAGS_white_background) options.background.setOnes();
   const es::Scene scene = es::LoadScaledScene(FLAGS_scene, FLAGS_image_scale);
   const es::LoopModel model = es::LoadLoopModel(FLAGS_model);
+  std::optional<es::MotionField> reference_motion;
+  if (!FLAGS_reference_motion.empty()) {
+    reference_motion = es::LoadMotionField(FLAGS_reference_motion);
+  }
   if (scene.test.empty()) {
     throw es::InputError(FLAGS_scene + ": no held-out frames to evaluate "
                          "(see split.txt)");
@@ -302,7 +338,8 @@ int Run() {
                 "Alg. 1 vs Alg. 2 timing and every metric\n",
                 device_name.c_str());
   }
-  const Evaluation e = Evaluate(model, scene, options, device);
+  const Evaluation e =
+      Evaluate(model, reference_motion, scene, options, device);
   const std::string path = FLAGS_out + "/eval.json";
   es::WriteJsonFile(path, EvalJson(model, e));
   PrintSummary(model, scene, e);

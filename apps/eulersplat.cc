@@ -534,10 +534,14 @@ void EvalStage(const Pipeline& run) {
     Skip("eval", run.eval_dir());
     return;
   }
-  RunOrThrow("[eval]", "es_eval",
-             run.Args({"--model", run.model_dir().string(), "--out",
-                       run.eval_dir().string()},
-                      true));
+  std::vector<std::string> args = {"--model", run.model_dir().string(),
+                                   "--out", run.eval_dir().string()};
+  // Stage 2's V at the same water Gaussians: did joint training improve it?
+  const fs::path flow_init = run.static_dir() / "motion_field.bin";
+  if (fs::exists(flow_init)) {
+    args.insert(args.end(), {"--reference_motion", flow_init.string()});
+  }
+  RunOrThrow("[eval]", "es_eval", run.Args(args, true));
 }
 
 // The training histories as PNGs in OUT/plots (es_plot), redrawn on every

@@ -10,6 +10,7 @@
 #include <string>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
 #include "tests/pipeline_test_util.h"
@@ -92,6 +93,44 @@ TEST(EndToEndTest, DriverRunsEveryStageAndResumes) {
   EXPECT_GT(JsonNumber(json, "psnr"), 5.0) << json;
   EXPECT_GT(JsonNumber(json, "dynamic_gaussians"), 0) << json;
   EXPECT_NE(json.find("\"device\": \"cpu\""), std::string::npos) << json;
+
+  // The driver has es_eval measure Stage 2's V at the model's own water
+  // Gaussians; with the model's own V as the reference, the two figures
+  // are the same (the same points, the same field).
+  const nlohmann::json eval = nlohmann::json::parse(json);
+  ASSERT_TRUE(eval["motion_gt"].contains("reference")) << json;
+  EXPECT_EQ(eval["motion_gt"]["reference"]["field"],
+            (out / "static" / "motion_field.bin").string());
+  EXPECT_TRUE(std::isfinite(
+      eval["motion_gt"]["reference"]["rel_epe"].get<double>()));
+  log.clear();
+  ASSERT_EQ(RunCommand((kBin / "es_eval").string() + " --scene " +
+                           scene.string() + " --model " +
+                           (out / "model").string() + " --out " +
+                           (root / "self_eval").string() +
+                           " --compare_frames 0 --reference_motion " +
+                           (out / "model" / "motion_field.bin").string(),
+                       &log),
+            0)
+      << log;
+  const nlohmann::json self =
+      nlohmann::json::parse(ReadFile(root / "self_eval" / "eval.json"));
+  EXPECT_EQ(self["motion_gt"]["reference"]["epe"].get<double>(),
+            self["motion_gt"]["epe"].get<double>());
+  EXPECT_EQ(self["motion_gt"]["epe"].get<double>(),
+            eval["motion_gt"]["epe"].get<double>());
+  // A reference that is not there is named before any work.
+  log.clear();
+  const fs::path missing = root / "missing_motion_field.bin";
+  EXPECT_NE(RunCommand((kBin / "es_eval").string() + " --scene " +
+                           scene.string() + " --model " +
+                           (out / "model").string() + " --out " +
+                           (root / "missing_eval").string() +
+                           " --reference_motion " + missing.string(),
+                       &log),
+            0);
+  EXPECT_NE(log.find(missing.string()), std::string::npos) << log;
+  EXPECT_FALSE(fs::exists(root / "missing_eval" / "eval.json"));
 
   // The fixed-view video loops: frame k and frame k + L are the same image.
   const fs::path frames = out / "animate_fixed" / "frames";
