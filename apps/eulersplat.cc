@@ -286,8 +286,8 @@ void WriteContactSheet(const fs::path& out, int cycle_length) {
   cv::Size size(0, 0);
   if (!tiles.empty()) {
     size = tiles[0].first.size();
-    const double grow =
-        std::max(1.0, static_cast<double>(plots_width) / (columns * size.width));
+    const double grow = std::max(
+        1.0, static_cast<double>(plots_width) / (columns * size.width));
     size = cv::Size(static_cast<int>(size.width * grow),
                     static_cast<int>(size.height * grow));
   }
@@ -651,8 +651,8 @@ int Main() {
     p.joint_iterations = FLAGS_joint_iterations;
   }
   run.out = FLAGS_out;
-  run.static_folder =
-      FLAGS_static_dir.empty() ? run.out / "static" : fs::path(FLAGS_static_dir);
+  run.static_folder = FLAGS_static_dir.empty() ? run.out / "static"
+                                               : fs::path(FLAGS_static_dir);
   const auto start = std::chrono::steady_clock::now();
   es::PrepareOutputDirectory(FLAGS_out, "out");
   // One run per output folder; runs sharing a --static_dir take turns.

@@ -332,7 +332,8 @@ TEST(JointTrainerTest, FinalModelDropsOnlyWhatNoFrameShows) {
       EXPECT_LT(removed, 3);
     }
     EXPECT_EQ(pruned.gaussians.size(), model.gaussians.size() - removed);
-    EXPECT_EQ(pruned.num_dynamic(), static_cast<int>(pruned.start_times.size()));
+    EXPECT_EQ(pruned.num_dynamic(),
+              static_cast<int>(pruned.start_times.size()));
     const auto before = RenderAllFrames(model), after = RenderAllFrames(pruned);
     for (size_t f = 0; f < before.size(); ++f)
       for (size_t p = 0; p < before[f].size(); ++p)

@@ -34,7 +34,8 @@ inline std::string Quoted(const std::string& s) {
 
 // Runs a shell command with its output in `log`; returns the exit status.
 inline int RunLogged(const std::string& command, const std::string& log) {
-  const int status = std::system((command + " > " + Quoted(log) + " 2>&1").c_str());
+  const int status =
+      std::system((command + " > " + Quoted(log) + " 2>&1").c_str());
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 

@@ -78,8 +78,9 @@ fs::path ImportStep(const fs::path& video, const fs::path& out,
       (scene / "images").string());
   const VideoImportResult r = ImportVideo(
       video.string(), scene.string(), options, [](int done, int total) {
-        if (done % 20 == 0 || done == total)
-          std::printf("[video] frame %d / %d\n", done, total), std::fflush(stdout);
+        if (done % 20 != 0 && done != total) return;
+        std::printf("[video] frame %d / %d\n", done, total);
+        std::fflush(stdout);
       });
   char json[320];
   std::snprintf(json, sizeof(json),

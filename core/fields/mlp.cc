@@ -83,8 +83,9 @@ void Mlp::ForwardRows(const double* params, int r0, int rows,
     const double* a =
         l == 0 ? input + static_cast<size_t>(r0) * in
                : ws->hidden[l - 1].data() + static_cast<size_t>(r0) * width_;
-    double* y = l == depth_ ? out + static_cast<size_t>(r0) * o
-                            : ws->hidden[l].data() + static_cast<size_t>(r0) * o;
+    double* y = l == depth_
+                    ? out + static_cast<size_t>(r0) * o
+                    : ws->hidden[l].data() + static_cast<size_t>(r0) * o;
     kernels_->multiply(rows, in, o, a, ws->transposed.data() + offsets_[l],
                        params + offsets_[l] + o * in, /*accumulate=*/false, y);
     if (l < depth_) {

@@ -77,7 +77,8 @@ class Reader {
     Raw(&n, sizeof(n));
     if (n != expected)
       throw InputError(path_ + ": " + what + " has " + std::to_string(n) +
-                       " parameters, options imply " + std::to_string(expected));
+                       " parameters, options imply " +
+                       std::to_string(expected));
     v->resize(n);
     Raw(v->data(), n * sizeof(double));
     for (double x : *v)

@@ -54,6 +54,11 @@ EulerSchedule ScheduleEulerSteps(int n, const int* steps,
 size_t ActivationBytesPerPoint(int input_dim, int width, int depth,
                                int output_dim);
 
+// Adds to x the step that the stress rule above takes for velocity v, and
+// counts a clamped or non-finite step in stats.
+void TakeSafeStep(const double* v, double max_step, double* x,
+                  EulerStats* stats);
+
 // Alg. 1: advects canonical positions x0 by forward Euler, X <- X + V(X),
 // steps[k] times for point k. All points move in lockstep in one batch per
 // step; points whose count is reached drop out (they are kept sorted by
@@ -61,16 +66,10 @@ size_t ActivationBytesPerPoint(int input_dim, int width, int depth,
 // and V's activations of every step are kept so Backward can run reverse
 // mode through the chain without evaluating V again; past
 // EulerOptions::max_kept_activation_bytes of activations the later steps'
-// are dropped and recomputed in Backward instead (same values). Only the points given (the
-// dynamic Gaussians) are processed.
-// Adds to x the step that the stress rule above takes for velocity v, and
-// counts a clamped or non-finite step in stats.
-void TakeSafeStep(const double* v, double max_step, double* x,
-                  EulerStats* stats);
-
+// are dropped and recomputed in Backward instead (same values). Only the
+// points given (the dynamic Gaussians) are processed.
 class EulerChain {
  public:
-
   EulerChain(const MotionField* field, const EulerOptions& options);
 
   // x_out (n x 3) = x0 (n x 3) advected steps[k] >= 0 times. Keeps the

@@ -56,9 +56,9 @@ struct LoopModelGradients {
 // in share order at the end (for a given thread count the result does not
 // depend on scheduling). Each share after the first keeps a gradient
 // buffer the size of V's and of D's parameters (about 11 MB at the
-// default 128^2 planes), allocated on its first Backward. Owns the composed arrays; the returned view
-// (log-scales, quaternions and extra point at the canonical arrays) stays
-// valid until the next Compose* call. Not thread-safe.
+// default 128^2 planes), allocated on its first Backward. Owns the composed
+// arrays; the returned view (log-scales, quaternions and extra point at the
+// canonical arrays) stays valid until the next Compose* call. Not thread-safe.
 class FrameComposer {
  public:
   explicit FrameComposer(const EulerOptions& euler_options = {});

@@ -74,7 +74,8 @@ int64_t WriteLoopFile(const LoopModel& model, const LoopFileOptions& options,
   Put<uint32_t>(&bytes, 16, w);
   Put<uint32_t>(&bytes, 20, l);
   Put<float>(&bytes, 24, options.fps);
-  for (int c = 0; c < 3; ++c) Put<float>(&bytes, 28 + 4 * c, options.background[c]);
+  for (int c = 0; c < 3; ++c)
+    Put<float>(&bytes, 28 + 4 * c, options.background[c]);
   Put<uint32_t>(&bytes, 40, kLoopFileHeaderBytes);
   Put<uint32_t>(&bytes, 44, ply.size());
   std::memcpy(&bytes[kLoopFileHeaderBytes], ply.data(), ply.size());

@@ -33,8 +33,8 @@ void GaussianSet::SetShDegree(int degree) {
 void GaussianSet::AppendFrom(const GaussianSet& other, int index) {
   CHECK_EQ(other.sh_degree, sh_degree);
   const int k = sh_coeffs();
-  auto append = [index](std::vector<double>& dst, const std::vector<double>& src,
-                        int width) {
+  auto append = [index](std::vector<double>& dst,
+                        const std::vector<double>& src, int width) {
     dst.insert(dst.end(), src.begin() + index * width,
                src.begin() + (index + 1) * width);
   };

@@ -41,7 +41,8 @@ void CopyInto(const fs::path& from, const fs::path& to,
     throw InputError(from.string() + ": missing (" + hint + ")");
   std::error_code error;
   fs::create_directories(to.parent_path(), error);
-  if (!error) fs::copy_file(from, to, fs::copy_options::overwrite_existing, error);
+  if (!error)
+    fs::copy_file(from, to, fs::copy_options::overwrite_existing, error);
   if (error)
     throw InputError(to.string() + ": cannot write (" + error.message() + ")");
 }

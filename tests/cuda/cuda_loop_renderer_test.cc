@@ -38,7 +38,8 @@ std::vector<double> Copy(const double* host, size_t count) {
   return std::vector<double>(host, host + count);
 }
 
-class DeviceLoopRendererTest : public ::testing::TestWithParam<TinyLoopModelCase> {};
+class DeviceLoopRendererTest
+    : public ::testing::TestWithParam<TinyLoopModelCase> {};
 
 TEST_P(DeviceLoopRendererTest, ComposesAndRendersAsCpuTwin) {
   ES_REQUIRE_GPU("CUDA loop renderer");

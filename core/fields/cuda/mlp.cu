@@ -20,7 +20,9 @@ constexpr int kGradientRows = 256;
 constexpr int kMaxGridY = 65535;
 constexpr int kThreads = 256;
 
-__host__ __device__ int Tiles(long long n) { return static_cast<int>((n + kTile - 1) / kTile); }
+__host__ __device__ int Tiles(long long n) {
+  return static_cast<int>((n + kTile - 1) / kTile);
+}
 
 // blockIdx.x: tile of rows, blockIdx.y: tile of outputs; thread (tx, ty)
 // computes y[row ty][output tx].
