@@ -655,7 +655,8 @@ int Main() {
                                                : fs::path(FLAGS_static_dir);
   const auto start = std::chrono::steady_clock::now();
   es::PrepareOutputDirectory(FLAGS_out, "out");
-  // One run per output folder; runs sharing a --static_dir take turns.
+  // One run per output folder; runs sharing a --static_dir take turns on
+  // it until its Stages 1 and 2 are written.
   const es::RunLock out_lock(run.out.string(),
                              es::RunLock::Mode::kFailIfHeld);
   std::optional<es::RunLock> static_lock;
@@ -701,6 +702,9 @@ int Main() {
   StaticStage(run);
   if (!HasDynamicGaussians(run)) return 0;
   FlowStage(run);
+  // Stages 1 and 2 are on disk and the later stages only read them: other
+  // runs sharing the --static_dir (ablations, seeds) may go on alongside.
+  static_lock.reset();
   JointStage(run);
   if (FLAGS_animate) AnimateStage(run);
   ExportStage(run);

@@ -305,5 +305,26 @@ TEST_F(ProcessTest, DriverLocksItsOutputAndItsStageDiesWithIt) {
   const RunLock again(out, RunLock::Mode::kFailIfHeld);
 }
 
+// Runs sharing a --static_dir take turns only until its Stages 1 and 2
+// are written: a run in its joint stage no longer holds the folder.
+TEST_F(ProcessTest, SharedStaticDirIsFreeDuringTheJointStage) {
+  const std::string shared = Path("shared_static");
+  const auto driver = [&](const std::string& out, const char* joint) {
+    return std::vector<std::string>{
+        (kBin / "eulersplat").string(), "--scene", scene_, "--out", out,
+        "--static_dir", shared, "--preset", "quick", "--static_iterations",
+        "30", "--flow_iterations", "10", "--joint_iterations", joint,
+        "--cycle_length", "4", "--animate=false"};
+  };
+  Process first(driver(Path("first"), "5"));
+  ASSERT_EQ(first.Wait(), 0) << first.log();
+
+  Process second(driver(Path("second"), "100000"));
+  ASSERT_TRUE(second.WaitForLine("es_train")) << second.log();
+  EXPECT_NO_THROW(RunLock(shared, RunLock::Mode::kFailIfHeld))
+      << "the joint stage still holds " << shared;
+  second.Kill();
+}
+
 }  // namespace
 }  // namespace es
