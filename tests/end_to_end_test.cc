@@ -103,14 +103,19 @@ TEST(EndToEndTest, DriverRunsEveryStageAndResumes) {
             (out / "static" / "motion_field.bin").string());
   EXPECT_TRUE(std::isfinite(
       eval["motion_gt"]["reference"]["rel_epe"].get<double>()));
-  log.clear();
-  ASSERT_EQ(RunCommand((kBin / "es_eval").string() + " --scene " +
-                           scene.string() + " --model " +
-                           (out / "model").string() + " --out " +
-                           (root / "self_eval").string() +
-                           " --compare_frames 0 --reference_motion " +
-                           (out / "model" / "motion_field.bin").string(),
-                       &log),
+  const auto eval_with_reference = [&](const fs::path& eval_out,
+                                       const fs::path& reference) {
+    log.clear();
+    return RunCommand((kBin / "es_eval").string() + " --scene " +
+                          scene.string() + " --model " +
+                          (out / "model").string() + " --out " +
+                          eval_out.string() +
+                          " --compare_frames 0 --reference_motion " +
+                          reference.string(),
+                      &log);
+  };
+  ASSERT_EQ(eval_with_reference(root / "self_eval",
+                                out / "model" / "motion_field.bin"),
             0)
       << log;
   const nlohmann::json self =
@@ -120,15 +125,8 @@ TEST(EndToEndTest, DriverRunsEveryStageAndResumes) {
   EXPECT_EQ(self["motion_gt"]["epe"].get<double>(),
             eval["motion_gt"]["epe"].get<double>());
   // A reference that is not there is named before any work.
-  log.clear();
   const fs::path missing = root / "missing_motion_field.bin";
-  EXPECT_NE(RunCommand((kBin / "es_eval").string() + " --scene " +
-                           scene.string() + " --model " +
-                           (out / "model").string() + " --out " +
-                           (root / "missing_eval").string() +
-                           " --reference_motion " + missing.string(),
-                       &log),
-            0);
+  EXPECT_NE(eval_with_reference(root / "missing_eval", missing), 0);
   EXPECT_NE(log.find(missing.string()), std::string::npos) << log;
   EXPECT_FALSE(fs::exists(root / "missing_eval" / "eval.json"));
 
