@@ -147,6 +147,10 @@ DEFINE_int32(densify_water_views, 8,
 DEFINE_double(densify_water_split_pixels, 1.0,
               "Water Gaussians larger than this on screen (std dev, px) are "
               "split in two smaller ones, smaller ones cloned.");
+DEFINE_bool(densify_water_fresh_start, true,
+            "Densified water Gaussians draw their own random start times "
+            "(off: they keep their parent's, which piles a lineage's loop "
+            "wraps onto one frame step).");
 DEFINE_double(motion_energy_weight, 1,
               "> 0: each iteration also renders the sampled frame's "
               "neighbour in the video and matches the local amplitude of "
@@ -253,6 +257,7 @@ JointTrainerOptions OptionsFromFlags() {
   o.water_densify.max_growth = FLAGS_densify_water_growth;
   o.water_densify.views = FLAGS_densify_water_views;
   o.water_densify.split_pixels = FLAGS_densify_water_split_pixels;
+  o.water_densify.fresh_start_times = FLAGS_densify_water_fresh_start;
   o.water_energy.motion_weight = FLAGS_motion_energy_weight;
   o.water_energy.detail_weight = FLAGS_detail_energy_weight;
   o.water_energy.detail_octaves = FLAGS_detail_energy_octaves;

@@ -49,8 +49,8 @@ TEST(WaterDensifyTest, SplitsLargeClonesSmallAndKeepsTheLoopBookkeeping) {
   adam.Reset(g);
   std::vector<int> dynamic = {1, 2}, starts = {3, 7};
   std::mt19937_64 rng(1);
-  const WaterDensifyResult r = DensifyWater({1, 2}, {0.05, 0.05}, &rng, &g,
-                                            &adam, &dynamic, &starts);
+  const WaterDensifyResult r = DensifyWater({1, 2}, {0.05, 0.05}, 0, &rng,
+                                            &g, &adam, &dynamic, &starts);
   EXPECT_EQ(r.split, 1);
   EXPECT_EQ(r.cloned, 1);
   ASSERT_EQ(g.size(), 5);  // 0, old 2, two children of 1, clone of 2
@@ -68,6 +68,31 @@ TEST(WaterDensifyTest, SplitsLargeClonesSmallAndKeepsTheLoopBookkeeping) {
   GaussianSet grad = Gaussians(5);
   adam.Step(GaussianLearningRates(), grad, &g);
   EXPECT_EQ(g.size(), 5);
+}
+
+// With a cycle length, children draw their start times uniformly: one
+// parent densified many times does not pile its lineage's loop wraps onto
+// one phase (the loop's seam when that phase is 0).
+TEST(WaterDensifyTest, ChildrenDrawTheirOwnStartTimes) {
+  const int n = 3000, length = 15;
+  GaussianSet g = Gaussians(n);
+  std::vector<int> dynamic(n), starts(n, 0), picked(n);
+  for (int i = 0; i < n; ++i) dynamic[i] = picked[i] = i;
+  GaussianAdam adam;
+  adam.Reset(g);
+  std::mt19937_64 rng(3);
+  DensifyWater(picked, std::vector<double>(n, 1e9), length, &rng, &g, &adam,
+               &dynamic, &starts);
+  ASSERT_EQ(starts.size(), 2u * n);  // every parent cloned
+  std::vector<int> count(length, 0);
+  for (int k = 0; k < n; ++k) EXPECT_EQ(starts[k], 0);  // parents keep theirs
+  for (int k = n; k < 2 * n; ++k) {
+    ASSERT_GE(starts[k], 0);
+    ASSERT_LT(starts[k], length);
+    ++count[starts[k]];
+  }
+  // Uniform: each phase n / L = 200 times, within 5 standard deviations.
+  for (int c : count) EXPECT_NEAR(c, n / length, 5 * std::sqrt(n / length));
 }
 
 // Split children are drawn from the parent's own normal distribution.
@@ -92,7 +117,7 @@ TEST(WaterDensifyTest, ChildrenFillTheParentsVolume) {
   GaussianAdam adam;
   adam.Reset(g);
   std::mt19937_64 rng(2);
-  DensifyWater(picked, std::vector<double>(n, 0.01), &rng, &g, &adam,
+  DensifyWater(picked, std::vector<double>(n, 0.01), 0, &rng, &g, &adam,
                &dynamic, &starts);
   ASSERT_EQ(g.size(), 2 * n);
   Eigen::Vector3d mean = Eigen::Vector3d::Zero();

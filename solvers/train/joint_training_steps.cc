@@ -198,7 +198,10 @@ WaterDensifyResult DensifyRankedWater(const JointTrainerOptions& o,
                     static_cast<uint32_t>(iteration),
                     static_cast<uint32_t>(iteration >> 32), 0x57u};
   std::mt19937_64 rng(seq);
-  return DensifyWater(picked, split_scale, &rng, &model->gaussians, adam,
+  const int child_cycle_length =
+      o.random_start && d.fresh_start_times ? o.cycle_length : 0;
+  return DensifyWater(picked, split_scale, child_cycle_length, &rng,
+                      &model->gaussians, adam,
                       &model->dynamic_index, &model->start_times);
 }
 

@@ -7,6 +7,7 @@
 
 #include <glog/logging.h>
 
+#include "core/loop/cycle_time.h"
 #include "solvers/train/densify.h"
 
 namespace es {
@@ -38,12 +39,14 @@ std::vector<int> PickWaterToDensify(const std::vector<int>& dynamic_index,
 
 WaterDensifyResult DensifyWater(const std::vector<int>& picked,
                                 const std::vector<double>& split_scale,
+                                int child_cycle_length,
                                 std::mt19937_64* rng, GaussianSet* g,
                                 GaussianAdam* adam,
                                 std::vector<int>* dynamic_index,
                                 std::vector<int>* start_times) {
   CHECK_EQ(picked.size(), split_scale.size());
   CHECK_EQ(dynamic_index->size(), start_times->size());
+  CHECK_GE(child_cycle_length, 0);
   std::unordered_map<int, int> start_of;
   for (size_t k = 0; k < dynamic_index->size(); ++k)
     start_of[(*dynamic_index)[k]] = (*start_times)[k];
@@ -62,7 +65,9 @@ WaterDensifyResult DensifyWater(const std::vector<int>& picked,
       std::normal_distribution<double> normal(0.0, 1.0);
       AppendSampledChild(*g, i, split ? kSplitShrink : 1.0, &normal, rng,
                          &added);
-      added_start.push_back(start_of[i]);
+      added_start.push_back(child_cycle_length > 0
+                                ? DrawStartTime(child_cycle_length, rng)
+                                : start_of[i]);
     }
     if (split) {
       keep[i] = false;

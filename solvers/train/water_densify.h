@@ -26,6 +26,11 @@ struct WaterDensifyOptions {
   // Larger than this on screen (std dev, px): split into two children at
   // 1 / 1.6 the size; else cloned at its size.
   double split_pixels = 1.0;
+  // Children draw their own start times (with random starts on). Inherited
+  // ones pile up: a lineage densified again and again shares one phase, so
+  // its wraps from the last cycle index to the first all fall on one frame
+  // step, the loop's seam when that phase is 0.
+  bool fresh_start_times = true;
 };
 
 // The `fraction` of the water Gaussians with the highest mean view-space
@@ -45,10 +50,13 @@ struct WaterDensifyResult {
 // split_scale[k] is replaced by two children drawn from its own normal
 // distribution with scales divided by 1.6; a smaller one stays and gains a
 // clone drawn the same way at its size. Children are appended (water,
-// with the parent's start time); dynamic_index stays sorted and is
-// remapped with start_times; Adam moments follow, new ones at zero.
+// with a start time drawn uniformly in [0, child_cycle_length) from rng,
+// or the parent's where child_cycle_length is 0); dynamic_index stays
+// sorted and is remapped with start_times; Adam moments follow, new ones
+// at zero.
 WaterDensifyResult DensifyWater(const std::vector<int>& picked,
                                 const std::vector<double>& split_scale,
+                                int child_cycle_length,
                                 std::mt19937_64* rng, GaussianSet* g,
                                 GaussianAdam* adam,
                                 std::vector<int>* dynamic_index,
