@@ -61,6 +61,12 @@ DEFINE_string(second_end, "plane",
               "flow does not observe) or depth (the static model's rendered "
               "depth there; rough water depth turns into spurious motion "
               "along the ray).");
+DEFINE_bool(free_line_of_sight, true,
+            "With --second_end plane: the samples record camera i's line "
+            "of sight, and fitting V to them (here and in es_train's "
+            "scene-flow prior) leaves V's motion along it free instead of "
+            "pulling it to zero. false: the samples claim no motion along "
+            "it (the behaviour before, for ablations).");
 DEFINE_int32(stride, 2, "Lift every stride-th pixel of every stride-th row.");
 DEFINE_int32(frame_gap, 1,
              "Flow between frames this many video frames apart, divided "
@@ -186,6 +192,7 @@ es::SceneFlowOptions SceneFlowOptionsFromFlags() {
   o.lifting.max_rel_depth_jump = FLAGS_max_depth_jump;
   o.lifting.water_threshold = FLAGS_water_threshold;
   o.lifting.frame_gap = FLAGS_frame_gap;
+  o.lifting.free_line_of_sight = FLAGS_free_line_of_sight;
   o.min_alpha = FLAGS_min_alpha;
   o.use_test_frames = FLAGS_use_test_frames;
   const auto start = std::chrono::steady_clock::now();
@@ -303,6 +310,7 @@ void WriteFlowMetrics(const std::string& path, double seconds,
       {"flow_image", FLAGS_flow_image},
       {"second_end", FLAGS_second_end},
       {"frame_gap", FLAGS_frame_gap},
+      {"free_line_of_sight", FLAGS_free_line_of_sight},
       {"tv_weight", FLAGS_tv_weight},
       {"solver", FLAGS_solver},
       {"iterations", fit.iterations},

@@ -8,16 +8,29 @@
 #include "core/profile/stage_profile.h"
 
 namespace es {
+namespace {
+
+// d -= (d . u) u: the part of d that a sample with unseen direction u (unit
+// or zero) constrains. P = I - u u^T is symmetric and idempotent, so the
+// gradient of 0.5 |P d|^2 with respect to d is P d as well.
+void ProjectOutUnseen(const double* u, double* d) {
+  const double along = d[0] * u[0] + d[1] * u[1] + d[2] * u[2];
+  for (int c = 0; c < 3; ++c) d[c] -= along * u[c];
+}
+
+}  // namespace
 
 void SceneFlowBatch::Assign(const std::vector<SceneFlowSample>& samples,
                             const std::vector<int>& indices) {
   x.resize(3 * indices.size());
   target.resize(3 * indices.size());
+  unseen.resize(3 * indices.size());
   for (size_t k = 0; k < indices.size(); ++k) {
     const SceneFlowSample& s = samples[indices[k]];
     for (int c = 0; c < 3; ++c) {
       x[3 * k + c] = s.x[c];
       target[3 * k + c] = s.v[c];
+      unseen[3 * k + c] = s.unseen[c];
     }
   }
 }
@@ -48,11 +61,17 @@ double SceneFlowCost::Loss(const FieldParams& params,
   field_->Evaluate(params, n, batch_->x.data(), velocity_.data(),
                    &workspace_);
   double sum = 0;
-  for (int i = 0; i < 3 * n; ++i) {
-    // dl/dV(x_s) = (V(x_s) - V'(x_s)) / n.
-    const double d = velocity_[i] - batch_->target[i];
-    sum += d * d;
-    d_velocity_[i] = d / n;
+  for (int s = 0; s < n; ++s) {
+    double d[3];
+    for (int c = 0; c < 3; ++c) {
+      d[c] = velocity_[3 * s + c] - batch_->target[3 * s + c];
+    }
+    ProjectOutUnseen(&batch_->unseen[3 * s], d);
+    // dl/dV(x_s) = P_s (V(x_s) - V'(x_s)) / n.
+    for (int c = 0; c < 3; ++c) {
+      sum += d[c] * d[c];
+      d_velocity_[3 * s + c] = d[c] / n;
+    }
   }
   if (grads.triplane != nullptr || grads.mlp != nullptr) {
     field_->Backward(params, d_velocity_.data(), grads, nullptr, &workspace_);
@@ -117,14 +136,19 @@ bool SceneFlowResiduals::Evaluate(double const* const* parameters,
   for (int s = 0; s < n; ++s) {
     double v[3];
     field_->Evaluate(params, 1, &batch_->x[3 * s], v, &workspace_);
+    const double* u = &batch_->unseen[3 * s];
+    for (int c = 0; c < 3; ++c) v[c] -= batch_->target[3 * s + c];
+    ProjectOutUnseen(u, v);
     for (int c = 0; c < 3; ++c) {
-      residuals[3 * s + c] = v[c] - batch_->target[3 * s + c];
+      residuals[3 * s + c] = v[c];
       if (!std::isfinite(residuals[3 * s + c])) return false;
     }
     if (!any_jacobian) continue;
     for (int c = 0; c < 3; ++c) {
+      // Row c of P_s J_V: the backward of P_s's row c (P is symmetric).
       double d_v[3] = {0, 0, 0};
       d_v[c] = 1.0;
+      ProjectOutUnseen(u, d_v);
       const int row = 3 * s + c;
       FieldGradients row_grads;
       if (jacobians[0] != nullptr) {

@@ -14,6 +14,7 @@ namespace es {
 struct SceneFlowBatch {
   std::vector<double> x;       // n x 3, world positions
   std::vector<double> target;  // n x 3, lifted velocities V'(x)
+  std::vector<double> unseen;  // n x 3, SceneFlowSample::unseen (or zero)
 
   int size() const { return static_cast<int>(x.size() / 3); }
   // Replaces the contents with samples[indices[k]] (reusing the storage).
@@ -23,7 +24,9 @@ struct SceneFlowBatch {
 };
 
 // Scene-flow pretraining loss of V over a mini-batch,
-//   l = mean_s 0.5 |V(x_s) - V'(x_s)|^2,
+//   l = mean_s 0.5 |P_s (V(x_s) - V'(x_s))|^2,
+// P_s = I - u_s u_s^T projecting out the sample's unseen direction u_s (the
+// identity where u_s is zero),
 // exposed as one residual r = sqrt(2 l + eps) so that J^T r = dl/dtheta
 // (see docs/DESIGN.md). Parameter blocks: the field's triplane, then its MLP.
 // The batch is read at each Evaluate, so a training loop refills it in place
@@ -49,7 +52,7 @@ class SceneFlowCost : public ceres::CostFunction {
 };
 
 // The same fit as a true least-squares problem for Ceres' solvers: 3
-// residuals per sample, V(x_s) - V'(x_s), over the same two blocks. The batch
+// residuals per sample, P_s (V(x_s) - V'(x_s)), over the same two blocks. The batch
 // size is fixed at construction. Ceres stores each residual block's Jacobian
 // densely (3n x num_params), so this suits small fields or small batches.
 class SceneFlowResiduals : public ceres::CostFunction {

@@ -135,6 +135,7 @@ TEST(FlowLiftingTest, ExactFlowRecoversPlaneTranslation) {
     // plane is the only approximation.
     EXPECT_NEAR(v.plane.normal.dot(s.x), v.plane.offset, 1e-6);
     EXPECT_LT((s.v - v.motion).norm(), 1e-3 * v.motion.norm());
+    EXPECT_TRUE(s.unseen.isZero());  // the rendered depth sees it all
   }
 }
 
@@ -230,7 +231,14 @@ TEST(FlowLiftingTest, FacingPlaneRecoversMotionAcrossTheLineOfSight) {
     EXPECT_NEAR(v.plane.normal.dot(s.x), v.plane.offset, 1e-6);
     EXPECT_NEAR(s.v.dot((s.x - center).normalized()), 0.0, 1e-9);
     EXPECT_LT((s.v - across(s.x)).norm(), 1e-4 * v.motion.norm());
+    // The line of sight it says nothing about, for the losses to leave free.
+    EXPECT_LT((s.unseen - (s.x - center).normalized()).norm(), 1e-12);
   }
+  options.free_line_of_sight = false;
+  samples.clear();
+  LiftFlow(first, second, flow, options, &samples, nullptr);
+  ASSERT_FALSE(samples.empty());
+  for (const SceneFlowSample& s : samples) EXPECT_TRUE(s.unseen.isZero());
 }
 
 // A static camera looking at a background wall (depth 4) with a foreground

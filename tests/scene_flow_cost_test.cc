@@ -9,6 +9,8 @@
 #include <ceres/gradient_checker.h>
 #include <gtest/gtest.h>
 
+#include "tests/random_scene_flow_samples.h"
+
 namespace es {
 namespace {
 
@@ -27,14 +29,16 @@ MotionFieldOptions TinyFieldOptions(PlaneCombination combination) {
 }
 
 std::vector<SceneFlowSample> RandomSamples(int n, uint32_t seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(-0.9, 0.9);
-  std::vector<SceneFlowSample> samples(n);
-  for (SceneFlowSample& s : samples) {
-    s.x = Eigen::Vector3d(u(rng), u(rng), u(rng));
-    s.v = 0.2 * Eigen::Vector3d(u(rng), u(rng), u(rng));
-  }
-  return samples;
+  return RandomSceneFlowSamples(n, seed, 0.9, 0.2);
+}
+
+// P_s (V - V') for sample s, computed apart from the cost.
+Eigen::Vector3d ConstrainedDifference(const SceneFlowBatch& batch,
+                                      const std::vector<double>& v, int s) {
+  const Eigen::Vector3d d =
+      Eigen::Vector3d(&v[3 * s]) - Eigen::Vector3d(&batch.target[3 * s]);
+  const Eigen::Vector3d u(&batch.unseen[3 * s]);
+  return d - d.dot(u) * u;
 }
 
 // GradientChecker differentiates with Ridders' method, whose first step
@@ -95,8 +99,8 @@ TEST_P(SceneFlowCostTest, ResidualIsSqrtOfTwiceTheMeanHalfSquaredError) {
   FieldWorkspace ws;
   field_.Evaluate(field_.params(), n, batch_.x.data(), v.data(), &ws);
   double l = 0;
-  for (int i = 0; i < 3 * n; ++i) {
-    l += 0.5 * std::pow(v[i] - batch_.target[i], 2) / n;
+  for (int s = 0; s < n; ++s) {
+    l += 0.5 * ConstrainedDifference(batch_, v, s).squaredNorm() / n;
   }
   const double* blocks[2] = {field_.params().triplane, field_.params().mlp};
   double r = 0;
@@ -108,8 +112,32 @@ TEST_P(SceneFlowCostTest, ResidualIsSqrtOfTwiceTheMeanHalfSquaredError) {
   const SceneFlowResiduals residuals(&field_, &batch_);
   std::vector<double> res(3 * n);
   ASSERT_TRUE(residuals.Evaluate(blocks, res.data(), nullptr));
-  for (int i = 0; i < 3 * n; ++i) {
-    EXPECT_NEAR(res[i], v[i] - batch_.target[i], 1e-12);
+  for (int s = 0; s < n; ++s) {
+    const Eigen::Vector3d d = ConstrainedDifference(batch_, v, s);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(res[3 * s + c], d[c], 1e-12);
+  }
+}
+
+TEST_P(SceneFlowCostTest, MotionAlongTheUnseenDirectionIsFree) {
+  // Moving a target along its sample's unseen direction changes nothing;
+  // moving it across does, and so does any change where there is none.
+  const SceneFlowCost cost(&field_, &batch_);
+  const double base = cost.Loss(field_.params(), {});
+  for (int s = 0; s < batch_.size(); ++s) {
+    const Eigen::Vector3d u(&batch_.unseen[3 * s]);
+    const Eigen::Vector3d across =
+        u.isZero() ? Eigen::Vector3d(0.1, 0, 0)
+                   : u.cross(Eigen::Vector3d(1, 0, 0)).normalized() * 0.1;
+    SceneFlowBatch moved = batch_;
+    for (int c = 0; c < 3; ++c) moved.target[3 * s + c] += 0.3 * u[c];
+    EXPECT_NEAR(SceneFlowCost(&field_, &moved).Loss(field_.params(), {}),
+                base, 1e-14);
+    moved = batch_;
+    for (int c = 0; c < 3; ++c) moved.target[3 * s + c] += across[c];
+    EXPECT_GT(std::abs(SceneFlowCost(&field_, &moved).Loss(field_.params(),
+                                                           {}) -
+                       base),
+              1e-6);
   }
 }
 

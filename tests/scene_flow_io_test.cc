@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -28,6 +29,7 @@ TEST(SceneFlowIoTest, RoundTripsExactly) {
     samples[i].x = Eigen::Vector3d(i, -0.5 * i, 1.0 / 3.0);
     samples[i].v = Eigen::Vector3d(1e-7 * i, 2.5, -i);
   }
+  samples[1].unseen = Eigen::Vector3d(0.6, 0.0, -0.8);
   const std::string path = TempPath("es_flow_samples");
   SaveSceneFlowSamples(samples, path);
   const std::vector<SceneFlowSample> read = LoadSceneFlowSamples(path);
@@ -35,9 +37,28 @@ TEST(SceneFlowIoTest, RoundTripsExactly) {
   for (size_t i = 0; i < read.size(); ++i) {
     EXPECT_EQ(read[i].x, samples[i].x);
     EXPECT_EQ(read[i].v, samples[i].v);
+    EXPECT_EQ(read[i].unseen, samples[i].unseen);
   }
   SaveSceneFlowSamples({}, path);
   EXPECT_TRUE(LoadSceneFlowSamples(path).empty());
+  fs::remove(path);
+}
+
+TEST(SceneFlowIoTest, ReadsVersionOneFilesWithoutUnseenDirections) {
+  const std::string path = TempPath("es_flow_samples_v1");
+  {
+    std::ofstream out(path, std::ios::binary);
+    out << "eulersplat scene flow samples v1\n";
+    const int64_t count = 1;
+    out.write(reinterpret_cast<const char*>(&count), sizeof(count));
+    const double values[6] = {1, 2, 3, 0.1, 0.2, 0.3};
+    out.write(reinterpret_cast<const char*>(values), sizeof(values));
+  }
+  const std::vector<SceneFlowSample> read = LoadSceneFlowSamples(path);
+  ASSERT_EQ(read.size(), 1u);
+  EXPECT_EQ(read[0].x, Eigen::Vector3d(1, 2, 3));
+  EXPECT_EQ(read[0].v, Eigen::Vector3d(0.1, 0.2, 0.3));
+  EXPECT_EQ(read[0].unseen, Eigen::Vector3d::Zero());
   fs::remove(path);
 }
 
@@ -58,6 +79,10 @@ TEST(SceneFlowIoTest, BadFilesAreInputErrorsNamingThem) {
   samples[1].v.y() = NAN;
   SaveSceneFlowSamples(samples, path);
   expect_error("non-finite");
+  samples[1].v.y() = 0;
+  samples[1].unseen = Eigen::Vector3d(0, 2, 0);
+  SaveSceneFlowSamples(samples, path);
+  expect_error("unseen direction not a unit vector");
   std::ofstream(path) << "eulersplat motion field v1\n";
   expect_error("wrong magic");
   fs::remove(path);

@@ -197,12 +197,16 @@ void LiftFlow(const LiftingView& first, const LiftingView& second,
       const Eigen::Vector3d p0 = UnprojectToWorld(
           *first.camera, x, y, first.depth.at<float>(y, x));
       Eigen::Vector3d p1;
+      Eigen::Vector3d unseen = Eigen::Vector3d::Zero();
       if (options.second_end == SecondEnd::kFacingPlane) {
         const std::optional<Eigen::Vector3d> hit = IntersectPlane(
             *second.camera, x1, y1, p0,
             (p0 - first.camera->Center()).normalized());
         if (!hit) { ++s.no_depth; continue; }
         p1 = *hit;
+        if (options.free_line_of_sight) {
+          unseen = (p0 - first.camera->Center()).normalized();
+        }
       } else {
         const DepthCheck d1 =
             CheckDepth(second.depth, x1, y1, options.max_rel_depth_jump);
@@ -211,7 +215,7 @@ void LiftFlow(const LiftingView& first, const LiftingView& second,
         p1 = UnprojectToWorld(*second.camera, x1, y1,
                               Bilinear<float>(second.depth, x1, y1));
       }
-      samples->push_back({p0, (p1 - p0) / options.frame_gap});
+      samples->push_back({p0, (p1 - p0) / options.frame_gap, unseen});
       ++s.accepted;
     }
   }

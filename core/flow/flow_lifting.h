@@ -17,10 +17,15 @@ namespace es {
 
 // A pseudo ground-truth scene-flow pair for pretraining V: the point x (world)
 // seen in water at frame i moves by v (world units per frame): its motion to
-// frame i + gap divided by the gap.
+// frame i + gap divided by the gap. Optical flow does not see motion along
+// camera i's line of sight: a sample whose v has none by construction (the
+// facing-plane second end) records that line as `unseen`, a unit vector, and
+// the scene-flow losses leave V's component along it free. Zero: v holds in
+// all three components.
 struct SceneFlowSample {
   Eigen::Vector3d x;
   Eigen::Vector3d v;
+  Eigen::Vector3d unseen = Eigen::Vector3d::Zero();
 };
 
 // A render map (core/render/render_maps.h) as a CV_32FC1 image.
@@ -54,6 +59,10 @@ struct LiftingOptions {
   // Video frames between the two ends; samples are motion per frame (the
   // displacement divided by this).
   int frame_gap = 1;
+  // Facing-plane samples record camera i's line of sight as unseen, so that
+  // fitting V to them does not pull its motion along that line to zero.
+  // false: they claim none (the behaviour before, for ablations).
+  bool free_line_of_sight = true;
 };
 
 // Why candidates were dropped (a candidate is a water pixel of frame i on the

@@ -10,7 +10,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <random>
 #include <string>
 #include <vector>
 
@@ -25,6 +24,7 @@
 #include "tests/central_differences.h"
 #include "tests/cuda/expect_twins_near.h"
 #include "tests/cuda/require_gpu.h"
+#include "tests/random_scene_flow_samples.h"
 #include "tests/small_motion_field.h"
 
 namespace es {
@@ -34,14 +34,7 @@ namespace {
 using central_differences::Uniform;
 
 std::vector<SceneFlowSample> Samples(int n, uint32_t seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(-0.95, 0.95);
-  std::vector<SceneFlowSample> samples(n);
-  for (SceneFlowSample& s : samples) {
-    s.x = Eigen::Vector3d(u(rng), u(rng), u(rng));
-    s.v = 0.03 * Eigen::Vector3d(u(rng), u(rng), u(rng));
-  }
-  return samples;
+  return RandomSceneFlowSamples(n, seed, 0.95, 0.03);
 }
 
 FlowPretrainOptions TinyFit(std::vector<double>* rmse) {

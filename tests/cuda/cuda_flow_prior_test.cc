@@ -7,7 +7,6 @@
 // relative. Skips when no CUDA device is present.
 
 #include <cmath>
-#include <random>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -19,6 +18,7 @@
 #include "tests/central_differences.h"
 #include "tests/cuda/expect_twins_near.h"
 #include "tests/cuda/require_gpu.h"
+#include "tests/random_scene_flow_samples.h"
 #include "tests/small_motion_field.h"
 
 namespace es {
@@ -30,14 +30,7 @@ using central_differences::Uniform;
 constexpr double kTolerance = 1e-10;
 
 std::vector<SceneFlowSample> Samples(int n, uint32_t seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(-0.95, 0.95);
-  std::vector<SceneFlowSample> samples(n);
-  for (SceneFlowSample& s : samples) {
-    s.x = Eigen::Vector3d(u(rng), u(rng), u(rng));
-    s.v = 0.03 * Eigen::Vector3d(u(rng), u(rng), u(rng));
-  }
-  return samples;
+  return RandomSceneFlowSamples(n, seed, 0.95, 0.03);
 }
 
 // Runs `iterations` of each prior, from the same non-zero gradients,

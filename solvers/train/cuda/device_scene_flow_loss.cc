@@ -14,15 +14,18 @@ DeviceSceneFlowLoss::DeviceSceneFlowLoss(
     : field_(field), num_samples_(static_cast<int>(samples.size())) {
   CHECK(field != nullptr);
   CHECK(!samples.empty());
-  std::vector<double> x, v;
+  std::vector<double> x, v, unseen;
   x.reserve(3 * samples.size());
   v.reserve(3 * samples.size());
+  unseen.reserve(3 * samples.size());
   for (const SceneFlowSample& s : samples) {
     x.insert(x.end(), s.x.data(), s.x.data() + 3);
     v.insert(v.end(), s.v.data(), s.v.data() + 3);
+    unseen.insert(unseen.end(), s.unseen.data(), s.unseen.data() + 3);
   }
   samples_x_.Upload(x);
   samples_v_.Upload(v);
+  samples_unseen_.Upload(unseen);
 }
 
 double DeviceSceneFlowLoss::AddLossAndGradient(
@@ -34,12 +37,15 @@ double DeviceSceneFlowLoss::AddLossAndGradient(
   batch_indices_.Upload(indices);
   x_.Resize(values);
   target_.Resize(values);
+  unseen_.Resize(values);
   velocity_.Resize(values);
   GatherSceneFlowBatch(n, batch_indices_.data(), samples_x_.data(),
-                       samples_v_.data(), x_.data(), target_.data());
+                       samples_v_.data(), samples_unseen_.data(), x_.data(),
+                       target_.data(), unseen_.data());
   field_->Evaluate(params, n, x_.data(), velocity_.data(), &workspace_);
   SubtractTarget(values, target_.data(), velocity_.data());
-  // SceneFlowCost::Loss's l = 0.5 sum r^2 / n with d l / d V = r / n,
+  ProjectOutUnseen(n, unseen_.data(), velocity_.data());
+  // SceneFlowCost::Loss's l = 0.5 sum |P r|^2 / n with d l / d V = P r / n,
   // scaled here rather than after the backward.
   const bool gradient = grads.triplane != nullptr || grads.mlp != nullptr;
   if (gradient) d_velocity_.Resize(values);

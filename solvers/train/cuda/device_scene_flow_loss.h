@@ -3,7 +3,8 @@
 
 // SceneFlowCost::Loss (costs/scene_flow_cost.h) on a CUDA device over
 // lifted samples uploaded once: the scene-flow loss of V on a batch of
-// them, l = mean_s 0.5 |V(x_s) - V'(x_s)|^2, the batch chosen by indices
+// them, l = mean_s 0.5 |P_s (V(x_s) - V'(x_s))|^2 (P_s projecting out the
+// sample's unseen direction), the batch chosen by indices
 // drawn on the host (only those are uploaded per call). What the device
 // scene-flow prior (Stage 3) and the device V pretraining (Stage 2) both
 // evaluate. No CUDA types; failures throw CudaError.
@@ -38,10 +39,12 @@ class DeviceSceneFlowLoss {
  private:
   const DeviceMotionField* field_;
   int num_samples_;
-  DeviceBuffer<double> samples_x_, samples_v_;  // num_samples x 3 each
+  // num_samples x 3 each
+  DeviceBuffer<double> samples_x_, samples_v_, samples_unseen_;
   DeviceBuffer<int> batch_indices_;
-  // The batch's positions, targets, V (then V - V') and d l / d V.
-  DeviceBuffer<double> x_, target_, velocity_, d_velocity_;
+  // The batch's positions, targets, unseen directions, V (then P (V - V'))
+  // and d l / d V.
+  DeviceBuffer<double> x_, target_, unseen_, velocity_, d_velocity_;
   DeviceBuffer<double> partials_, sum_;
   DeviceFieldWorkspace workspace_;
 };

@@ -7,12 +7,17 @@
 namespace es {
 namespace cuda {
 
-// Row k < n of x and target (n x 3) = row indices[k] of samples_x and
-// samples_v (num_samples x 3).
+// Row k < n of x, target and unseen (n x 3) = row indices[k] of samples_x,
+// samples_v and samples_unseen (num_samples x 3).
 void GatherSceneFlowBatch(int n, const int* indices, const double* samples_x,
-                          const double* samples_v, double* x, double* target);
+                          const double* samples_v,
+                          const double* samples_unseen, double* x,
+                          double* target, double* unseen);
 // v -= target over n values.
 void SubtractTarget(long long n, const double* target, double* v);
+// Row s < n of d (n x 3) -= (d_s . u_s) u_s, u_s row s of unseen (unit or
+// zero): SceneFlowCost's projection.
+void ProjectOutUnseen(int n, const double* unseen, double* d);
 
 }  // namespace cuda
 }  // namespace es
