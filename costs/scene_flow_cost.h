@@ -52,9 +52,10 @@ class SceneFlowCost : public ceres::CostFunction {
 };
 
 // The same fit as a true least-squares problem for Ceres' solvers: 3
-// residuals per sample, P_s (V(x_s) - V'(x_s)), over the same two blocks. The batch
-// size is fixed at construction. Ceres stores each residual block's Jacobian
-// densely (3n x num_params), so this suits small fields or small batches.
+// residuals per sample, P_s (V(x_s) - V'(x_s)), over the same two blocks.
+// The batch size is fixed at construction. Ceres stores each residual
+// block's Jacobian densely (3n x num_params), so this suits small fields or
+// small batches.
 class SceneFlowResiduals : public ceres::CostFunction {
  public:
   SceneFlowResiduals(const MotionField* field, const SceneFlowBatch* batch);

@@ -199,14 +199,13 @@ void LiftFlow(const LiftingView& first, const LiftingView& second,
       Eigen::Vector3d p1;
       Eigen::Vector3d unseen = Eigen::Vector3d::Zero();
       if (options.second_end == SecondEnd::kFacingPlane) {
-        const std::optional<Eigen::Vector3d> hit = IntersectPlane(
-            *second.camera, x1, y1, p0,
-            (p0 - first.camera->Center()).normalized());
+        const Eigen::Vector3d line_of_sight =
+            (p0 - first.camera->Center()).normalized();
+        const std::optional<Eigen::Vector3d> hit =
+            IntersectPlane(*second.camera, x1, y1, p0, line_of_sight);
         if (!hit) { ++s.no_depth; continue; }
         p1 = *hit;
-        if (options.free_line_of_sight) {
-          unseen = (p0 - first.camera->Center()).normalized();
-        }
+        if (options.free_line_of_sight) unseen = line_of_sight;
       } else {
         const DepthCheck d1 =
             CheckDepth(second.depth, x1, y1, options.max_rel_depth_jump);
