@@ -58,26 +58,15 @@ DEFINE_string(second_end, "plane",
               "Where a sample's second end lies on frame i+1's ray through "
               "the flow target: plane (on the plane through the first end "
               "facing camera i: no motion along the line of sight, which 2D "
-              "flow does not observe), depth (the static model's rendered "
+              "flow does not observe) or depth (the static model's rendered "
               "depth there; rough water depth turns into spurious motion "
-              "along the ray) or surface (on the plane tangent to the "
-              "rendered surface at the first end: water moves along its "
-              "own surface; the facing plane where that surface is rough "
-              "or tilted more than --max_surface_tilt from facing the "
-              "camera).");
+              "along the ray).");
 DEFINE_bool(free_line_of_sight, true,
             "With --second_end plane: the samples record camera i's line "
             "of sight, and fitting V to them (here and in es_train's "
             "scene-flow prior) leaves V's motion along it free instead of "
             "pulling it to zero. false: the samples claim no motion along "
             "it (the behaviour before, for ablations).");
-DEFINE_int32(normal_radius, 3,
-             "With --second_end surface: the surface normal comes from the "
-             "rendered depth this many pixels to each side.");
-DEFINE_double(max_surface_tilt, 70.0,
-              "With --second_end surface: degrees between the surface normal "
-              "and the line of sight beyond which the facing plane is used "
-              "(the tangent-plane lift divides by their cosine).");
 DEFINE_int32(stride, 2, "Lift every stride-th pixel of every stride-th row.");
 DEFINE_int32(frame_gap, 1,
              "Flow between frames this many video frames apart, divided "
@@ -154,8 +143,6 @@ void CheckFlags() {
   es::RequireAtLeast("mlp_depth", FLAGS_mlp_depth, 0);
   es::RequirePositive("velocity_scale", FLAGS_velocity_scale);
   es::RequireInOpenRange("dynamic_threshold", FLAGS_dynamic_threshold, 0, 1);
-  es::RequireAtLeast("normal_radius", FLAGS_normal_radius, 1);
-  es::RequireInOpenRange("max_surface_tilt", FLAGS_max_surface_tilt, 0, 90);
   es::RequireInRange("water_threshold", FLAGS_water_threshold, 0, 1);
   es::RequireInRange("min_alpha", FLAGS_min_alpha, 0, 1);
   es::RequireInRange("final_lr_factor", FLAGS_final_lr_factor, 0, 1);
@@ -206,8 +193,6 @@ es::SceneFlowOptions SceneFlowOptionsFromFlags() {
   o.lifting.water_threshold = FLAGS_water_threshold;
   o.lifting.frame_gap = FLAGS_frame_gap;
   o.lifting.free_line_of_sight = FLAGS_free_line_of_sight;
-  o.lifting.normal_radius_px = FLAGS_normal_radius;
-  o.lifting.max_surface_tilt_deg = FLAGS_max_surface_tilt;
   o.min_alpha = FLAGS_min_alpha;
   o.use_test_frames = FLAGS_use_test_frames;
   const auto start = std::chrono::steady_clock::now();
@@ -263,11 +248,10 @@ es::SceneFlowResult LiftWaterFlow(const es::Scene& scene,
   const es::LiftingStats& s = lifted.stats;
   std::printf(
       "water pixels from %s; %ld candidates: %ld accepted, rejected %ld no "
-      "depth, %ld depth edge, %ld outside, %ld inconsistent, %ld not water; "
-      "%ld lifted on the surface's tangent plane\n",
+      "depth, %ld depth edge, %ld outside, %ld inconsistent, %ld not water\n",
       lifted.used_masks ? "masks" : "the model's dynamic channel",
       s.candidates, s.accepted, s.no_depth, s.depth_edge, s.outside,
-      s.inconsistent, s.not_water, s.on_surface);
+      s.inconsistent, s.not_water);
   if (lifted.samples.empty()) {
     throw es::InputError(
         FLAGS_scene +
@@ -327,8 +311,6 @@ void WriteFlowMetrics(const std::string& path, double seconds,
       {"second_end", FLAGS_second_end},
       {"frame_gap", FLAGS_frame_gap},
       {"free_line_of_sight", FLAGS_free_line_of_sight},
-      {"normal_radius", FLAGS_normal_radius},
-      {"max_surface_tilt", FLAGS_max_surface_tilt},
       {"tv_weight", FLAGS_tv_weight},
       {"solver", FLAGS_solver},
       {"iterations", fit.iterations},
@@ -341,7 +323,6 @@ void WriteFlowMetrics(const std::string& path, double seconds,
       {"rejected_outside", s.outside},
       {"rejected_inconsistent", s.inconsistent},
       {"rejected_not_water", s.not_water},
-      {"on_surface", s.on_surface},
       {"render_seconds", lifted.render_seconds},
       {"flow_seconds", lifted.flow_seconds},
       {"lift_seconds", lifted.lift_seconds},

@@ -241,60 +241,6 @@ TEST(FlowLiftingTest, FacingPlaneRecoversMotionAcrossTheLineOfSight) {
   for (const SceneFlowSample& s : samples) EXPECT_TRUE(s.unseen.isZero());
 }
 
-// Water moves along its own surface: the plane's points slide within it,
-// motion toward the camera included. The surface lift recovers all three
-// components from frame i's depth alone; where the normal is not
-// measurable (near the image border) or the surface faces away from the
-// camera more than the tilt limit, it falls back to the facing plane.
-TEST(FlowLiftingTest, SurfacePlaneRecoversMotionAlongTheSurface) {
-  const TwoViews v = MakeTwoViews(64, 48, 60);
-  const Eigen::Vector3d along =
-      v.motion - v.motion.dot(v.plane.normal) * v.plane.normal;
-  ASSERT_GT(std::abs(along.z()), 0.02);  // partly along the line of sight
-  FlowPair flow;
-  flow.forward = PlaneFlow(v.a, v.plane, v.b, along);
-  flow.backward = -flow.forward;  // only read by the round-trip check
-  const cv::Mat no_depth(48, 64, CV_32FC1, cv::Scalar(0));
-  const LiftingView first{&v.a, PlaneDepth(v.a, v.plane), Ones(v.a)};
-  const LiftingView second{&v.b, no_depth, Ones(v.b)};
-  LiftingOptions options;
-  options.stride = 1;
-  options.max_fb_error_px = 1e9;
-  options.second_end = SecondEnd::kSurfacePlane;
-  std::vector<SceneFlowSample> samples;
-  LiftingStats stats;
-  LiftFlow(first, second, flow, options, &samples, &stats);
-
-  EXPECT_GT(stats.on_surface, 64 * 48 / 2);
-  EXPECT_LT(stats.on_surface, stats.accepted);  // the border falls back
-  long on_surface = 0;
-  for (const SceneFlowSample& s : samples) {
-    if (!s.unseen.isZero()) continue;  // a facing-plane fallback
-    ++on_surface;
-    EXPECT_LT((s.v - along).norm(), 1e-3 * along.norm());
-  }
-  EXPECT_EQ(on_surface, stats.on_surface);
-
-  // Only pixels whose line of sight lies within 10 degrees of the normal
-  // (about 16 degrees from the optical axis) keep the tangent plane.
-  options.max_surface_tilt_deg = 10.0;
-  samples.clear();
-  LiftingStats steep;
-  LiftFlow(first, second, flow, options, &samples, &steep);
-  EXPECT_GT(steep.on_surface, 0);
-  EXPECT_LT(steep.on_surface, stats.on_surface / 2);
-  EXPECT_EQ(steep.accepted, stats.accepted);
-  for (const SceneFlowSample& s : samples) {
-    const double cosine =
-        std::abs(v.plane.normal.dot((s.x - v.a.Center()).normalized()));
-    if (s.unseen.isZero()) {
-      EXPECT_GE(cosine, std::cos(10.0 * M_PI / 180.0) - 1e-6);
-    } else {
-      EXPECT_NEAR(s.v.dot(s.unseen), 0.0, 1e-9);  // the facing plane
-    }
-  }
-}
-
 // A static camera looking at a background wall (depth 4) with a foreground
 // square (depth 2) whose border pixels hold a blended depth (3), as a splat
 // renderer produces at an occluding edge.
@@ -398,7 +344,6 @@ TEST(FlowLiftingTest, PixelsWithoutSurfaceAreNotLifted) {
 TEST(FlowLiftingTest, ParsesSecondEnd) {
   EXPECT_EQ(ParseSecondEnd("plane"), SecondEnd::kFacingPlane);
   EXPECT_EQ(ParseSecondEnd("depth"), SecondEnd::kRenderedDepth);
-  EXPECT_EQ(ParseSecondEnd("surface"), SecondEnd::kSurfacePlane);
   EXPECT_THROW(ParseSecondEnd("ray"), InputError);
 }
 

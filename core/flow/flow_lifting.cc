@@ -84,38 +84,6 @@ std::optional<Eigen::Vector3d> IntersectPlane(const Camera& camera, double x,
   return center + s * dir;
 }
 
-// Unit normal of the surface in `depth` (camera `camera`) at pixel (x, y),
-// from the world points `radius` pixels to each side; nullopt where one of
-// them lies off the image or on an edge, or differs from the centre's depth
-// by more than radius * max_rel_jump relative (an occlusion between them).
-std::optional<Eigen::Vector3d> SurfaceNormal(const Camera& camera,
-                                             const cv::Mat& depth, int x,
-                                             int y, int radius,
-                                             double max_rel_jump) {
-  if (x < radius || y < radius || x + radius >= depth.cols ||
-      y + radius >= depth.rows) {
-    return std::nullopt;
-  }
-  const double center = depth.at<float>(y, x);
-  std::optional<Eigen::Vector3d> points[4];
-  const int dx[4] = {-radius, radius, 0, 0}, dy[4] = {0, 0, -radius, radius};
-  for (int k = 0; k < 4; ++k) {
-    const int px = x + dx[k], py = y + dy[k];
-    if (CheckDepth(depth, px, py, max_rel_jump) != DepthCheck::kOk) {
-      return std::nullopt;
-    }
-    const double d = depth.at<float>(py, px);
-    if (std::abs(d - center) > radius * max_rel_jump * center) {
-      return std::nullopt;
-    }
-    points[k] = UnprojectToWorld(camera, px, py, d);
-  }
-  const Eigen::Vector3d n =
-      (*points[1] - *points[0]).cross(*points[3] - *points[2]);
-  if (!(n.norm() > 0)) return std::nullopt;
-  return n.normalized();
-}
-
 double SecondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() -
                                        start)
@@ -162,7 +130,6 @@ void LiftingStats::Add(const LiftingStats& o) {
   inconsistent += o.inconsistent;
   not_water += o.not_water;
   accepted += o.accepted;
-  on_surface += o.on_surface;
 }
 
 namespace {
@@ -202,8 +169,6 @@ void LiftFlow(const LiftingView& first, const LiftingView& second,
 
   LiftingStats s;
   const double max_fb2 = options.max_fb_error_px * options.max_fb_error_px;
-  const double min_facing_cosine =
-      std::cos(options.max_surface_tilt_deg * M_PI / 180.0);
   for (int y = 0; y < size.height; y += options.stride) {
     for (int x = 0; x < size.width; x += options.stride) {
       if (first.water.at<float>(y, x) < options.water_threshold) continue;
@@ -233,36 +198,24 @@ void LiftFlow(const LiftingView& first, const LiftingView& second,
           *first.camera, x, y, first.depth.at<float>(y, x));
       Eigen::Vector3d p1;
       Eigen::Vector3d unseen = Eigen::Vector3d::Zero();
-      bool on_surface = false;
-      if (options.second_end == SecondEnd::kRenderedDepth) {
+      if (options.second_end == SecondEnd::kFacingPlane) {
+        const Eigen::Vector3d line_of_sight =
+            (p0 - first.camera->Center()).normalized();
+        const std::optional<Eigen::Vector3d> hit =
+            IntersectPlane(*second.camera, x1, y1, p0, line_of_sight);
+        if (!hit) { ++s.no_depth; continue; }
+        p1 = *hit;
+        if (options.free_line_of_sight) unseen = line_of_sight;
+      } else {
         const DepthCheck d1 =
             CheckDepth(second.depth, x1, y1, options.max_rel_depth_jump);
         if (d1 == DepthCheck::kNoDepth) { ++s.no_depth; continue; }
         if (d1 == DepthCheck::kEdge) { ++s.depth_edge; continue; }
         p1 = UnprojectToWorld(*second.camera, x1, y1,
                               Bilinear<float>(second.depth, x1, y1));
-      } else {
-        const Eigen::Vector3d line_of_sight =
-            (p0 - first.camera->Center()).normalized();
-        Eigen::Vector3d plane_normal = line_of_sight;  // the facing plane
-        if (options.second_end == SecondEnd::kSurfacePlane) {
-          const std::optional<Eigen::Vector3d> n = SurfaceNormal(
-              *first.camera, first.depth, x, y, options.normal_radius_px,
-              options.max_rel_depth_jump);
-          if (n && std::abs(n->dot(line_of_sight)) >= min_facing_cosine) {
-            plane_normal = *n;
-            on_surface = true;
-          }
-        }
-        const std::optional<Eigen::Vector3d> hit =
-            IntersectPlane(*second.camera, x1, y1, p0, plane_normal);
-        if (!hit) { ++s.no_depth; continue; }
-        p1 = *hit;
-        if (!on_surface && options.free_line_of_sight) unseen = line_of_sight;
       }
       samples->push_back({p0, (p1 - p0) / options.frame_gap, unseen});
       ++s.accepted;
-      if (on_surface) ++s.on_surface;
     }
   }
   if (stats != nullptr) stats->Add(s);
@@ -271,9 +224,8 @@ void LiftFlow(const LiftingView& first, const LiftingView& second,
 SecondEnd ParseSecondEnd(const std::string& name) {
   if (name == "plane") return SecondEnd::kFacingPlane;
   if (name == "depth") return SecondEnd::kRenderedDepth;
-  if (name == "surface") return SecondEnd::kSurfacePlane;
   throw InputError("unknown second end '" + name +
-                   "'; available: plane, depth, surface");
+                   "'; available: plane, depth");
 }
 
 FlowImage ParseFlowImage(const std::string& name) {

@@ -44,14 +44,8 @@ enum class SecondEnd {
   // At the static model's rendered depth of frame i + 1 there: keeps
   // motion toward / away from the camera where that depth is reliable.
   kRenderedDepth,
-  // Where that ray meets the plane tangent to the rendered surface of frame
-  // i at x (its normal from depth differences normal_radius_px apart):
-  // water moves along its own surface, so motion along the line of sight
-  // follows from the surface's tilt. Where the surface is not smooth there
-  // or too oblique to the ray, the facing plane as above.
-  kSurfacePlane,
 };
-// Flag spellings plane, depth, surface; Parse throws InputError on others.
+// Flag spellings plane, depth; Parse throws InputError on others.
 SecondEnd ParseSecondEnd(const std::string& name);
 
 struct LiftingOptions {
@@ -69,11 +63,6 @@ struct LiftingOptions {
   // fitting V to them does not pull its motion along that line to zero.
   // false: they claim none (the behaviour before, for ablations).
   bool free_line_of_sight = true;
-  // kSurfacePlane: the normal comes from the depth this many pixels to each
-  // side; a surface tilted more than max_surface_tilt_deg from facing camera
-  // i falls back to the facing plane (the lift divides by the cosine).
-  int normal_radius_px = 3;
-  double max_surface_tilt_deg = 70.0;
 };
 
 // Why candidates were dropped (a candidate is a water pixel of frame i on the
@@ -86,7 +75,6 @@ struct LiftingStats {
   long inconsistent = 0;    // forward-backward check failed
   long not_water = 0;       // lands outside the water of frame i + 1
   long accepted = 0;
-  long on_surface = 0;      // of the accepted, lifted on the tangent plane
 
   void Add(const LiftingStats& other);
 };
