@@ -67,6 +67,11 @@ DEFINE_bool(free_line_of_sight, true,
             "scene-flow prior) leaves V's motion along it free instead of "
             "pulling it to zero. false: the samples claim no motion along "
             "it (the behaviour before, for ablations).");
+DEFINE_double(line_of_sight_weight, 0.0,
+              "With --free_line_of_sight: the weight the fits keep on the "
+              "samples' (zero) motion along the line of sight, relative to "
+              "the motion across it: 0 leaves it free, 1 is "
+              "--free_line_of_sight=false.");
 DEFINE_int32(stride, 2, "Lift every stride-th pixel of every stride-th row.");
 DEFINE_int32(frame_gap, 1,
              "Flow between frames this many video frames apart, divided "
@@ -143,6 +148,7 @@ void CheckFlags() {
   es::RequireAtLeast("mlp_depth", FLAGS_mlp_depth, 0);
   es::RequirePositive("velocity_scale", FLAGS_velocity_scale);
   es::RequireInOpenRange("dynamic_threshold", FLAGS_dynamic_threshold, 0, 1);
+  es::RequireInRange("line_of_sight_weight", FLAGS_line_of_sight_weight, 0, 1);
   es::RequireInRange("water_threshold", FLAGS_water_threshold, 0, 1);
   es::RequireInRange("min_alpha", FLAGS_min_alpha, 0, 1);
   es::RequireInRange("final_lr_factor", FLAGS_final_lr_factor, 0, 1);
@@ -193,6 +199,7 @@ es::SceneFlowOptions SceneFlowOptionsFromFlags() {
   o.lifting.water_threshold = FLAGS_water_threshold;
   o.lifting.frame_gap = FLAGS_frame_gap;
   o.lifting.free_line_of_sight = FLAGS_free_line_of_sight;
+  o.lifting.line_of_sight_weight = FLAGS_line_of_sight_weight;
   o.min_alpha = FLAGS_min_alpha;
   o.use_test_frames = FLAGS_use_test_frames;
   const auto start = std::chrono::steady_clock::now();
@@ -311,6 +318,7 @@ void WriteFlowMetrics(const std::string& path, double seconds,
       {"second_end", FLAGS_second_end},
       {"frame_gap", FLAGS_frame_gap},
       {"free_line_of_sight", FLAGS_free_line_of_sight},
+      {"line_of_sight_weight", FLAGS_line_of_sight_weight},
       {"tv_weight", FLAGS_tv_weight},
       {"solver", FLAGS_solver},
       {"iterations", fit.iterations},

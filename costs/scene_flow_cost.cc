@@ -10,9 +10,10 @@
 namespace es {
 namespace {
 
-// d -= (d . u) u: the part of d that a sample with unseen direction u (unit
-// or zero) constrains. P = I - u u^T is symmetric and idempotent, so the
-// gradient of 0.5 |P d|^2 with respect to d is P d as well.
+// d -= (d . u) u: the part of d that a sample with unseen direction u
+// (|u| <= 1) constrains, the component along u scaled by 1 - |u|^2.
+// P = I - u u^T is symmetric, so the gradient of 0.5 |P d|^2 with respect
+// to d is P (P d); P is idempotent only for a unit or zero u.
 void ProjectOutUnseen(const double* u, double* d) {
   const double along = d[0] * u[0] + d[1] * u[1] + d[2] * u[2];
   for (int c = 0; c < 3; ++c) d[c] -= along * u[c];
@@ -67,11 +68,10 @@ double SceneFlowCost::Loss(const FieldParams& params,
       d[c] = velocity_[3 * s + c] - batch_->target[3 * s + c];
     }
     ProjectOutUnseen(&batch_->unseen[3 * s], d);
-    // dl/dV(x_s) = P_s (V(x_s) - V'(x_s)) / n.
-    for (int c = 0; c < 3; ++c) {
-      sum += d[c] * d[c];
-      d_velocity_[3 * s + c] = d[c] / n;
-    }
+    for (int c = 0; c < 3; ++c) sum += d[c] * d[c];
+    // dl/dV(x_s) = P_s P_s (V(x_s) - V'(x_s)) / n.
+    ProjectOutUnseen(&batch_->unseen[3 * s], d);
+    for (int c = 0; c < 3; ++c) d_velocity_[3 * s + c] = d[c] / n;
   }
   if (grads.triplane != nullptr || grads.mlp != nullptr) {
     field_->Backward(params, d_velocity_.data(), grads, nullptr, &workspace_);

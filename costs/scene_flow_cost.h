@@ -25,8 +25,9 @@ struct SceneFlowBatch {
 
 // Scene-flow pretraining loss of V over a mini-batch,
 //   l = mean_s 0.5 |P_s (V(x_s) - V'(x_s))|^2,
-// P_s = I - u_s u_s^T projecting out the sample's unseen direction u_s (the
-// identity where u_s is zero),
+// P_s = I - u_s u_s^T scaling the residual along the sample's unseen
+// direction u_s by 1 - |u_s|^2 (a unit u_s projects it out; zero: the
+// identity),
 // exposed as one residual r = sqrt(2 l + eps) so that J^T r = dl/dtheta
 // (see docs/DESIGN.md). Parameter blocks: the field's triplane, then its MLP.
 // The batch is read at each Evaluate, so a training loop refills it in place

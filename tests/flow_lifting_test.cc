@@ -234,6 +234,14 @@ TEST(FlowLiftingTest, FacingPlaneRecoversMotionAcrossTheLineOfSight) {
     // The line of sight it says nothing about, for the losses to leave free.
     EXPECT_LT((s.unseen - (s.x - center).normalized()).norm(), 1e-12);
   }
+  // A partial weight on it: the same line, shortened to sqrt(1 - weight).
+  options.line_of_sight_weight = 0.36;
+  samples.clear();
+  LiftFlow(first, second, flow, options, &samples, nullptr);
+  ASSERT_FALSE(samples.empty());
+  for (const SceneFlowSample& s : samples) {
+    EXPECT_LT((s.unseen - 0.8 * (s.x - center).normalized()).norm(), 1e-12);
+  }
   options.free_line_of_sight = false;
   samples.clear();
   LiftFlow(first, second, flow, options, &samples, nullptr);

@@ -13,8 +13,9 @@
 namespace es {
 
 // n samples at positions uniform in [-extent, extent]^3 with velocities
-// uniform in [-extent, extent]^3 * speed; every other one has a random unit
-// unseen direction (a facing-plane sample's line of sight), the others none.
+// uniform in [-extent, extent]^3 * speed; one in three has a random unit
+// unseen direction (a facing-plane sample's free line of sight), one in
+// three such a direction of length 0.6 (a partial weight), the rest none.
 inline std::vector<SceneFlowSample> RandomSceneFlowSamples(int n,
                                                            uint32_t seed,
                                                            double extent,
@@ -26,8 +27,9 @@ inline std::vector<SceneFlowSample> RandomSceneFlowSamples(int n,
     SceneFlowSample& s = samples[i];
     s.x = Eigen::Vector3d(u(rng), u(rng), u(rng));
     s.v = speed * Eigen::Vector3d(u(rng), u(rng), u(rng));
-    if (i % 2 == 1) {
+    if (i % 3 != 0) {
       s.unseen = Eigen::Vector3d(u(rng), u(rng), 1.0).normalized();
+      if (i % 3 == 2) s.unseen *= 0.6;
     }
   }
   return samples;

@@ -50,7 +50,9 @@ ceres::NumericDiffOptions KinkSafeDiffOptions() {
   return options;
 }
 
-// Probes `cost` at two random perturbations of the field's parameters.
+// Probes `cost` at two random perturbations of the field's parameters, to a
+// relative 1e-5: Jacobian entries of 1e-6 carry 1e-11 of round-off in the
+// numeric differences.
 void ExpectGradientsMatch(const ceres::CostFunction& cost,
                           MotionField* field) {
   std::vector<double> tri = field->triplane_params();
@@ -67,7 +69,7 @@ void ExpectGradientsMatch(const ceres::CostFunction& cost,
     for (double& p : mlp) p += noise(rng);
     const double* blocks[2] = {tri.data(), mlp.data()};
     ceres::GradientChecker::ProbeResults results;
-    EXPECT_TRUE(checker.Probe(blocks, 1e-6, &results)) << results.error_log;
+    EXPECT_TRUE(checker.Probe(blocks, 1e-5, &results)) << results.error_log;
   }
 }
 
@@ -119,12 +121,15 @@ TEST_P(SceneFlowCostTest, ResidualIsSqrtOfTwiceTheMeanHalfSquaredError) {
 }
 
 TEST_P(SceneFlowCostTest, MotionAlongTheUnseenDirectionIsFree) {
-  // Moving a target along its sample's unseen direction changes nothing;
-  // moving it across does, and so does any change where there is none.
+  // Moving a target along its sample's unit unseen direction changes
+  // nothing; moving it across does, and so does any change where there is
+  // none. (A shorter unseen direction keeps part of the residual along it:
+  // ConstrainedDifference above and the gradient checks cover it.)
   const SceneFlowCost cost(&field_, &batch_);
   const double base = cost.Loss(field_.params(), {});
   for (int s = 0; s < batch_.size(); ++s) {
     const Eigen::Vector3d u(&batch_.unseen[3 * s]);
+    if (!u.isZero() && std::abs(u.norm() - 1) > 1e-12) continue;
     const Eigen::Vector3d across =
         u.isZero() ? Eigen::Vector3d(0.1, 0, 0)
                    : u.cross(Eigen::Vector3d(1, 0, 0)).normalized() * 0.1;

@@ -30,6 +30,7 @@ TEST(SceneFlowIoTest, RoundTripsExactly) {
     samples[i].v = Eigen::Vector3d(1e-7 * i, 2.5, -i);
   }
   samples[1].unseen = Eigen::Vector3d(0.6, 0.0, -0.8);
+  samples[2].unseen = Eigen::Vector3d(0.0, 0.5, 0.0);  // a partial weight
   const std::string path = TempPath("es_flow_samples");
   SaveSceneFlowSamples(samples, path);
   const std::vector<SceneFlowSample> read = LoadSceneFlowSamples(path);
@@ -82,7 +83,7 @@ TEST(SceneFlowIoTest, BadFilesAreInputErrorsNamingThem) {
   samples[1].v.y() = 0;
   samples[1].unseen = Eigen::Vector3d(0, 2, 0);
   SaveSceneFlowSamples(samples, path);
-  expect_error("unseen direction not a unit vector");
+  expect_error("unseen direction longer than a unit vector");
   std::ofstream(path) << "eulersplat motion field v1\n";
   expect_error("wrong magic");
   fs::remove(path);

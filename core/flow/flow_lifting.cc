@@ -155,6 +155,8 @@ void LiftFlow(const LiftingView& first, const LiftingView& second,
   CHECK(samples != nullptr);
   CHECK_GE(options.stride, 1);
   CHECK_GE(options.frame_gap, 1);
+  CHECK(options.line_of_sight_weight >= 0 &&
+        options.line_of_sight_weight <= 1);
   const cv::Size size = first.depth.size();
   for (const cv::Mat* m : {&first.depth, &first.water, &second.depth,
                            &second.water, &flow.forward, &flow.backward}) {
@@ -205,7 +207,10 @@ void LiftFlow(const LiftingView& first, const LiftingView& second,
             IntersectPlane(*second.camera, x1, y1, p0, line_of_sight);
         if (!hit) { ++s.no_depth; continue; }
         p1 = *hit;
-        if (options.free_line_of_sight) unseen = line_of_sight;
+        if (options.free_line_of_sight) {
+          unseen = std::sqrt(1.0 - options.line_of_sight_weight) *
+                   line_of_sight;
+        }
       } else {
         const DepthCheck d1 =
             CheckDepth(second.depth, x1, y1, options.max_rel_depth_jump);

@@ -19,9 +19,10 @@ namespace es {
 // seen in water at frame i moves by v (world units per frame): its motion to
 // frame i + gap divided by the gap. Optical flow does not see motion along
 // camera i's line of sight: a sample whose v has none by construction (the
-// facing-plane second end) records that line as `unseen`, a unit vector, and
-// the scene-flow losses leave V's component along it free. Zero: v holds in
-// all three components.
+// facing-plane second end) records that line as `unseen`, and the
+// scene-flow losses weight the residual along it by 1 - |unseen|^2: a unit
+// vector leaves V's component along it free, a shorter one pulls it toward
+// v's partly. Zero: v holds in all three components.
 struct SceneFlowSample {
   Eigen::Vector3d x;
   Eigen::Vector3d v;
@@ -63,6 +64,9 @@ struct LiftingOptions {
   // fitting V to them does not pull its motion along that line to zero.
   // false: they claim none (the behaviour before, for ablations).
   bool free_line_of_sight = true;
+  // With free_line_of_sight: the residual along that line keeps this weight
+  // (0: free; 1: as if not free), stored as |unseen| = sqrt(1 - weight).
+  double line_of_sight_weight = 0.0;
 };
 
 // Why candidates were dropped (a candidate is a water pixel of frame i on the

@@ -65,10 +65,9 @@ std::vector<SceneFlowSample> LoadSceneFlowSamples(const std::string& path) {
     s.x = Eigen::Vector3d(values[0], values[1], values[2]);
     s.v = Eigen::Vector3d(values[3], values[4], values[5]);
     s.unseen = Eigen::Vector3d(values[6], values[7], values[8]);
-    const double norm = s.unseen.norm();
-    if (norm != 0 && std::abs(norm - 1) > 1e-6)
+    if (s.unseen.norm() > 1 + 1e-6)
       throw InputError(path + ": a scene-flow sample's unseen direction is "
-                              "neither zero nor a unit vector");
+                              "longer than a unit vector");
   }
   if (!in) throw InputError(path + ": truncated scene-flow samples");
   return samples;

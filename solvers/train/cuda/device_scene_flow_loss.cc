@@ -45,8 +45,8 @@ double DeviceSceneFlowLoss::AddLossAndGradient(
   field_->Evaluate(params, n, x_.data(), velocity_.data(), &workspace_);
   SubtractTarget(values, target_.data(), velocity_.data());
   ProjectOutUnseen(n, unseen_.data(), velocity_.data());
-  // SceneFlowCost::Loss's l = 0.5 sum |P r|^2 / n with d l / d V = P r / n,
-  // scaled here rather than after the backward.
+  // SceneFlowCost::Loss's l = 0.5 sum |P r|^2 / n with d l / d V = P P r /
+  // n, scaled here rather than after the backward.
   const bool gradient = grads.triplane != nullptr || grads.mlp != nullptr;
   if (gradient) d_velocity_.Resize(values);
   const int blocks = MeanLossBlocks(values);
@@ -56,6 +56,7 @@ double DeviceSceneFlowLoss::AddLossAndGradient(
                   gradient ? d_velocity_.data() : nullptr, partials_.data());
   SumMeanLossPartials(blocks, partials_.data(), sum_.data());
   if (gradient) {
+    ProjectOutUnseen(n, unseen_.data(), d_velocity_.data());
     field_->Backward(params, d_velocity_.data(), grads, nullptr, &workspace_);
   }
   double sum;

@@ -15,8 +15,8 @@ void GatherSceneFlowBatch(int n, const int* indices, const double* samples_x,
                           double* target, double* unseen);
 // v -= target over n values.
 void SubtractTarget(long long n, const double* target, double* v);
-// Row s < n of d (n x 3) -= (d_s . u_s) u_s, u_s row s of unseen (unit or
-// zero): SceneFlowCost's projection.
+// Row s < n of d (n x 3) -= (d_s . u_s) u_s, u_s row s of unseen (|u_s| <=
+// 1): SceneFlowCost's projection.
 void ProjectOutUnseen(int n, const double* unseen, double* d);
 
 }  // namespace cuda
