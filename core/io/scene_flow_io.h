@@ -14,7 +14,7 @@ namespace es {
 // float64, little-endian); v1 files (x and v only, unseen zero) still load.
 // Written atomically; reads throw InputError naming the file for a wrong
 // magic, a count the file cannot hold, a non-finite value, or an unseen
-// direction that is neither zero nor a unit vector.
+// direction longer than a unit vector.
 void SaveSceneFlowSamples(const std::vector<SceneFlowSample>& samples,
                           const std::string& path);
 std::vector<SceneFlowSample> LoadSceneFlowSamples(const std::string& path);
