@@ -198,8 +198,8 @@ es::SceneFlowOptions SceneFlowOptionsFromFlags() {
   o.lifting.max_rel_depth_jump = FLAGS_max_depth_jump;
   o.lifting.water_threshold = FLAGS_water_threshold;
   o.lifting.frame_gap = FLAGS_frame_gap;
-  o.lifting.free_line_of_sight = FLAGS_free_line_of_sight;
-  o.lifting.line_of_sight_weight = FLAGS_line_of_sight_weight;
+  o.lifting.line_of_sight_weight =
+      FLAGS_free_line_of_sight ? FLAGS_line_of_sight_weight : 1.0;
   o.min_alpha = FLAGS_min_alpha;
   o.use_test_frames = FLAGS_use_test_frames;
   const auto start = std::chrono::steady_clock::now();

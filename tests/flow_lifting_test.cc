@@ -242,7 +242,7 @@ TEST(FlowLiftingTest, FacingPlaneRecoversMotionAcrossTheLineOfSight) {
   for (const SceneFlowSample& s : samples) {
     EXPECT_LT((s.unseen - 0.8 * (s.x - center).normalized()).norm(), 1e-12);
   }
-  options.free_line_of_sight = false;
+  options.line_of_sight_weight = 1.0;  // --free_line_of_sight=false
   samples.clear();
   LiftFlow(first, second, flow, options, &samples, nullptr);
   ASSERT_FALSE(samples.empty());

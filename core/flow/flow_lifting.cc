@@ -207,10 +207,8 @@ void LiftFlow(const LiftingView& first, const LiftingView& second,
             IntersectPlane(*second.camera, x1, y1, p0, line_of_sight);
         if (!hit) { ++s.no_depth; continue; }
         p1 = *hit;
-        if (options.free_line_of_sight) {
-          unseen = std::sqrt(1.0 - options.line_of_sight_weight) *
-                   line_of_sight;
-        }
+        unseen =
+            std::sqrt(1.0 - options.line_of_sight_weight) * line_of_sight;
       } else {
         const DepthCheck d1 =
             CheckDepth(second.depth, x1, y1, options.max_rel_depth_jump);

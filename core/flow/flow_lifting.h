@@ -61,11 +61,10 @@ struct LiftingOptions {
   // displacement divided by this).
   int frame_gap = 1;
   // Facing-plane samples record camera i's line of sight as unseen, so that
-  // fitting V to them does not pull its motion along that line to zero.
-  // false: they claim none (the behaviour before, for ablations).
-  bool free_line_of_sight = true;
-  // With free_line_of_sight: the residual along that line keeps this weight
-  // (0: free; 1: as if not free), stored as |unseen| = sqrt(1 - weight).
+  // fitting V to them does not pull its motion along that line to zero:
+  // the residual along it keeps this weight, stored as |unseen| =
+  // sqrt(1 - weight). 0: free; 1: no unseen line, the samples claim no
+  // motion along it (the behaviour before, for ablations).
   double line_of_sight_weight = 0.0;
 };
 

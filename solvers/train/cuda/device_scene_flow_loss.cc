@@ -43,8 +43,7 @@ double DeviceSceneFlowLoss::AddLossAndGradient(
                        samples_v_.data(), samples_unseen_.data(), x_.data(),
                        target_.data(), unseen_.data());
   field_->Evaluate(params, n, x_.data(), velocity_.data(), &workspace_);
-  SubtractTarget(values, target_.data(), velocity_.data());
-  ProjectOutUnseen(n, unseen_.data(), velocity_.data());
+  ConstrainedDifference(n, target_.data(), unseen_.data(), velocity_.data());
   // SceneFlowCost::Loss's l = 0.5 sum |P r|^2 / n with d l / d V = P P r /
   // n, scaled here rather than after the backward.
   const bool gradient = grads.triplane != nullptr || grads.mlp != nullptr;

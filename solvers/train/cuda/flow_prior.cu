@@ -28,19 +28,17 @@ __global__ void GatherKernel(int n, const int* indices,
   unseen[i] = samples_unseen[from];
 }
 
-__global__ void SubtractKernel(long long n, const double* target,
-                               double* v) {
-  const long long i = static_cast<long long>(blockIdx.x) * blockDim.x +
-                      threadIdx.x;
-  if (i < n) v[i] -= target[i];
-}
-
-__global__ void ProjectOutUnseenKernel(int n, const double* unseen,
-                                       double* d) {
+// Row s of d: P_s (d_s - target_s), without the subtraction where target is
+// null.
+__global__ void ProjectOutUnseenKernel(int n, const double* target,
+                                       const double* unseen, double* d) {
   const int s = blockIdx.x * blockDim.x + threadIdx.x;
   if (s >= n) return;
   const double* u = unseen + 3LL * s;
   double* r = d + 3LL * s;
+  if (target != nullptr) {
+    for (int c = 0; c < 3; ++c) r[c] -= target[3LL * s + c];
+  }
   const double along = r[0] * u[0] + r[1] * u[1] + r[2] * u[2];
   for (int c = 0; c < 3; ++c) r[c] -= along * u[c];
 }
@@ -57,13 +55,14 @@ void GatherSceneFlowBatch(int n, const int* indices, const double* samples_x,
   ES_CUDA_CHECK_LAUNCH("GatherKernel");
 }
 
-void SubtractTarget(long long n, const double* target, double* v) {
-  SubtractKernel<<<Blocks(n), kThreads>>>(n, target, v);
-  ES_CUDA_CHECK_LAUNCH("SubtractKernel");
+void ConstrainedDifference(int n, const double* target,
+                           const double* unseen, double* v) {
+  ProjectOutUnseenKernel<<<Blocks(n), kThreads>>>(n, target, unseen, v);
+  ES_CUDA_CHECK_LAUNCH("ProjectOutUnseenKernel");
 }
 
 void ProjectOutUnseen(int n, const double* unseen, double* d) {
-  ProjectOutUnseenKernel<<<Blocks(n), kThreads>>>(n, unseen, d);
+  ProjectOutUnseenKernel<<<Blocks(n), kThreads>>>(n, nullptr, unseen, d);
   ES_CUDA_CHECK_LAUNCH("ProjectOutUnseenKernel");
 }
 

@@ -13,11 +13,12 @@ void GatherSceneFlowBatch(int n, const int* indices, const double* samples_x,
                           const double* samples_v,
                           const double* samples_unseen, double* x,
                           double* target, double* unseen);
-// v -= target over n values.
-void SubtractTarget(long long n, const double* target, double* v);
 // Row s < n of d (n x 3) -= (d_s . u_s) u_s, u_s row s of unseen (|u_s| <=
-// 1): SceneFlowCost's projection.
+// 1): SceneFlowCost's projection P_s.
 void ProjectOutUnseen(int n, const double* unseen, double* d);
+// Row s < n of v (n x 3) = P_s (v_s - target_s) in one pass.
+void ConstrainedDifference(int n, const double* target, const double* unseen,
+                           double* v);
 
 }  // namespace cuda
 }  // namespace es
