@@ -18,6 +18,7 @@
 #include "apps/common/app_main.h"
 #include "apps/common/flag_checks.h"
 #include "apps/common/eval_report.h"
+#include "apps/common/realism_flags.h"
 #include "apps/common/scaled_scene.h"
 #include "core/io/input_error.h"
 #include "core/io/json_file.h"
@@ -36,13 +37,6 @@ DEFINE_double(image_scale, 1.0, "Compare at this fraction of the image "
               "size (es_eval's --image_scale of the runs to set beside).");
 DEFINE_int32(compare_frames, 4, "Frames written to OUT/compare/ (other "
              "left, scene right) to look at; 0: none.");
-DEFINE_int32(realism_patches, 4096, "Random patches per region for the "
-             "realism distribution distances (as es_eval).");
-DEFINE_double(realism_water_margin, 0.02, "The realism figures' water "
-              "region is the water mask dilated by this fraction of the "
-              "image diagonal, so that masks of single droplets do not "
-              "select where the input has spray (0: the mask itself, the "
-              "figures before 2026-12-02).");
 
 namespace {
 
@@ -98,9 +92,7 @@ int Run() {
   es::RequireFlag("out", FLAGS_out);
   es::RequirePositive("image_scale", FLAGS_image_scale);
   es::RequireAtLeast("compare_frames", FLAGS_compare_frames, 0);
-  es::RequireAtLeast("realism_patches", FLAGS_realism_patches, 16);
-  es::RequireInRange("realism_water_margin", FLAGS_realism_water_margin, 0,
-                     0.5);
+  const es::RealismOptions options = es::RealismOptionsFromFlags();
   es::PrepareOutputDirectory(FLAGS_out, "out");
   const es::Scene scene = es::LoadScaledScene(FLAGS_scene, FLAGS_image_scale);
   const es::Scene other = es::LoadScaledScene(FLAGS_other, FLAGS_image_scale);
@@ -114,9 +106,6 @@ int Run() {
   for (int i : scene.test) held_out.push_back(images[i]);
   const es::LoopMetrics metrics =
       es::CompareWithFrames(held_out, scene.frames, scene.test);
-  es::RealismOptions options;
-  options.patch_samples = FLAGS_realism_patches;
-  options.water_margin = FLAGS_realism_water_margin;
   const es::RealismMetrics realism =
       es::EvaluateRealism(images, scene.frames, options);
   if (FLAGS_compare_frames > 0) {

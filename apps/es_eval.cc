@@ -24,6 +24,7 @@
 #include "apps/common/flag_checks.h"
 #include "apps/common/image_rasterizer_on.h"
 #include "apps/common/loop_frames_on.h"
+#include "apps/common/realism_flags.h"
 #include "apps/common/scaled_scene.h"
 #include "core/io/atomic_file.h"
 #include "core/io/field_io.h"
@@ -58,13 +59,6 @@ DEFINE_bool(realism_breakdown, false, "Also measure realism on three "
             "loop moved by V alone) and 'canonical' (no V, no D: the "
             "splats as they are). Written to eval.json's "
             "realism_breakdown; costs three more renders of the video.");
-DEFINE_int32(realism_patches, 4096, "Random patches per region for the "
-             "realism distribution distances (more: less sampling noise).");
-DEFINE_double(realism_water_margin, 0.02, "The realism figures' water "
-              "region is the water mask dilated by this fraction of the "
-              "image diagonal, so that masks of single droplets do not "
-              "select where the input has spray (0: the mask itself, the "
-              "figures before 2026-12-02).");
 DEFINE_string(reference_motion, "", "Also measure this V (a "
               "motion_field.bin, e.g. Stage 2's STATIC/motion_field.bin) "
               "against the ground truth at the same water Gaussians as the "
@@ -117,11 +111,6 @@ void CheckFlags() {
   if (FLAGS_compare_frames < 0) {
     throw es::InputError("--compare_frames must be >= 0");
   }
-  if (FLAGS_realism_patches < 16) {
-    throw es::InputError("--realism_patches must be >= 16");
-  }
-  es::RequireInRange("realism_water_margin", FLAGS_realism_water_margin, 0,
-                     0.5);
 }
 
 int AnchorFrame(const es::Scene& scene) {
@@ -148,6 +137,7 @@ void Step(int k, const char* what,
 Evaluation Evaluate(const es::LoopModel& model,
                     const std::optional<es::MotionField>& reference_motion,
                     const es::Scene& scene, const es::RenderOptions& options,
+                    const es::RealismOptions& realism,
                     es::ComputeDevice device) {
   const auto start = std::chrono::steady_clock::now();
   Evaluation e;
@@ -179,9 +169,6 @@ Evaluation Evaluate(const es::LoopModel& model,
   Step(2, ("realism over " + std::to_string(scene.frames.size()) +
            " input frames").c_str(),
        start);
-  es::RealismOptions realism;
-  realism.patch_samples = FLAGS_realism_patches;
-  realism.water_margin = FLAGS_realism_water_margin;
   const std::vector<cv::Mat> rendered =
       es::RenderAtInputCameras(loop(model).get(), scene.frames);
   e.realism = es::EvaluateRealism(rendered, scene.frames, realism);
@@ -316,6 +303,7 @@ void PrintSummary(const es::LoopModel& model, const es::Scene& scene,
 
 int Run() {
   CheckFlags();
+  const es::RealismOptions realism = es::RealismOptionsFromFlags();
   std::string device_name;
   const es::ComputeDevice device =
       es::ParseDeviceFlag(FLAGS_device, &device_name);
@@ -339,7 +327,7 @@ int Run() {
                 device_name.c_str());
   }
   const Evaluation e =
-      Evaluate(model, reference_motion, scene, options, device);
+      Evaluate(model, reference_motion, scene, options, realism, device);
   const std::string path = FLAGS_out + "/eval.json";
   es::WriteJsonFile(path, EvalJson(model, e));
   PrintSummary(model, scene, e);

@@ -190,6 +190,13 @@ TEST_F(CliTest, OutOfRangeValuesAreRefusedBeforeAnyWork) {
   ExpectRefused("es_eval",
                 scene + " --model m --out " + out + " --seam_cycles 1",
                 "--seam_cycles must be >= 2");
+  ExpectRefused("es_eval",
+                scene + " --model m --out " + out + " --realism_patches 8",
+                "--realism_patches=8: must be >= 16");
+  ExpectRefused("es_compare",
+                "--scene s --other o --out " + out +
+                    " --realism_water_margin 0.9",
+                "--realism_water_margin=0.9");
   ExpectRefused("es_render", "--ply p --sparse s --out_dir o --depth_scale 0",
                 "--depth_scale must be positive");
   ExpectRefused("es_plot", "--history h.csv --out o --width 10",
