@@ -109,6 +109,29 @@ TEST(RealismTest, OtherSampleOfTheSameWaterIsClose) {
   EXPECT_LT(3 * m.water.distance_3d, blur.water.distance_3d);
 }
 
+TEST(RealismTest, TheSeedDrawsOtherPatchesOfTheSameStatistics) {
+  // Another seed samples other patches and directions: the distance of
+  // another sample of the water moves by sampling noise only, and
+  // identical videos still score 0.
+  const Video real = WaterVideo(1);
+  const Video other = WaterVideo(2);
+  RealismOptions options;
+  const RealismRegion first =
+      ComputeRealism(other.frames, real.frames, real.masks, options).water;
+  options.seed = 7;
+  const RealismRegion second =
+      ComputeRealism(other.frames, real.frames, real.masks, options).water;
+  EXPECT_NE(first.distance_2d, second.distance_2d);
+  EXPECT_NEAR(first.distance_2d, second.distance_2d,
+              0.25 * first.distance_2d);
+  EXPECT_NEAR(first.distance_3d, second.distance_3d,
+              0.25 * first.distance_3d);
+  const RealismRegion same =
+      ComputeRealism(real.frames, real.frames, real.masks, options).water;
+  EXPECT_EQ(same.distance_2d, 0.0);
+  EXPECT_EQ(same.distance_3d, 0.0);
+}
+
 TEST(RealismTest, BlurLowersDetailAndRaisesDistance) {
   const Video v = WaterVideo(1);
   const RealismMetrics m =
