@@ -4,8 +4,10 @@
 
 #include "apps/common/flag_checks.h"
 
-DEFINE_int32(realism_patches, 4096, "Random patches per region for the "
-             "realism distribution distances (more: less sampling noise).");
+DEFINE_int32(realism_patches, es::RealismOptions{}.patch_samples,
+             "Random patches per region for the realism distribution "
+             "distances (fewer: faster, but the distances of close videos "
+             "come out larger).");
 DEFINE_double(realism_water_margin, 0.02, "The realism figures' water "
               "region is the water mask dilated by this fraction of the "
               "image diagonal, so that masks of single droplets do not "

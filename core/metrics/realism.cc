@@ -91,24 +91,40 @@ struct Patch {
   int t, x, y;
 };
 
-// Up to `count` positions (t < frames - 1, so a 3D patch has a next
-// frame) inside the region, by rejection against the full-size masks.
+// Whether (t, x, y) lies in the region: the water (0), the static rest
+// (1) or the whole frame (2).
+bool InRegion(const std::vector<cv::Mat>& masks, int region, const Patch& p) {
+  if (region == 2) return true;
+  return (masks[p.t].at<uint8_t>(p.y, p.x) != 0) == (region == 0);
+}
+
+// `count` random positions (t < frames - 1, so a 3D patch has a next
+// frame) inside the region, by rejection against the full-size masks; all
+// of the region's positions where it has no more than `count`: drawing
+// more would only repeat them.
 std::vector<Patch> DrawPatches(const std::vector<cv::Mat>& masks, int region,
                                cv::Size size, int frames, int count,
                                std::mt19937_64* rng) {
+  long long positions = 0;
+  for (int t = 0; t + 1 < frames; ++t) {
+    const long long inside =
+        region == 2 ? size.area() : cv::countNonZero(masks[t]);
+    positions += region == 1 ? size.area() - inside : inside;
+  }
+  std::vector<Patch> out;
+  if (positions <= count) {
+    for (int t = 0; t + 1 < frames; ++t)
+      for (int y = 0; y < size.height; ++y)
+        for (int x = 0; x < size.width; ++x)
+          if (InRegion(masks, region, {t, x, y})) out.push_back({t, x, y});
+    return out;
+  }
   std::uniform_int_distribution<int> t_of(0, frames - 2);
   std::uniform_int_distribution<int> x_of(0, size.width - 1);
   std::uniform_int_distribution<int> y_of(0, size.height - 1);
-  std::vector<Patch> out;
-  const long long attempts = 64LL * count;
-  for (long long a = 0; a < attempts && static_cast<int>(out.size()) < count;
-       ++a) {
+  while (static_cast<int>(out.size()) < count) {
     const Patch p{t_of(*rng), x_of(*rng), y_of(*rng)};
-    if (region != 2) {
-      if ((masks[p.t].at<uint8_t>(p.y, p.x) != 0) != (region == 0))
-        continue;
-    }
-    out.push_back(p);
+    if (InRegion(masks, region, p)) out.push_back(p);
   }
   return out;
 }
