@@ -110,8 +110,7 @@ TEST(RealismTest, OtherSampleOfTheSameWaterIsClose) {
   // distributions, not pixels).
   const Video real = WaterVideo(1);
   const Video other = WaterVideo(2);
-  const RealismMetrics m = Realism(other.frames, real.frames,
-                                          real.masks);
+  const RealismMetrics m = Realism(other.frames, real.frames, real.masks);
   EXPECT_NEAR(m.water.detail_ratio, 1.0, 0.15);  // sampling noise only
   EXPECT_NEAR(m.water.motion_ratio, 1.0, 0.15);
   const RealismMetrics blur =

@@ -32,10 +32,11 @@ namespace es {
 
 struct RealismOptions {
   int levels = 3;            // Laplacian bands (and Gaussian levels)
-  // Random patches per region. Fewer inflate the distances of close
-  // videos: on our 160x120 scenes a model's ratio to the static-only
-  // model's distance moves by 0.03-0.05 from 4096 to 16384 patches and by
-  // <= 0.02 from there to 65536.
+  // Random patches per region, or every position of a region with no more
+  // than that. Fewer inflate the distances of close videos: on our 160x120
+  // scenes a model's ratio to the static-only model's distance moves by
+  // 0.02-0.05 from 4096 to 16384 patches and by <= 0.02 from there to
+  // 65536.
   int patch_samples = 65536;
   int projections = 64;      // sliced-Wasserstein directions
   uint64_t seed = 0;         // patch positions and directions
