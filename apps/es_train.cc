@@ -167,14 +167,6 @@ DEFINE_int32(detail_energy_octaves, 1,
              "scale of the last (a difference-of-Gaussians pyramid): 1 "
              "matches texture of about a pixel; 3 also a few pixels wide "
              "(puffs, gaps, droplet clusters).");
-DEFINE_double(loop_energy_weight, 0,
-              "> 0: the energy pair is also composed as the loop plays it "
-              "(every water Gaussian at cycle number 0, as es_animate "
-              "shows it) and its energy against the same input frames "
-              "enters the loss with this weight: training fits each frame "
-              "with the Gaussians at their own cycle numbers, the loop "
-              "mixes them. Needs an energy weight > 0; twice the energy's "
-              "rendering again.");
 
 namespace es {
 namespace {
@@ -221,7 +213,6 @@ JointTrainerOptions OptionsFromFlags() {
   RequireNonNegative("motion_energy_weight", FLAGS_motion_energy_weight);
   RequireNonNegative("detail_energy_weight", FLAGS_detail_energy_weight);
   RequireInRange("detail_energy_octaves", FLAGS_detail_energy_octaves, 1, 8);
-  RequireNonNegative("loop_energy_weight", FLAGS_loop_energy_weight);
   RequireInRange("flow_prior_final_factor", FLAGS_flow_prior_final_factor, 0,
                  1);
   RequireAtLeast("flow_prior_batch", FLAGS_flow_prior_batch, 1);
@@ -270,7 +261,6 @@ JointTrainerOptions OptionsFromFlags() {
   o.water_energy.motion_weight = FLAGS_motion_energy_weight;
   o.water_energy.detail_weight = FLAGS_detail_energy_weight;
   o.water_energy.detail_octaves = FLAGS_detail_energy_octaves;
-  o.loop_energy_weight = FLAGS_loop_energy_weight;
   o.motion.triplane.resolution = FLAGS_motion_resolution;
   o.motion.triplane.channels = FLAGS_motion_channels;
   o.motion.mlp_width = FLAGS_motion_width;
@@ -397,9 +387,8 @@ TrainingOutcome Train(const JointTrainerOptions& options, const Scene& scene,
   };
   const int64_t first = trainer->iteration();
   int64_t last_row = first;
-  // loss, photometric, mask, residual, motion and detail energy, and
-  // the loop's
-  double sums[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+  // loss, photometric, mask, residual, motion and detail energy
+  double sums[6] = {0, 0, 0, 0, 0, 0};
   int64_t counted = 0;             // steps in the sums
   TrainingOutcome outcome;
   StageProfile::Get().Start(FLAGS_profile);
@@ -412,8 +401,6 @@ TrainingOutcome Train(const JointTrainerOptions& options, const Scene& scene,
       sums[3] += s.residual;
       sums[4] += s.energy.motion;
       sums[5] += s.energy.detail;
-      sums[6] += s.loop_energy.motion;
-      sums[7] += s.loop_energy.detail;
       ++counted;
     }
     const int64_t it = trainer->iteration();
@@ -467,10 +454,6 @@ TrainingOutcome Train(const JointTrainerOptions& options, const Scene& scene,
           options.water_energy.detail_weight > 0) {
         std::printf("  energy motion %.4f detail %.4f", sums[4] / window,
                     sums[5] / window);
-        if (options.loop_energy_weight > 0) {
-          std::printf(" (loop %.4f %.4f)", sums[6] / window,
-                      sums[7] / window);
-        }
       }
       if (eval) std::printf("  held-out PSNR %.2f dB", held_out.psnr);
       std::printf("\n");

@@ -74,14 +74,6 @@ struct JointTrainerOptions {
   // texture energy matched to the input's in the water. Twice the
   // rendering per iteration. Off by default here; es_train sets its own.
   WaterEnergyOptions water_energy = NoWaterEnergy();
-  // > 0 (with the energy term on): the pair is also composed as the loop
-  // plays it (every water Gaussian at cycle number 0, Alg. 2), rendered
-  // again, and the same energy of those two renders against the same
-  // input frames enters the loss at this weight. Training fits frame i
-  // with each Gaussian at its own cycle number; the loop shows them all
-  // at 0, a mix of the video's frames i and i + L whose texture no loss
-  // saw. Twice the energy's rendering again.
-  double loop_energy_weight = 0;
   // Shapes of fields made from scratch (a given V keeps its own). D's
   // cycle_length is set to cycle_length and its max_cycles to cover every
   // frame of the video.
@@ -102,7 +94,6 @@ struct JointIterationStats {
   double flow_prior = 0;  // weighted; included in loss
   int pair_frame = -1;    // the neighbour rendered for the energy term
   WaterEnergyTerms energy;  // unweighted; weighted into loss
-  WaterEnergyTerms loop_energy;  // the same, of the loop's frames
   int num_dynamic = 0;
   EulerStats euler;
   bool skipped = false;  // non-finite loss or gradient: no update

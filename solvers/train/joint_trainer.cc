@@ -57,18 +57,6 @@ JointTrainer::JointTrainer(const std::vector<Frame>* frames,
                        LoopStructure::Of(model_),
                        JointLossTerms(options_, use_masks_),
                        render_options(), nullptr, options_.euler);
-    if (options_.loop_energy_weight > 0) {
-      // No term of their own: only the energy's image gradient.
-      JointRenderTerms none;
-      none.photometric_weight = 0;
-      for (std::optional<JointRenderCost>* c : {&loop_cost_a_, &loop_cost_b_}) {
-        c->emplace(&(*frames_)[train_.at(0)],
-                   (*frames_)[train_.at(0)].time_index,
-                   LoopStructure::Of(model_), none,
-                   render_options(), nullptr, options_.euler);
-        (*c)->set_cycle_number(0);
-      }
-    }
   }
 }
 
@@ -259,14 +247,6 @@ double JointTrainer::PairLossGradient(const Frame& frame, int partner,
       params.data(),
       frame_first ? energy_grad_b_.data() : energy_grad_a_.data(),
       pair_gradients.data(), /*accumulate=*/true, chunks.data());
-  const double loop_energy =
-      loop_cost_a_ ? LoopEnergyGradient(a, b,
-                                        frame_first ? gradients.data()
-                                                    : pair_gradients.data(),
-                                        frame_first ? pair_gradients.data()
-                                                    : gradients.data(),
-                                        out)
-                   : 0.0;
   for (size_t k = 0; k < splat_blocks; ++k)
     for (int i = 0; i < sizes[k]; ++i)
       gradients[k][i] = 0.5 * (gradients[k][i] + pair_gradients[k][i]);
@@ -281,34 +261,7 @@ double JointTrainer::PairLossGradient(const Frame& frame, int partner,
       for (size_t i = c * kGradientChunk; i < end; ++i) g[i] *= 0.5;
     }
   }
-  return 0.5 * (loss + pair_loss + energy + loop_energy);
-}
-
-double JointTrainer::LoopEnergyGradient(const Frame& a, const Frame& b,
-                                        double** a_grads,
-                                        double** b_grads,
-                                        JointIterationStats* out) {
-  const LoopStructure structure = LoopStructure::Of(model_);
-  loop_cost_a_->Reset(&a, a.time_index, structure);
-  loop_cost_b_->Reset(&b, b.time_index, structure);
-  std::vector<double*> params = JointBlocks(&model_);
-  loop_cost_a_->RenderForGradient(params.data());
-  loop_cost_b_->RenderForGradient(params.data());
-  energy_grad_a_.assign(loop_cost_a_->render().rgb.size(), 0.0);
-  energy_grad_b_.assign(loop_cost_b_->render().rgb.size(), 0.0);
-  const double energy = energy_->Evaluate(
-      loop_cost_a_->render().rgb.data(), loop_cost_b_->render().rgb.data(),
-      a.image, b.image, energy_masks_ ? a.mask : cv::Mat(),
-      energy_masks_ ? b.mask : cv::Mat(), 2.0 * options_.loop_energy_weight,
-      energy_grad_a_.data(), energy_grad_b_.data(), &out->loop_energy);
-  const std::vector<char*> chunks = TriplaneChunkFlags();
-  loop_cost_a_->BackwardWithImageGradient(params.data(), energy_grad_a_.data(),
-                                          a_grads, /*accumulate=*/true,
-                                          chunks.data());
-  loop_cost_b_->BackwardWithImageGradient(params.data(), energy_grad_b_.data(),
-                                          b_grads, /*accumulate=*/true,
-                                          chunks.data());
-  return energy;
+  return 0.5 * (loss + pair_loss + energy);
 }
 
 WaterDensifyResult JointTrainer::DensifyWaterNow() {

@@ -60,13 +60,6 @@ class JointTrainer : public JointStageTrainer {
   // term: the pair's mean loss plus the weighted WaterEnergyLoss.
   double PairLossGradient(const Frame& frame, int partner,
                           JointIterationStats* out);
-  // The loop's energy of the ordered pair (a, b): both composed at cycle
-  // number 0, rendered, the energy's gradient passed back into a_grads
-  // and b_grads (+=, twice its weight like the pair's energy). Returns
-  // the weighted term.
-  double LoopEnergyGradient(const Frame& a, const Frame& b,
-                            double** a_grads, double** b_grads,
-                            JointIterationStats* out);
   // Ranks the water Gaussians by their mean view-space gradient over
   // water_densify.views training frames and densifies the top fraction.
   // Stateless (frames and draws follow from seed and iteration), so a
@@ -110,8 +103,6 @@ class JointTrainer : public JointStageTrainer {
   std::optional<JointRenderCost> pair_cost_;
   GaussianSet pair_grad_;
   std::vector<double> energy_grad_a_, energy_grad_b_;
-  // loop_energy_weight > 0: the pair composed as the loop plays it.
-  std::optional<JointRenderCost> loop_cost_a_, loop_cost_b_;
   int64_t iteration_ = 0;
   DivergenceGuard guard_;
 };

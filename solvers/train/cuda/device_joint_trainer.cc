@@ -5,7 +5,6 @@
 #include <cmath>
 #include <utility>
 
-#include "core/io/input_error.h"
 #include "core/model/dynamic_set.h"
 #include "core/profile/stage_profile.h"
 #include "solvers/train/cuda/device_density_stats.h"
@@ -37,11 +36,6 @@ DeviceJointTrainer::DeviceJointTrainer(const std::vector<Frame>* frames,
       pair_cost_(JointLossTerms(options, use_masks_), options.background,
                  &pair_rasterizer_, options.euler),
       guard_("Stage 3 training", options.max_nonfinite_steps) {
-  if (options.loop_energy_weight > 0) {
-    throw InputError(
-        "the loop's energy term (--loop_energy_weight) runs on the CPU "
-        "trainer only; train with --device cpu or without it");
-  }
   model_ = InitialLoopModel(options_, static_cast<int>(frames_->size()),
                             std::move(initial), std::move(motion), &rng_);
   initial_dynamic_ = model_.num_dynamic();
