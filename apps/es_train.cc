@@ -130,6 +130,10 @@ DEFINE_double(flow_prior_weight, 1,
 DEFINE_double(flow_prior_final_factor, 0.1,
               "The scene-flow prior's weight decays log-linearly to this "
               "fraction of --flow_prior_weight by the last iteration.");
+DEFINE_bool(flow_prior_to_field, false,
+            "Hold V to Stage 2's own V (<init>/motion_field.bin) at the "
+            "samples' points, every direction of it, instead of to the "
+            "lifted samples.");
 DEFINE_int32(flow_prior_batch, 1024,
              "Scene-flow samples per iteration for the prior.");
 DEFINE_int32(densify_water_interval, 50,
@@ -333,8 +337,15 @@ void AddFlowPrior(const JointTrainerOptions& options, bool flow_init,
                 path.c_str());
     return;
   }
-  std::printf("scene-flow prior: %zu samples from %s, weight %g -> %g\n",
-              samples.size(), path.c_str(), options.flow_prior.weight,
+  if (FLAGS_flow_prior_to_field) {
+    TargetFieldAtSamples(
+        LoadMotionField((fs::path(FLAGS_init) / "motion_field.bin").string()),
+        &samples);
+  }
+  std::printf("scene-flow prior: %zu %s from %s, weight %g -> %g\n",
+              samples.size(),
+              FLAGS_flow_prior_to_field ? "points of Stage 2's V" : "samples",
+              path.c_str(), options.flow_prior.weight,
               options.flow_prior.weight * options.flow_prior.final_factor);
   trainer->SetSceneFlowPrior(std::move(samples));
 }

@@ -113,5 +113,38 @@ TEST(SceneFlowPriorTest, GradientMatchesFiniteDifferences) {
   check(&field.mlp_params(), g_mlp, 1, "mlp");
 }
 
+// Targets taken from the field itself: the prior is 0 there, with no
+// gradient, and grows as the field leaves them.
+TEST(SceneFlowPriorTest, TargetsFromTheFieldHoldItWhereItIs) {
+  MotionField field = SmallField();
+  std::vector<SceneFlowSample> samples = Samples(40, 0.5);
+  for (SceneFlowSample& s : samples) s.unseen = Eigen::Vector3d(0, 0, 1);
+  TargetFieldAtSamples(field, &samples);
+  FieldWorkspace ws;
+  for (const SceneFlowSample& s : samples) {
+    Eigen::Vector3d v;
+    field.Evaluate(field.params(), 1, s.x.data(), v.data(), &ws);
+    EXPECT_NEAR((v - s.v).norm(), 0, 1e-12);
+    EXPECT_EQ(s.unseen, Eigen::Vector3d::Zero());
+  }
+  FlowPriorOptions options;
+  options.weight = 1;
+  options.batch_size = 40;
+  SceneFlowPrior prior(&field, samples, options);
+  std::vector<double> g_mlp(field.mlp().num_params(), 0.0);
+  EXPECT_NEAR(prior.AddLossAndGradient(field.params(), 0, 10, 3,
+                                       {nullptr, g_mlp.data()}),
+              0, 1e-20);
+  for (double g : g_mlp) EXPECT_EQ(g, 0);
+  // Targets 1/1.1 of V: the loss is about 0.5 * 0.1^2 (exactly so over
+  // all samples; the batch is drawn with replacement).
+  std::vector<SceneFlowSample> slower = samples;
+  for (SceneFlowSample& s : slower) s.v /= 1.1;
+  SceneFlowPrior slower_prior(&field, slower, options);
+  const double loss_scaled =
+      slower_prior.AddLossAndGradient(field.params(), 0, 10, 3, {});
+  EXPECT_NEAR(loss_scaled, 0.5 * 0.1 * 0.1, 0.5 * 0.1 * 0.1 * 0.5);
+}
+
 }  // namespace
 }  // namespace es

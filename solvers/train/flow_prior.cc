@@ -35,6 +35,20 @@ double InverseMeanSquareSpeed(const std::vector<SceneFlowSample>& samples) {
   return mean > 0 ? 1.0 / mean : 1.0;
 }
 
+void TargetFieldAtSamples(const MotionField& field,
+                          std::vector<SceneFlowSample>* samples) {
+  const int n = static_cast<int>(samples->size());
+  std::vector<double> x(3 * n), v(3 * n);
+  for (int i = 0; i < n; ++i)
+    for (int c = 0; c < 3; ++c) x[3 * i + c] = (*samples)[i].x[c];
+  FieldWorkspace ws;
+  field.Evaluate(field.params(), n, x.data(), v.data(), &ws);
+  for (int i = 0; i < n; ++i) {
+    (*samples)[i].v = Eigen::Map<const Eigen::Vector3d>(&v[3 * i]);
+    (*samples)[i].unseen.setZero();
+  }
+}
+
 SceneFlowPrior::SceneFlowPrior(const MotionField* field,
                                std::vector<SceneFlowSample> samples,
                                const FlowPriorOptions& options)

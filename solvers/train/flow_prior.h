@@ -35,6 +35,12 @@ double FlowPriorWeight(const FlowPriorOptions& options, int64_t iteration,
 // prior's normalization.
 double InverseMeanSquareSpeed(const std::vector<SceneFlowSample>& samples);
 
+// Replaces each sample's target by `field`'s V at the sample, whole (its
+// unseen direction cleared): a prior on those samples then holds V to that
+// field, Stage 2's smooth fit, instead of to the lifted flow's noise.
+void TargetFieldAtSamples(const MotionField& field,
+                          std::vector<SceneFlowSample>* samples);
+
 // Stage 2's scene-flow loss kept during joint training (V otherwise drifts
 // from the flow initialization, since the photometric loss of stochastic
 // water does not pin V to the true velocity):
