@@ -298,13 +298,18 @@ void WriteMetrics(const std::string& path, const LoopMetrics& m,
                        {"final_loss", final_loss}});
 }
 
+// Stage 2's V, written by es_flowinit beside the static model.
+std::string InitMotionFieldPath() {
+  return (fs::path(FLAGS_init) / "motion_field.bin").string();
+}
+
 // V pretrained by es_flowinit (<init>/motion_field.bin) when there is one
 // and it is wanted; nullopt starts V from scratch.
 std::optional<MotionField> PretrainedMotion(const JointTrainerOptions& options,
                                             bool* flow_init) {
   *flow_init = false;
   if (!options.use_motion) return std::nullopt;
-  const std::string path = (fs::path(FLAGS_init) / "motion_field.bin").string();
+  const std::string path = InitMotionFieldPath();
   if (FLAGS_no_flow_init) {
     std::printf("V: from scratch (--no_flow_init)\n");
     return std::nullopt;
@@ -338,9 +343,7 @@ void AddFlowPrior(const JointTrainerOptions& options, bool flow_init,
     return;
   }
   if (FLAGS_flow_prior_to_field) {
-    TargetFieldAtSamples(
-        LoadMotionField((fs::path(FLAGS_init) / "motion_field.bin").string()),
-        &samples);
+    TargetFieldAtSamples(LoadMotionField(InitMotionFieldPath()), &samples);
   }
   std::printf("scene-flow prior: %zu %s from %s, weight %g -> %g\n",
               samples.size(),

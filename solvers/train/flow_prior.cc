@@ -37,13 +37,12 @@ double InverseMeanSquareSpeed(const std::vector<SceneFlowSample>& samples) {
 
 void TargetFieldAtSamples(const MotionField& field,
                           std::vector<SceneFlowSample>* samples) {
-  const int n = static_cast<int>(samples->size());
-  std::vector<double> x(3 * n), v(3 * n);
-  for (int i = 0; i < n; ++i)
-    for (int c = 0; c < 3; ++c) x[3 * i + c] = (*samples)[i].x[c];
+  SceneFlowBatch all;
+  all.AssignAll(*samples);
+  std::vector<double> v(all.x.size());
   FieldWorkspace ws;
-  field.Evaluate(field.params(), n, x.data(), v.data(), &ws);
-  for (int i = 0; i < n; ++i) {
+  field.Evaluate(field.params(), all.size(), all.x.data(), v.data(), &ws);
+  for (int i = 0; i < all.size(); ++i) {
     (*samples)[i].v = Eigen::Map<const Eigen::Vector3d>(&v[3 * i]);
     (*samples)[i].unseen.setZero();
   }
