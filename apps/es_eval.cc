@@ -66,7 +66,9 @@ DEFINE_string(reference_motion, "", "Also measure this V (a "
               "or away from it. (es_flowinit's flow_metrics.json measures "
               "Stage 2's V at Stage 1's water Gaussians, another set of "
               "points.) Used where the scene has ground-truth motion and "
-              "the model a V.");
+              "the model a V; its values per point go to "
+              "OUT/motion_gt_reference.csv (scripts/motion_speed_scale.py "
+              "compares the two files).");
 DEFINE_string(device, "cpu",
               "Where the images render: cpu, or cuda (the first NVIDIA GPU; "
               "needs a build with the CUDA backend, -DES_CUDA=ON or AUTO "
@@ -90,6 +92,7 @@ struct Evaluation {
   std::vector<es::MotionGtPoint> motion_points;  // per water Gaussian
   // --reference_motion's V at the same points, when measured.
   std::optional<es::MotionGtMetrics> reference_motion;
+  std::vector<es::MotionGtPoint> reference_points;
   es::RealismMetrics realism;
   // --realism_breakdown: (name, figures) per model variant.
   std::vector<std::pair<std::string, es::RealismMetrics>> breakdown;
@@ -162,8 +165,8 @@ Evaluation Evaluate(const es::LoopModel& model,
     e.motion_points = es::MotionGtPoints(*model.motion, points, truth);
     e.motion = es::SummarizeMotionGt(e.motion_points);
     if (reference_motion) {
-      e.reference_motion =
-          es::EvaluateMotionGt(*reference_motion, points, truth);
+      e.reference_points = es::MotionGtPoints(*reference_motion, points, truth);
+      e.reference_motion = es::SummarizeMotionGt(e.reference_points);
     }
   }
   Step(2, ("realism over " + std::to_string(scene.frames.size()) +
@@ -338,6 +341,13 @@ int Run() {
     std::printf("wrote %s (V and the true velocity at each water "
                 "Gaussian)\n", points_path.c_str());
   }
+  if (e.reference_motion) {
+    const std::string points_path = FLAGS_out + "/motion_gt_reference.csv";
+    es::WriteTextFileAtomically(points_path,
+                                es::MotionGtCsv(e.reference_points));
+    std::printf("wrote %s (--reference_motion's V at the same points)\n",
+                points_path.c_str());
+  }
   return 0;
 }
 
@@ -352,6 +362,8 @@ int main(int argc, char** argv) {
                     "error vs ground truth, realism, loop seam, render "
                     "times) and, for a scene with ground-truth motion, "
                     "OUT/motion_gt.csv (V and the truth per water "
-                    "Gaussian).",
+                    "Gaussian; with --reference_motion also "
+                    "OUT/motion_gt_reference.csv, that V at the same "
+                    "points).",
                     Run);
 }

@@ -124,6 +124,21 @@ TEST(EndToEndTest, DriverRunsEveryStageAndResumes) {
             self["motion_gt"]["epe"].get<double>());
   EXPECT_EQ(self["motion_gt"]["epe"].get<double>(),
             eval["motion_gt"]["epe"].get<double>());
+  // Its values per point are the model's own, and the script comparing
+  // the two files finds no speed change between them.
+  EXPECT_EQ(ReadFile(root / "self_eval" / "motion_gt_reference.csv"),
+            ReadFile(root / "self_eval" / "motion_gt.csv"));
+  const fs::path script =
+      fs::path(ES_SOURCE_DIR) / "scripts" / "motion_speed_scale.py";
+  log.clear();
+  EXPECT_EQ(RunCommand("python3 " + script.string() + " " +
+                           (root / "self_eval").string(),
+                       &log),
+            0)
+      << log;
+  EXPECT_NE(log.find("reference x 1.00 (the model's speed)"),
+            std::string::npos)
+      << log;
   // A reference that is not there is named before any work.
   const fs::path missing = root / "missing_motion_field.bin";
   EXPECT_NE(eval_with_reference(root / "missing_eval", missing), 0);
