@@ -335,18 +335,20 @@ int Run() {
   es::WriteJsonFile(path, EvalJson(model, e));
   PrintSummary(model, scene, e);
   std::printf("wrote %s\n", path.c_str());
+  const auto write_points = [](const std::string& name,
+                               const std::vector<es::MotionGtPoint>& points,
+                               const char* what) {
+    const std::string points_path = FLAGS_out + "/" + name;
+    es::WriteTextFileAtomically(points_path, es::MotionGtCsv(points));
+    std::printf("wrote %s (%s)\n", points_path.c_str(), what);
+  };
   if (e.has_motion_gt) {
-    const std::string points_path = FLAGS_out + "/motion_gt.csv";
-    es::WriteTextFileAtomically(points_path, es::MotionGtCsv(e.motion_points));
-    std::printf("wrote %s (V and the true velocity at each water "
-                "Gaussian)\n", points_path.c_str());
+    write_points("motion_gt.csv", e.motion_points,
+                 "V and the true velocity at each water Gaussian");
   }
   if (e.reference_motion) {
-    const std::string points_path = FLAGS_out + "/motion_gt_reference.csv";
-    es::WriteTextFileAtomically(points_path,
-                                es::MotionGtCsv(e.reference_points));
-    std::printf("wrote %s (--reference_motion's V at the same points)\n",
-                points_path.c_str());
+    write_points("motion_gt_reference.csv", e.reference_points,
+                 "--reference_motion's V at the same points");
   }
   return 0;
 }
