@@ -171,6 +171,18 @@ DEFINE_int32(detail_energy_octaves, 1,
              "scale of the last (a difference-of-Gaussians pyramid): 1 "
              "matches texture of about a pixel; 3 also a few pixels wide "
              "(puffs, gaps, droplet clusters).");
+DEFINE_double(texture_weight, 0,
+              "> 0: with the same frame pairs, match the distribution of "
+              "the water's texture in each frame to the input frame's "
+              "(sliced Wasserstein distance between the water pixels' "
+              "band neighbourhoods, wherever each streak is), with this "
+              "weight; 0: off. CPU only.");
+DEFINE_int32(texture_bands, 2,
+             "Bands of the texture term's difference-of-Gaussians "
+             "pyramid, finest first, each twice the scale of the last.");
+DEFINE_int32(texture_projections, 16,
+             "Random directions of the texture term's sliced distance, "
+             "new ones each iteration.");
 
 namespace es {
 namespace {
@@ -217,6 +229,9 @@ JointTrainerOptions OptionsFromFlags() {
   RequireNonNegative("motion_energy_weight", FLAGS_motion_energy_weight);
   RequireNonNegative("detail_energy_weight", FLAGS_detail_energy_weight);
   RequireInRange("detail_energy_octaves", FLAGS_detail_energy_octaves, 1, 8);
+  RequireNonNegative("texture_weight", FLAGS_texture_weight);
+  RequireInRange("texture_bands", FLAGS_texture_bands, 1, 6);
+  RequireInRange("texture_projections", FLAGS_texture_projections, 1, 1024);
   RequireInRange("flow_prior_final_factor", FLAGS_flow_prior_final_factor, 0,
                  1);
   RequireAtLeast("flow_prior_batch", FLAGS_flow_prior_batch, 1);
@@ -265,6 +280,9 @@ JointTrainerOptions OptionsFromFlags() {
   o.water_energy.motion_weight = FLAGS_motion_energy_weight;
   o.water_energy.detail_weight = FLAGS_detail_energy_weight;
   o.water_energy.detail_octaves = FLAGS_detail_energy_octaves;
+  o.water_texture.weight = FLAGS_texture_weight;
+  o.water_texture.bands = FLAGS_texture_bands;
+  o.water_texture.projections = FLAGS_texture_projections;
   o.motion.triplane.resolution = FLAGS_motion_resolution;
   o.motion.triplane.channels = FLAGS_motion_channels;
   o.motion.mlp_width = FLAGS_motion_width;
@@ -401,8 +419,8 @@ TrainingOutcome Train(const JointTrainerOptions& options, const Scene& scene,
   };
   const int64_t first = trainer->iteration();
   int64_t last_row = first;
-  // loss, photometric, mask, residual, motion and detail energy
-  double sums[6] = {0, 0, 0, 0, 0, 0};
+  // loss, photometric, mask, residual, motion and detail energy, texture
+  double sums[7] = {0, 0, 0, 0, 0, 0, 0};
   int64_t counted = 0;             // steps in the sums
   TrainingOutcome outcome;
   StageProfile::Get().Start(FLAGS_profile);
@@ -415,6 +433,7 @@ TrainingOutcome Train(const JointTrainerOptions& options, const Scene& scene,
       sums[3] += s.residual;
       sums[4] += s.energy.motion;
       sums[5] += s.energy.detail;
+      sums[6] += s.texture;
       ++counted;
     }
     const int64_t it = trainer->iteration();
@@ -469,6 +488,8 @@ TrainingOutcome Train(const JointTrainerOptions& options, const Scene& scene,
         std::printf("  energy motion %.4f detail %.4f", sums[4] / window,
                     sums[5] / window);
       }
+      if (options.water_texture.weight > 0)
+        std::printf("  texture %.5f", sums[6] / window);
       if (eval) std::printf("  held-out PSNR %.2f dB", held_out.psnr);
       std::printf("\n");
       std::fflush(stdout);
@@ -526,6 +547,9 @@ int Run() {
   const JointTrainerOptions options = OptionsFromFlags();
   std::string device_name;
   const ComputeDevice device = ParseDeviceFlag(FLAGS_device, &device_name);
+  Require(device == ComputeDevice::kCpu || !WaterTextureOn(options),
+          "--texture_weight has no device twin yet: use --device cpu or "
+          "--texture_weight 0");
   PrepareOutputDirectory(FLAGS_out, "out");
   SceneOptions scene_options;
   scene_options.image_scale = FLAGS_image_scale;

@@ -7,16 +7,11 @@
 #include <opencv2/core.hpp>
 
 #include "costs/water_energy_terms.h"
+#include "costs/water_image_filters.h"
 
 namespace es {
 
 namespace internal {
-// Scratch of a 2D blur: the image between its two passes, and one padded
-// row.
-struct BlurScratch {
-  std::vector<double> image, line;
-};
-
 // Scratch of one opponent channel's terms: the channel of the two renders
 // and inputs, its gradient per render, and the blurs' images.
 struct ChannelScratch {

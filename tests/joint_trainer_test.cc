@@ -143,6 +143,7 @@ TEST(JointTrainerTest, ResumeGivesTheUninterruptedResult) {
   options.flow_prior.batch_size = 16;
   options.water_energy.motion_weight = 0.5;  // frame pairs
   options.water_energy.detail_weight = 0.5;
+  options.water_texture.weight = 0.5;  // its directions must follow the step
   const std::vector<SceneFlowSample> samples = FlowSamples(kVelocity);
   JointTrainer straight(&frames, kTrain, options, TrueCanonical(),
                         std::nullopt);
@@ -195,6 +196,31 @@ TEST(JointTrainerTest, EnergyTermPairsNeighboursAndMovesTheWater) {
     return last;
   };
   const double followed = train(1.0), measured = train(1e-9);
+  EXPECT_GT(measured, 0);
+  EXPECT_LT(followed, 0.8 * measured) << followed << " vs " << measured;
+}
+
+// The texture term alone also trains on frame pairs, and following it
+// brings the rendered water's texture distribution closer to the input's
+// than a negligible weight does.
+TEST(JointTrainerTest, TextureTermPairsNeighboursAndMatchesTheTexture) {
+  const std::vector<Frame> frames = TrueFrames();
+  auto train = [&](double weight) {
+    JointTrainerOptions options = TinyOptions();
+    options.iterations = 90;
+    options.water_texture.weight = weight;
+    JointTrainer trainer(&frames, kTrain, options, TrueCanonical(),
+                         std::nullopt);
+    double last = 0;
+    for (int i = 0; i < options.iterations; ++i) {
+      const JointIterationStats s = trainer.Step();
+      EXPECT_GE(s.pair_frame, 0) << "frame " << s.frame;
+      EXPECT_EQ(s.energy.motion, 0.0);
+      if (i >= options.iterations - 18) last += s.texture;
+    }
+    return last;
+  };
+  const double followed = train(30.0), measured = train(1e-9);
   EXPECT_GT(measured, 0);
   EXPECT_LT(followed, 0.8 * measured) << followed << " vs " << measured;
 }

@@ -18,6 +18,7 @@
 #include "core/model/loop_model.h"
 #include "core/render/rasterizer.h"
 #include "costs/water_energy_loss.h"
+#include "costs/water_texture_loss.h"
 #include "solvers/checkpoint/joint_checkpoint.h"
 #include "solvers/train/flow_prior.h"
 #include "solvers/train/splat_training.h"
@@ -74,6 +75,10 @@ struct JointTrainerOptions {
   // texture energy matched to the input's in the water. Twice the
   // rendering per iteration. Off by default here; es_train sets its own.
   WaterEnergyOptions water_energy = NoWaterEnergy();
+  // weight > 0: with the same frame pairs, WaterTextureLoss on each of the
+  // two frames (costs/water_texture_loss.h): the distribution of the
+  // water's texture matched to the input frame's. Off by default.
+  WaterTextureOptions water_texture;
   // Shapes of fields made from scratch (a given V keeps its own). D's
   // cycle_length is set to cycle_length and its max_cycles to cover every
   // frame of the video.
@@ -94,6 +99,7 @@ struct JointIterationStats {
   double flow_prior = 0;  // weighted; included in loss
   int pair_frame = -1;    // the neighbour rendered for the energy term
   WaterEnergyTerms energy;  // unweighted; weighted into loss
+  double texture = 0;  // unweighted, mean of the pair's; weighted into loss
   int num_dynamic = 0;
   EulerStats euler;
   bool skipped = false;  // non-finite loss or gradient: no update

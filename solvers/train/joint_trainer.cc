@@ -47,10 +47,11 @@ JointTrainer::JointTrainer(const std::vector<Frame>* frames,
                 LoopStructure::Of(model_),
                 JointLossTerms(options_, use_masks_),
                 render_options(), &rasterizer_, options_.euler);
-  if (WaterEnergyOn(options_)) {
+  if (PairLossOn(options_)) {
     partner_ = TrainingNeighbours(*frames_, train_);
     energy_masks_ = AllHaveMasks(*frames_, train_);
     energy_.emplace(options_.water_energy);
+    if (WaterTextureOn(options_)) texture_.emplace(options_.water_texture);
     // Its own rasterizer: both renders are kept until both backward passes.
     pair_cost_.emplace(&(*frames_)[train_.at(0)],
                        (*frames_)[train_.at(0)].time_index,
@@ -113,7 +114,7 @@ JointIterationStats JointTrainer::Step() {
     grad_ = ZeroGaussians(n, model_.gaussians.sh_degree);
   const Frame& frame = (*frames_)[out.frame];
   cost_->Reset(&frame, frame.time_index, LoopStructure::Of(model_));
-  const int partner = WaterEnergyOn(options_) ? partner_[out.frame] : -1;
+  const int partner = PairLossOn(options_) ? partner_[out.frame] : -1;
   if (partner >= 0) {
     out.loss = PairLossGradient(frame, partner, &out);
   } else {
@@ -239,6 +240,8 @@ double JointTrainer::PairLossGradient(const Frame& frame, int partner,
       b.image, energy_masks_ ? a.mask : cv::Mat(),
       energy_masks_ ? b.mask : cv::Mat(), 2.0, energy_grad_a_.data(),
       energy_grad_b_.data(), &out->energy);
+  const double texture = TextureLossGradient(
+      first.render().rgb.data(), second.render().rgb.data(), a, b, out);
   cost_->BackwardWithImageGradient(
       params.data(),
       frame_first ? energy_grad_a_.data() : energy_grad_b_.data(),
@@ -261,7 +264,25 @@ double JointTrainer::PairLossGradient(const Frame& frame, int partner,
       for (size_t i = c * kGradientChunk; i < end; ++i) g[i] *= 0.5;
     }
   }
-  return 0.5 * (loss + pair_loss + energy);
+  return 0.5 * (loss + pair_loss + energy + texture);
+}
+
+double JointTrainer::TextureLossGradient(const double* render_a,
+                                         const double* render_b,
+                                         const Frame& a, const Frame& b,
+                                         JointIterationStats* out) {
+  if (!texture_) return 0;
+  // Each frame's distance at its full weight: the step halves the pair's
+  // sum, so the term is the two frames' mean. The draws follow the
+  // iteration, so a resumed run sees the same directions.
+  const uint64_t draw = 2 * static_cast<uint64_t>(iteration_);
+  const double sum =
+      texture_->Evaluate(render_a, a.image, energy_masks_ ? a.mask : cv::Mat(),
+                         1.0, draw, energy_grad_a_.data()) +
+      texture_->Evaluate(render_b, b.image, energy_masks_ ? b.mask : cv::Mat(),
+                         1.0, draw + 1, energy_grad_b_.data());
+  out->texture = 0.5 * sum / options_.water_texture.weight;
+  return sum;
 }
 
 WaterDensifyResult JointTrainer::DensifyWaterNow() {

@@ -56,10 +56,17 @@ class JointTrainer : public JointStageTrainer {
 
  private:
   void RefreshDynamicSet();
-  // Step's loss and gradient (into grad_ and field_grad_) with the energy
-  // term: the pair's mean loss plus the weighted WaterEnergyLoss.
+  // Step's loss and gradient (into grad_ and field_grad_) with the pair's
+  // terms: the pair's mean loss plus the weighted WaterEnergyLoss and
+  // WaterTextureLoss.
   double PairLossGradient(const Frame& frame, int partner,
                           JointIterationStats* out);
+  // The texture term of the pair (frames a and b, b after a in the video;
+  // their renders): its weighted value, its gradient added to the energy's
+  // buffers; 0 when off.
+  double TextureLossGradient(const double* render_a, const double* render_b,
+                             const Frame& a, const Frame& b,
+                             JointIterationStats* out);
   // Ranks the water Gaussians by their mean view-space gradient over
   // water_densify.views training frames and densifies the top fraction.
   // Stateless (frames and draws follow from seed and iteration), so a
@@ -100,6 +107,7 @@ class JointTrainer : public JointStageTrainer {
   std::vector<int> partner_;
   bool energy_masks_ = false;
   std::optional<WaterEnergyLoss> energy_;
+  std::optional<WaterTextureLoss> texture_;  // set when its weight is > 0
   std::optional<JointRenderCost> pair_cost_;
   GaussianSet pair_grad_;
   std::vector<double> energy_grad_a_, energy_grad_b_;

@@ -49,6 +49,14 @@ bool WaterEnergyOn(const JointTrainerOptions& o) {
   return o.water_energy.motion_weight > 0 || o.water_energy.detail_weight > 0;
 }
 
+bool WaterTextureOn(const JointTrainerOptions& o) {
+  return o.water_texture.weight > 0;
+}
+
+bool PairLossOn(const JointTrainerOptions& o) {
+  return WaterEnergyOn(o) || WaterTextureOn(o);
+}
+
 std::vector<int> TrainingNeighbours(const std::vector<Frame>& frames,
                                     const std::vector<int>& train) {
   std::vector<int> by_time;

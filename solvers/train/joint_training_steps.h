@@ -30,6 +30,9 @@ int CyclesCovering(int frames, int cycle_length);
 JointRenderTerms JointLossTerms(const JointTrainerOptions& o, bool use_masks);
 RenderOptions JointRenderOptions(const JointTrainerOptions& o);
 bool WaterEnergyOn(const JointTrainerOptions& o);
+bool WaterTextureOn(const JointTrainerOptions& o);
+// Either loss on frame pairs is on: each step renders a neighbour too.
+bool PairLossOn(const JointTrainerOptions& o);
 
 // For every training frame (by frame index), the training frame next to
 // it in the video: the next one, else the previous one; -1 for none.

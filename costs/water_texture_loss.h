@@ -1,0 +1,80 @@
+#ifndef EULERSPLAT_COSTS_WATER_TEXTURE_LOSS_H_
+#define EULERSPLAT_COSTS_WATER_TEXTURE_LOSS_H_
+
+#include <cstdint>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "costs/water_image_filters.h"
+
+namespace es {
+
+struct WaterTextureOptions {
+  double weight = 0;    // 0: off
+  int bands = 2;        // difference-of-Gaussians bands, finest first
+  int projections = 16; // random directions per evaluation
+  double sigma = 1.0;   // pixels: G_0; band k's blurs are 2^k times wider
+};
+
+// A loss on the distribution of the water's texture rather than its
+// pixels or its local energy (costs/water_energy_loss.h matches how much
+// texture each neighbourhood has, not what it looks like). Every water
+// pixel of a frame gets a feature vector: on each opponent colour channel
+// and each band k of a difference-of-Gaussians pyramid (band 0 = y - G_0 *
+// y, band k = G_{k-1} * y - G_k * y, G_k of sigma 2^k pixels), the band's
+// 3 x 3 neighbourhood at a spacing of 2^k pixels (clamped borders). The
+// loss is the sliced Wasserstein-1 distance between the rendered frame's
+// and the input frame's sets of vectors over the same pixels: for each
+// of `projections` random unit directions, both sets' projections are
+// sorted and matched by rank, and the loss is the mean |difference|. It is
+// zero when the two sets are equal as sets, wherever each streak is, and
+// grows for a blur (fewer large band values) and for texture of the wrong
+// shape or orientation (the neighbourhoods). As in texture synthesis by
+// sliced Wasserstein losses, each evaluation draws new directions; `draw`
+// picks them, so a resumed run sees the same ones.
+//
+// Reuses its buffers between calls, so not thread-safe.
+class WaterTextureLoss {
+ public:
+  explicit WaterTextureLoss(const WaterTextureOptions& options);
+
+  const WaterTextureOptions& options() const { return options_; }
+
+  // Feature length: 3 channels x bands x 9.
+  int dims() const;
+
+  // rendered: H x W x 3 row-major RGB doubles; input: CV_32FC3 or CV_64FC3
+  // RGB in [0, 1] of the same size; mask: empty (every pixel) or CV_32FC1
+  // / CV_64FC1 in [0, 1] (> 0.5 = water). Returns weight * scale * the
+  // distance (0 with fewer than 2 water pixels); if d_rendered is not null,
+  // weight * scale * d distance / d rendered is added to it (+=).
+  double Evaluate(const double* rendered, const cv::Mat& input,
+                  const cv::Mat& mask, double scale, uint64_t draw,
+                  double* d_rendered);
+
+ private:
+  // The bands of every channel of one RGB image, channel-major.
+  void Bands(const double* rgb, std::vector<std::vector<double>>* bands);
+
+  // Each water pixel's projection on direction `theta` (dims() long).
+  void Project(const std::vector<std::vector<double>>& bands,
+               const std::vector<double>& theta, std::vector<double>* out)
+      const;
+
+  WaterTextureOptions options_;
+  std::vector<std::vector<double>> kernels_;  // G_k
+  int w_ = 0, h_ = 0;
+  std::vector<int> water_;  // pixel indices
+  // Scratch, reused.
+  cv::Mat input_;
+  std::vector<double> channel_, low_, coarse_, mask_;
+  internal::BlurScratch blur_;
+  std::vector<std::vector<double>> rendered_bands_, input_bands_, d_bands_;
+  std::vector<double> theta_, proj_r_, proj_i_, d_proj_;
+  std::vector<int> order_;
+};
+
+}  // namespace es
+
+#endif  // EULERSPLAT_COSTS_WATER_TEXTURE_LOSS_H_

@@ -1,0 +1,149 @@
+#include "costs/water_texture_loss.h"
+
+#include <cmath>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
+
+#include "tests/central_differences.h"
+
+namespace es {
+namespace {
+
+cv::Mat RandomImage(int w, int h, uint32_t seed) {
+  cv::Mat m(h, w, CV_32FC3);
+  cv::RNG rng(seed);
+  rng.fill(m, cv::RNG::UNIFORM, 0.0, 1.0);
+  return m;
+}
+
+std::vector<double> Flat(const cv::Mat& image) {
+  cv::Mat d;
+  image.convertTo(d, CV_64FC3);
+  return std::vector<double>(d.ptr<double>(), d.ptr<double>() + d.total() * 3);
+}
+
+WaterTextureOptions On() {
+  WaterTextureOptions options;
+  options.weight = 1.0;
+  return options;
+}
+
+TEST(WaterTextureLossTest, RenderLikeTheInputScoresZero) {
+  const cv::Mat input = RandomImage(12, 10, 1);
+  std::vector<double> render = Flat(input), grad(render.size(), 0.0);
+  WaterTextureLoss loss(On());
+  EXPECT_EQ(loss.dims(), 3 * 2 * 9);
+  EXPECT_EQ(loss.Evaluate(render.data(), input, cv::Mat(), 1.0, 7,
+                          grad.data()),
+            0.0);
+  for (double g : grad) EXPECT_EQ(g, 0.0);
+}
+
+// The distance compares sets, not pixels: a second draw of the same noise
+// is far closer to the input than the input blurred (a time-averaged
+// sheet of water), although it is the worse per-pixel match.
+TEST(WaterTextureLossTest, AnotherDrawIsCloserThanABlur) {
+  const int w = 64, h = 64;
+  const cv::Mat input = RandomImage(w, h, 2), other = RandomImage(w, h, 3);
+  cv::Mat blurred;
+  cv::GaussianBlur(input, blurred, cv::Size(5, 5), 1.5);
+  WaterTextureLoss loss(On());
+  const std::vector<double> draw = Flat(other), blur = Flat(blurred);
+  const double d_draw =
+      loss.Evaluate(draw.data(), input, cv::Mat(), 1.0, 5, nullptr);
+  const double d_blur =
+      loss.Evaluate(blur.data(), input, cv::Mat(), 1.0, 5, nullptr);
+  EXPECT_GT(d_draw, 0.0);
+  EXPECT_LT(d_draw, 0.2 * d_blur);
+  EXPECT_GT(cv::norm(other, input, cv::NORM_L1),
+            cv::norm(blurred, input, cv::NORM_L1));
+}
+
+// Only the water counts: a mask with one pixel (or none) gives 0, and a
+// render that differs from the input only far from the water (beyond the
+// neighbourhoods and the blurs) scores 0.
+TEST(WaterTextureLossTest, OnlyTheWaterCounts) {
+  const int w = 40, h = 12;
+  const cv::Mat input = RandomImage(w, h, 4);
+  cv::Mat mask(h, w, CV_32FC1, cv::Scalar(0.0));
+  WaterTextureLoss loss(On());
+  std::vector<double> other = Flat(RandomImage(w, h, 5));
+  EXPECT_EQ(loss.Evaluate(other.data(), input, mask, 1.0, 1, nullptr), 0.0);
+  mask.at<float>(3, 3) = 1.0f;
+  EXPECT_EQ(loss.Evaluate(other.data(), input, mask, 1.0, 1, nullptr), 0.0);
+  mask.colRange(0, 8).setTo(1.0);
+  cv::Mat far = input.clone();
+  far.colRange(30, w).setTo(cv::Scalar(0.9, 0.1, 0.5));
+  const std::vector<double> render = Flat(far);
+  EXPECT_EQ(loss.Evaluate(render.data(), input, mask, 1.0, 1, nullptr), 0.0);
+  EXPECT_GT(loss.Evaluate(other.data(), input, mask, 1.0, 1, nullptr), 0.0);
+}
+
+// `draw` picks the directions: the same draw gives the same value, another
+// draw another value.
+TEST(WaterTextureLossTest, DrawPicksTheDirections) {
+  const cv::Mat input = RandomImage(16, 16, 6);
+  const std::vector<double> render = Flat(RandomImage(16, 16, 7));
+  WaterTextureLoss loss(On());
+  const double a = loss.Evaluate(render.data(), input, cv::Mat(), 1.0, 3,
+                                 nullptr);
+  EXPECT_EQ(a, loss.Evaluate(render.data(), input, cv::Mat(), 1.0, 3,
+                             nullptr));
+  EXPECT_NE(a, loss.Evaluate(render.data(), input, cv::Mat(), 1.0, 4,
+                             nullptr));
+}
+
+// Every rendered value against central differences (the loss is piecewise
+// linear; a step of 1e-6 changes no rank of these random values), with
+// and without a mask, one and three bands, and weight and scale applied;
+// the gradient is added to what the buffer held.
+TEST(WaterTextureLossTest, GradientMatchesFiniteDifferences) {
+  const int w = 9, h = 7;
+  const cv::Mat input = RandomImage(w, h, 8);
+  cv::Mat half(h, w, CV_32FC1, cv::Scalar(0.0));
+  half.colRange(0, 5).setTo(1.0);
+  for (int setting = 0; setting < 3; ++setting) {
+    WaterTextureOptions options = On();
+    options.weight = 1.7;
+    options.bands = setting == 2 ? 3 : 1;
+    options.sigma = 0.8;
+    options.projections = 4;
+    const cv::Mat mask = setting == 1 ? cv::Mat() : half;
+    std::vector<double> render = Flat(RandomImage(w, h, 9));
+    const double scale = 30.0;  // gradients of order 1
+    WaterTextureLoss loss(options);
+    std::vector<double> grad(render.size(), 0.25);
+    loss.Evaluate(render.data(), input, mask, scale, 11, grad.data());
+    for (double& g : grad) g -= 0.25;
+    auto f = [&]() {
+      return loss.Evaluate(render.data(), input, mask, scale, 11, nullptr);
+    };
+    SCOPED_TRACE("setting " + std::to_string(setting));
+    central_differences::ExpectGradientsNear(grad, f, &render, "d rendered");
+  }
+}
+
+// Descending the gradient moves a blurred render's texture toward the
+// input's.
+TEST(WaterTextureLossTest, BlurredRenderIsPushedTowardTheInputsTexture) {
+  const int w = 32, h = 32;
+  const cv::Mat input = RandomImage(w, h, 10);
+  cv::Mat blurred;
+  cv::GaussianBlur(input, blurred, cv::Size(5, 5), 1.5);
+  std::vector<double> render = Flat(blurred);
+  WaterTextureLoss loss(On());
+  const double before =
+      loss.Evaluate(render.data(), input, cv::Mat(), 1.0, 0, nullptr);
+  for (int step = 0; step < 20; ++step) {
+    std::vector<double> grad(render.size(), 0.0);
+    loss.Evaluate(render.data(), input, cv::Mat(), 1.0, step, grad.data());
+    for (size_t i = 0; i < render.size(); ++i) render[i] -= 200.0 * grad[i];
+  }
+  EXPECT_LT(loss.Evaluate(render.data(), input, cv::Mat(), 1.0, 0, nullptr),
+            0.7 * before);
+}
+
+}  // namespace
+}  // namespace es
