@@ -176,7 +176,7 @@ DEFINE_double(texture_weight, 0,
               "the water's texture in each frame to the input frame's "
               "(sliced Wasserstein distance between the water pixels' "
               "band neighbourhoods, wherever each streak is), with this "
-              "weight; 0: off. CPU only.");
+              "weight; 0: off. On --device cuda it runs on the host.");
 DEFINE_int32(texture_bands, 2,
              "Bands of the texture term's difference-of-Gaussians "
              "pyramid, finest first, each twice the scale of the last.");
@@ -547,9 +547,6 @@ int Run() {
   const JointTrainerOptions options = OptionsFromFlags();
   std::string device_name;
   const ComputeDevice device = ParseDeviceFlag(FLAGS_device, &device_name);
-  Require(device == ComputeDevice::kCpu || !WaterTextureOn(options),
-          "--texture_weight has no device twin yet: use --device cpu or "
-          "--texture_weight 0");
   PrepareOutputDirectory(FLAGS_out, "out");
   SceneOptions scene_options;
   scene_options.image_scale = FLAGS_image_scale;

@@ -186,6 +186,28 @@ TEST(CudaJointTrainerTest, EnergyPairsMatchTheCpuTrainer) {
   ExpectModelsClose(cpu, device, 2, o, CameraExtent(frames, kTrain));
 }
 
+// The texture term, which the device trainer runs on the host: the same
+// directions and the same gradients into both backward passes.
+TEST(CudaJointTrainerTest, TextureTermMatchesTheCpuTrainer) {
+  ES_REQUIRE_GPU("device Stage 3 trainer's texture term");
+  const std::vector<Frame> frames = TrueFrames();
+  JointTrainerOptions o = FullOptions();
+  o.water_texture.weight = 3.0;
+  o.water_densify.interval = 0;
+  JointTrainer cpu(&frames, kTrain, o, TrueCanonical(), std::nullopt);
+  DeviceJointTrainer device(&frames, kTrain, o, TrueCanonical(),
+                            std::nullopt);
+  for (int i = 0; i < 2; ++i) {
+    const JointIterationStats c = cpu.Step();
+    const JointIterationStats d = device.Step();
+    ExpectSameStep(c, d, i);
+    ASSERT_GE(c.pair_frame, 0);
+    EXPECT_GT(c.texture, 0);
+    EXPECT_NEAR(d.texture, c.texture, 1e-3 * c.texture);
+  }
+  ExpectModelsClose(cpu, device, 2, o, CameraExtent(frames, kTrain));
+}
+
 // Without V (no Euler chain, no prior): the model without motion.
 TEST(CudaJointTrainerTest, AblationWithoutVMatchesTheCpuTrainer) {
   ES_REQUIRE_GPU("device Stage 3 trainer without V");

@@ -24,7 +24,7 @@ DeviceJointTrainer::DeviceJointTrainer(const std::vector<Frame>* frames,
       train_(std::move(train)),
       options_(options),
       use_masks_(options.mask_weight > 0 && AllHaveMasks(*frames, train_)),
-      energy_masks_(WaterEnergyOn(options) && AllHaveMasks(*frames, train_)),
+      energy_masks_(PairLossOn(options) && AllHaveMasks(*frames, train_)),
       extent_(CameraExtent(*frames, train_)),
       sampler_(train_, options.seed),
       rng_(options.seed + 1),
@@ -51,9 +51,10 @@ DeviceJointTrainer::DeviceJointTrainer(const std::vector<Frame>* frames,
     f.v.Zero();
   }
   UpdateScaleBounds();
-  if (WaterEnergyOn(options_)) {
+  if (PairLossOn(options_)) {
     partner_ = TrainingNeighbours(*frames_, train_);
     energy_.emplace(options_.water_energy);
+    if (WaterTextureOn(options_)) texture_.emplace(options_.water_texture);
   }
 }
 
@@ -199,6 +200,8 @@ double DeviceJointTrainer::PairLossGradient(int frame_index, int partner,
       images_.image(b), energy_masks_ ? images_.mask(a) : nullptr,
       energy_masks_ ? images_.mask(b) : nullptr, camera.width, camera.height,
       2.0, energy_grad_a_.data(), energy_grad_b_.data(), &out->energy);
+  const double texture = TextureLossGradient(
+      first.render().rgb, second.render().rgb, a, b, out);
   cost_.BackwardWithImageGradient(
       params.data(),
       frame_first ? energy_grad_a_.data() : energy_grad_b_.data(),
@@ -213,7 +216,36 @@ double DeviceJointTrainer::PairLossGradient(int frame_index, int partner,
     AverageInto(sizes[k], pair_gradients[k], gradients[k]);
   for (FieldBlock& f : fields_)
     ScaleValues(static_cast<long long>(f.grad.size()), 0.5, f.grad.data());
-  return 0.5 * (loss + pair_loss + energy);
+  return 0.5 * (loss + pair_loss + energy + texture);
+}
+
+double DeviceJointTrainer::TextureLossGradient(const float* render_a,
+                                               const float* render_b, int a,
+                                               int b,
+                                               JointIterationStats* out) {
+  if (!texture_) return 0;
+  // As JointTrainer's: each frame at full weight, the draws by iteration.
+  const uint64_t draw = 2 * static_cast<uint64_t>(iteration_);
+  double sum = 0;
+  for (int f = 0; f < 2; ++f) {
+    const Frame& frame = (*frames_)[f == 0 ? a : b];
+    DeviceBuffer<float>& grad = f == 0 ? energy_grad_a_ : energy_grad_b_;
+    const size_t values = grad.size();
+    host_values_.resize(values);
+    CopyToHost(host_values_.data(), f == 0 ? render_a : render_b,
+               values * sizeof(float));
+    host_render_.assign(host_values_.begin(), host_values_.end());
+    host_grad_.assign(values, 0.0);
+    sum += texture_->Evaluate(host_render_.data(), frame.image,
+                              energy_masks_ ? frame.mask : cv::Mat(), 1.0,
+                              draw + f, host_grad_.data());
+    grad.Download(host_values_.data());
+    for (size_t i = 0; i < values; ++i)
+      host_values_[i] += static_cast<float>(host_grad_[i]);
+    grad.Upload(host_values_);
+  }
+  out->texture = 0.5 * sum / options_.water_texture.weight;
+  return sum;
 }
 
 void DeviceJointTrainer::RefreshDynamicSet() {

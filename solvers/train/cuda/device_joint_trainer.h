@@ -28,6 +28,7 @@
 #include "core/render/cuda/device_rasterizer.h"
 #include "costs/cuda/device_joint_render_cost.h"
 #include "costs/cuda/device_water_energy_loss.h"
+#include "costs/water_texture_loss.h"
 #include "solvers/optim/cuda/device_adam.h"
 #include "solvers/train/cuda/device_flow_prior.h"
 #include "solvers/train/cuda/device_frame_images.h"
@@ -91,6 +92,13 @@ class DeviceJointTrainer : public JointStageTrainer {
   // PairLossGradient.
   double PairLossGradient(int frame_index, int partner,
                           JointIterationStats* out);
+  // The texture term of frames a and b (their device renders), its
+  // gradient added to energy_grad_a_ / energy_grad_b_; 0 when off. It runs
+  // on the host (WaterTextureLoss itself): each frame's render and
+  // gradient cross the bus once per step, the one per-iteration transfer
+  // of images, in exchange for one implementation of its sorts.
+  double TextureLossGradient(const float* render_a, const float* render_b,
+                             int a, int b, JointIterationStats* out);
   WaterDensifyResult DensifyWaterNow();
   // Whether every value of `splats` and of the field blocks' `grad` (or
   // `x`) is finite: one flag for all, one int back to the host.
@@ -126,6 +134,9 @@ class DeviceJointTrainer : public JointStageTrainer {
   std::vector<int> partner_;
   std::optional<DeviceWaterEnergyLoss> energy_;
   DeviceBuffer<float> energy_grad_a_, energy_grad_b_;
+  std::optional<WaterTextureLoss> texture_;
+  std::vector<float> host_values_;  // the texture term's transfers
+  std::vector<double> host_render_, host_grad_;
   int64_t iteration_ = 0;
   DivergenceGuard guard_;
 };
