@@ -7,6 +7,7 @@
 
 #include <glog/logging.h>
 
+#include "core/metrics/random_direction.h"
 #include "core/profile/stage_profile.h"
 #include "costs/water_energy_terms.h"
 
@@ -100,13 +101,7 @@ double WaterTextureLoss::Evaluate(const double* rendered,
   d_proj_.resize(n);
   double distance = 0;
   for (int j = 0; j < projections; ++j) {
-    double norm = 0;
-    for (double& t : theta_) {
-      t = normal(rng);
-      norm += t * t;
-    }
-    norm = std::sqrt(norm);
-    for (double& t : theta_) t /= norm;
+    DrawUnitDirection(&rng, &normal, &theta_);
     Project(rendered_bands_, theta_, &proj_r_);
     Project(input_bands_, theta_, &proj_i_);
     std::sort(proj_i_.begin(), proj_i_.end());

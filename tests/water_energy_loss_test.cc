@@ -9,24 +9,14 @@
 #include <opencv2/imgproc.hpp>
 
 #include "tests/central_differences.h"
+#include "tests/random_rgb_image.h"
 
 namespace es {
 namespace {
 
 constexpr int kW = 9, kH = 7;
 
-cv::Mat RandomImage(uint32_t seed) {
-  cv::Mat m(kH, kW, CV_32FC3);
-  cv::RNG rng(seed);
-  rng.fill(m, cv::RNG::UNIFORM, 0.0, 1.0);
-  return m;
-}
-
-std::vector<double> Flat(const cv::Mat& image) {
-  cv::Mat d;
-  image.convertTo(d, CV_64FC3);
-  return std::vector<double>(d.ptr<double>(), d.ptr<double>() + d.total() * 3);
-}
+cv::Mat RandomImage(uint32_t seed) { return RandomRgbImage(kW, kH, seed); }
 
 cv::Mat HalfMask(bool left) {
   cv::Mat m(kH, kW, CV_32FC1, cv::Scalar(0.0));
@@ -36,7 +26,7 @@ cv::Mat HalfMask(bool left) {
 
 TEST(WaterEnergyLossTest, RenderLikeTheInputScoresZero) {
   const cv::Mat a = RandomImage(1), b = RandomImage(2);
-  std::vector<double> ra = Flat(a), rb = Flat(b);
+  std::vector<double> ra = FlatRgb(a), rb = FlatRgb(b);
   std::vector<double> da(ra.size(), 0.0), db(rb.size(), 0.0);
   WaterEnergyLoss loss;
   WaterEnergyTerms terms;
@@ -57,7 +47,7 @@ TEST(WaterEnergyLossTest, StillRenderOfAChangingInputKnownAnswer) {
   const double c = 0.1;
   const cv::Mat a(kH, kW, CV_32FC3, cv::Scalar(0.3, 0.3, 0.3));
   const cv::Mat b(kH, kW, CV_32FC3, cv::Scalar(0.3 + c, 0.3 + c, 0.3 + c));
-  std::vector<double> still = Flat(a);
+  std::vector<double> still = FlatRgb(a);
   WaterEnergyOptions options;
   WaterEnergyLoss loss(options);
   WaterEnergyTerms terms;
@@ -69,7 +59,7 @@ TEST(WaterEnergyLossTest, StillRenderOfAChangingInputKnownAnswer) {
               1e-6);
   EXPECT_NEAR(terms.detail, 0.0, 1e-12);
   // The render's own change, in the input's amount, closes the gap.
-  std::vector<double> moved = Flat(b);
+  std::vector<double> moved = FlatRgb(b);
   loss.Evaluate(still.data(), moved.data(), a, b, cv::Mat(), cv::Mat(), 1.0,
                 nullptr, nullptr, &terms);
   EXPECT_NEAR(terms.motion, 0.0, 1e-6);
@@ -89,7 +79,7 @@ TEST(WaterEnergyLossTest, TintedChangeOfTheInputsAmountIsCounted) {
   const cv::Mat b(kH, kW, CV_32FC3, cv::Scalar::all(0.5 + c));
   const cv::Mat tinted(kH, kW, CV_32FC3,
                        cv::Scalar(0.5 + c, 0.5 - c, 0.5 + c));
-  const std::vector<double> ra = Flat(a), rb = Flat(tinted);
+  const std::vector<double> ra = FlatRgb(a), rb = FlatRgb(tinted);
   WaterEnergyOptions options;
   options.detail_weight = 0;
   WaterEnergyLoss loss(options);
@@ -112,7 +102,7 @@ TEST(WaterEnergyLossTest, BlurredRenderIsPushedTowardTheInputsTexture) {
   cv::Mat blur_a, blur_b;
   cv::GaussianBlur(a, blur_a, cv::Size(5, 5), 1.5);
   cv::GaussianBlur(b, blur_b, cv::Size(5, 5), 1.5);
-  std::vector<double> ra = Flat(blur_a), rb = Flat(blur_b);
+  std::vector<double> ra = FlatRgb(blur_a), rb = FlatRgb(blur_b);
   WaterEnergyOptions options;
   options.motion_weight = 0;
   WaterEnergyLoss loss(options);
@@ -143,7 +133,7 @@ TEST(WaterEnergyLossTest, GradientMatchesFiniteDifferences) {
     const bool masked = setting != 3 && setting != 5;
     const cv::Mat ma = masked ? HalfMask(true) : cv::Mat();
     const cv::Mat mb = masked ? HalfMask(false) : cv::Mat();
-    std::vector<double> ra = Flat(RandomImage(7)), rb = Flat(RandomImage(8));
+    std::vector<double> ra = FlatRgb(RandomImage(7)), rb = FlatRgb(RandomImage(8));
     const double scale = 50.0;  // gradients of order 1
     WaterEnergyLoss loss(options);
     std::vector<double> da(ra.size(), 0.25), db(rb.size(), -0.5);
@@ -176,7 +166,7 @@ TEST(WaterEnergyLossTest, CoarseBandsSeeTextureTheFinestMisses) {
       blobs.at<cv::Vec3f>(y, x) += cv::Vec3f(bump, bump, bump);
     }
   }
-  const std::vector<double> still = Flat(flat), textured = Flat(blobs);
+  const std::vector<double> still = FlatRgb(flat), textured = FlatRgb(blobs);
   auto detail = [&](int octaves, const std::vector<double>& render) {
     WaterEnergyOptions options;
     options.motion_weight = 0;
@@ -198,7 +188,7 @@ TEST(WaterEnergyLossTest, CoarseBandsSeeTextureTheFinestMisses) {
 // same check: the test can fail.
 TEST(WaterEnergyLossTest, WrongGradientIsCaught) {
   const cv::Mat a = RandomImage(9), b = RandomImage(10);
-  std::vector<double> ra = Flat(RandomImage(11)), rb = Flat(RandomImage(12));
+  std::vector<double> ra = FlatRgb(RandomImage(11)), rb = FlatRgb(RandomImage(12));
   WaterEnergyOptions options;
   options.detail_weight = 0;
   WaterEnergyLoss loss(options);
@@ -229,7 +219,7 @@ TEST(WaterEnergyLossTest, ParallelChannelsGiveTheOneThreadResult) {
   cv::RNG rng(13);
   for (cv::Mat* m : {&a, &b, &ma, &mb})
     rng.fill(*m, cv::RNG::UNIFORM, 0.0, 1.0);
-  std::vector<double> ra = Flat(a), rb = Flat(b);
+  std::vector<double> ra = FlatRgb(a), rb = FlatRgb(b);
   for (double& v : ra) v = 1.0 - v;  // a render unlike the input
   auto evaluate = [&](int threads, std::vector<double>* da,
                       std::vector<double>* db) {

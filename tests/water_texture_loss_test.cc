@@ -7,22 +7,10 @@
 #include <opencv2/imgproc.hpp>
 
 #include "tests/central_differences.h"
+#include "tests/random_rgb_image.h"
 
 namespace es {
 namespace {
-
-cv::Mat RandomImage(int w, int h, uint32_t seed) {
-  cv::Mat m(h, w, CV_32FC3);
-  cv::RNG rng(seed);
-  rng.fill(m, cv::RNG::UNIFORM, 0.0, 1.0);
-  return m;
-}
-
-std::vector<double> Flat(const cv::Mat& image) {
-  cv::Mat d;
-  image.convertTo(d, CV_64FC3);
-  return std::vector<double>(d.ptr<double>(), d.ptr<double>() + d.total() * 3);
-}
 
 WaterTextureOptions On() {
   WaterTextureOptions options;
@@ -31,8 +19,8 @@ WaterTextureOptions On() {
 }
 
 TEST(WaterTextureLossTest, RenderLikeTheInputScoresZero) {
-  const cv::Mat input = RandomImage(12, 10, 1);
-  std::vector<double> render = Flat(input), grad(render.size(), 0.0);
+  const cv::Mat input = RandomRgbImage(12, 10, 1);
+  std::vector<double> render = FlatRgb(input), grad(render.size(), 0.0);
   WaterTextureLoss loss(On());
   EXPECT_EQ(loss.dims(), 3 * 2 * 9);
   EXPECT_EQ(loss.Evaluate(render.data(), input, cv::Mat(), 1.0, 7,
@@ -46,11 +34,11 @@ TEST(WaterTextureLossTest, RenderLikeTheInputScoresZero) {
 // sheet of water), although it is the worse per-pixel match.
 TEST(WaterTextureLossTest, AnotherDrawIsCloserThanABlur) {
   const int w = 64, h = 64;
-  const cv::Mat input = RandomImage(w, h, 2), other = RandomImage(w, h, 3);
+  const cv::Mat input = RandomRgbImage(w, h, 2), other = RandomRgbImage(w, h, 3);
   cv::Mat blurred;
   cv::GaussianBlur(input, blurred, cv::Size(5, 5), 1.5);
   WaterTextureLoss loss(On());
-  const std::vector<double> draw = Flat(other), blur = Flat(blurred);
+  const std::vector<double> draw = FlatRgb(other), blur = FlatRgb(blurred);
   const double d_draw =
       loss.Evaluate(draw.data(), input, cv::Mat(), 1.0, 5, nullptr);
   const double d_blur =
@@ -66,17 +54,17 @@ TEST(WaterTextureLossTest, AnotherDrawIsCloserThanABlur) {
 // neighbourhoods and the blurs) scores 0.
 TEST(WaterTextureLossTest, OnlyTheWaterCounts) {
   const int w = 40, h = 12;
-  const cv::Mat input = RandomImage(w, h, 4);
+  const cv::Mat input = RandomRgbImage(w, h, 4);
   cv::Mat mask(h, w, CV_32FC1, cv::Scalar(0.0));
   WaterTextureLoss loss(On());
-  std::vector<double> other = Flat(RandomImage(w, h, 5));
+  std::vector<double> other = FlatRgb(RandomRgbImage(w, h, 5));
   EXPECT_EQ(loss.Evaluate(other.data(), input, mask, 1.0, 1, nullptr), 0.0);
   mask.at<float>(3, 3) = 1.0f;
   EXPECT_EQ(loss.Evaluate(other.data(), input, mask, 1.0, 1, nullptr), 0.0);
   mask.colRange(0, 8).setTo(1.0);
   cv::Mat far = input.clone();
   far.colRange(30, w).setTo(cv::Scalar(0.9, 0.1, 0.5));
-  const std::vector<double> render = Flat(far);
+  const std::vector<double> render = FlatRgb(far);
   EXPECT_EQ(loss.Evaluate(render.data(), input, mask, 1.0, 1, nullptr), 0.0);
   EXPECT_GT(loss.Evaluate(other.data(), input, mask, 1.0, 1, nullptr), 0.0);
 }
@@ -84,8 +72,8 @@ TEST(WaterTextureLossTest, OnlyTheWaterCounts) {
 // `draw` picks the directions: the same draw gives the same value, another
 // draw another value.
 TEST(WaterTextureLossTest, DrawPicksTheDirections) {
-  const cv::Mat input = RandomImage(16, 16, 6);
-  const std::vector<double> render = Flat(RandomImage(16, 16, 7));
+  const cv::Mat input = RandomRgbImage(16, 16, 6);
+  const std::vector<double> render = FlatRgb(RandomRgbImage(16, 16, 7));
   WaterTextureLoss loss(On());
   const double a = loss.Evaluate(render.data(), input, cv::Mat(), 1.0, 3,
                                  nullptr);
@@ -101,7 +89,7 @@ TEST(WaterTextureLossTest, DrawPicksTheDirections) {
 // the gradient is added to what the buffer held.
 TEST(WaterTextureLossTest, GradientMatchesFiniteDifferences) {
   const int w = 9, h = 7;
-  const cv::Mat input = RandomImage(w, h, 8);
+  const cv::Mat input = RandomRgbImage(w, h, 8);
   cv::Mat half(h, w, CV_32FC1, cv::Scalar(0.0));
   half.colRange(0, 5).setTo(1.0);
   for (int setting = 0; setting < 3; ++setting) {
@@ -111,7 +99,7 @@ TEST(WaterTextureLossTest, GradientMatchesFiniteDifferences) {
     options.sigma = 0.8;
     options.projections = 4;
     const cv::Mat mask = setting == 1 ? cv::Mat() : half;
-    std::vector<double> render = Flat(RandomImage(w, h, 9));
+    std::vector<double> render = FlatRgb(RandomRgbImage(w, h, 9));
     const double scale = 30.0;  // gradients of order 1
     WaterTextureLoss loss(options);
     std::vector<double> grad(render.size(), 0.25);
@@ -129,10 +117,10 @@ TEST(WaterTextureLossTest, GradientMatchesFiniteDifferences) {
 // input's.
 TEST(WaterTextureLossTest, BlurredRenderIsPushedTowardTheInputsTexture) {
   const int w = 32, h = 32;
-  const cv::Mat input = RandomImage(w, h, 10);
+  const cv::Mat input = RandomRgbImage(w, h, 10);
   cv::Mat blurred;
   cv::GaussianBlur(input, blurred, cv::Size(5, 5), 1.5);
-  std::vector<double> render = Flat(blurred);
+  std::vector<double> render = FlatRgb(blurred);
   WaterTextureLoss loss(On());
   const double before =
       loss.Evaluate(render.data(), input, cv::Mat(), 1.0, 0, nullptr);

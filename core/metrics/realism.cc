@@ -9,6 +9,8 @@
 #include <glog/logging.h>
 #include <opencv2/imgproc.hpp>
 
+#include "core/metrics/random_direction.h"
+
 namespace es {
 namespace {
 
@@ -176,20 +178,15 @@ double SlicedWasserstein(const Features& a, const Features& b,
   std::vector<double> dir(d), pa(n), pb(n);
   double total = 0;
   for (int k = 0; k < projections; ++k) {
-    double norm = 0;
-    for (double& c : dir) {
-      c = normal(rng);
-      norm += c * c;
-    }
-    norm = std::sqrt(norm);
+    DrawUnitDirection(&rng, &normal, &dir);
     for (size_t i = 0; i < n; ++i) {
       double sa = 0, sb = 0;
       for (int j = 0; j < d; ++j) {
         sa += dir[j] * a.values[i * d + j];
         sb += dir[j] * b.values[i * d + j];
       }
-      pa[i] = sa / norm;
-      pb[i] = sb / norm;
+      pa[i] = sa;
+      pb[i] = sb;
     }
     std::sort(pa.begin(), pa.end());
     std::sort(pb.begin(), pb.end());
