@@ -6,7 +6,11 @@
 //   threads, double, cache (1: statistics kept), simd (0 auto, 1 SSE2,
 //   2 AVX2, 3 AVX-512; levels the CPU lacks are skipped);
 // - the water energy loss (motion and detail terms) of a rendered frame
-//   pair against the input pair, with masks. Args: width, height, threads.
+//   pair against the input pair, with masks. Args: width, height, threads;
+// - the water texture loss (sliced Wasserstein, es_train --texture_weight)
+//   of one rendered frame against its input, with its gradient, over a
+//   water mask covering the `water` percent of the frame. Args: width,
+//   height, water percent, projections.
 //
 //   build/bin/bench_losses --benchmark_counters_tabular=true
 
@@ -21,6 +25,7 @@
 #include "apps/common/benchmark_main.h"
 #include "costs/photometric_loss.h"
 #include "costs/water_energy_loss.h"
+#include "costs/water_texture_loss.h"
 
 namespace es {
 namespace {
@@ -113,6 +118,36 @@ BENCHMARK(BM_WaterEnergyLoss)
     ->Args({160, 120, 2})
     ->Args({320, 240, 1})
     ->Args({320, 240, 2})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->MeasureProcessCPUTime();
+
+void BM_WaterTextureLoss(benchmark::State& state) {
+  const int width = state.range(0), height = state.range(1);
+  const cv::Mat input = RandomImage(width, height, 30);
+  // The water: the left `water` percent of the columns.
+  cv::Mat mask(height, width, CV_32FC1, cv::Scalar(0.0));
+  mask.colRange(0, static_cast<int>(width * state.range(2) / 100))
+      .setTo(cv::Scalar(1.0));
+  cv::Mat rendered;
+  RandomImage(width, height, 31).convertTo(rendered, CV_64FC3);
+  std::vector<double> grad(rendered.total() * 3);
+  WaterTextureOptions options;
+  options.weight = 1.0;
+  options.projections = static_cast<int>(state.range(3));
+  WaterTextureLoss loss(options);
+  uint64_t draw = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(loss.Evaluate(rendered.ptr<double>(), input,
+                                           mask, 1.0, draw++, grad.data()));
+  }
+}
+
+BENCHMARK(BM_WaterTextureLoss)
+    ->ArgNames({"w", "h", "water", "projections"})
+    ->Args({160, 120, 40, 16})
+    ->Args({160, 120, 100, 16})
+    ->Args({320, 240, 40, 16})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()
     ->MeasureProcessCPUTime();

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numeric>
 #include <random>
+#include <utility>
 
 #include <glog/logging.h>
 
@@ -52,20 +53,33 @@ void WaterTextureLoss::Bands(const double* rgb,
   }
 }
 
-void WaterTextureLoss::Project(const std::vector<std::vector<double>>& bands,
-                               const std::vector<double>& theta,
-                               std::vector<double>* out) const {
-  out->assign(water_.size(), 0.0);
-  for (size_t b = 0; b < bands.size(); ++b) {
-    const int step = 1 << (static_cast<int>(b) % options_.bands);
-    const double* band = bands[b].data();
-    const double* t = theta.data() + b * kNeighbours;
+void WaterTextureLoss::FindTaps() {
+  taps_.resize(options_.bands);
+  for (int k = 0; k < options_.bands; ++k) {
+    taps_[k].resize(water_.size() * kNeighbours);
     for (size_t i = 0; i < water_.size(); ++i) {
       const int x = water_[i] % w_, y = water_[i] / w_;
-      double sum = 0;
       for (int o = 0; o < kNeighbours; ++o)
-        sum += t[o] * band[Neighbour(x, y, o, step, w_, h_)];
-      (*out)[i] += sum;
+        taps_[k][i * kNeighbours + o] = Neighbour(x, y, o, 1 << k, w_, h_);
+    }
+  }
+}
+
+void WaterTextureLoss::Project(const std::vector<std::vector<double>>& bands,
+                               Eigen::MatrixXd* out) {
+  const size_t n = water_.size();
+  out->setZero(static_cast<Eigen::Index>(n), options_.projections);
+  tap_values_.resize(static_cast<Eigen::Index>(n));
+  // Feature (b, o) of every pixel at once, times its row of the
+  // directions: no n x dims feature matrix is ever held.
+  for (size_t b = 0; b < bands.size(); ++b) {
+    const std::vector<int>& taps = taps_[b % options_.bands];
+    const double* band = bands[b].data();
+    for (int o = 0; o < kNeighbours; ++o) {
+      for (size_t i = 0; i < n; ++i)
+        tap_values_[i] = band[taps[i * kNeighbours + o]];
+      out->noalias() +=
+          tap_values_ * directions_.row(b * kNeighbours + o);
     }
   }
 }
@@ -90,44 +104,64 @@ double WaterTextureLoss::Evaluate(const double* rendered,
   input.convertTo(input_, CV_64FC3);
   Bands(rendered, &rendered_bands_);
   Bands(input_.ptr<double>(), &input_bands_);
-  d_bands_.assign(rendered_bands_.size(), std::vector<double>(pixels, 0.0));
+  FindTaps();
 
   const size_t n = water_.size();
   const int projections = options_.projections;
   std::mt19937_64 rng(draw);
   std::normal_distribution<double> normal;
-  theta_.resize(dims());
-  order_.resize(n);
-  d_proj_.resize(n);
-  double distance = 0;
+  std::vector<double> theta(dims());
+  directions_.resize(dims(), projections);
   for (int j = 0; j < projections; ++j) {
-    DrawUnitDirection(&rng, &normal, &theta_);
-    Project(rendered_bands_, theta_, &proj_r_);
-    Project(input_bands_, theta_, &proj_i_);
-    std::sort(proj_i_.begin(), proj_i_.end());
-    std::iota(order_.begin(), order_.end(), 0);
-    std::sort(order_.begin(), order_.end(),
-              [this](int a, int b) { return proj_r_[a] < proj_r_[b]; });
-    // Rank r of the render meets rank r of the input.
-    const double step = factor / (static_cast<double>(n) * projections);
+    DrawUnitDirection(&rng, &normal, &theta);
+    directions_.col(j) = Eigen::Map<const Eigen::VectorXd>(theta.data(),
+                                                            dims());
+  }
+  Project(rendered_bands_, &proj_r_);
+  Project(input_bands_, &proj_i_);
+
+  // Per direction: both sets sorted, rank r of the render meets rank r of
+  // the input. Each direction writes its own column and sum, so the
+  // result does not depend on the threads.
+  d_proj_.resize(static_cast<Eigen::Index>(n), projections);
+  std::vector<double> distances(projections);
+  const double step = factor / (static_cast<double>(n) * projections);
+#pragma omp parallel for schedule(static)
+  for (int j = 0; j < projections; ++j) {
+    std::vector<double> input_sorted(proj_i_.col(j).data(),
+                                     proj_i_.col(j).data() + n);
+    std::sort(input_sorted.begin(), input_sorted.end());
+    std::vector<std::pair<double, int>> ranked(n);
+    for (size_t i = 0; i < n; ++i)
+      ranked[i] = {proj_r_(static_cast<Eigen::Index>(i), j),
+                   static_cast<int>(i)};
+    std::sort(ranked.begin(), ranked.end());
+    double sum = 0;
     for (size_t r = 0; r < n; ++r) {
-      const double diff = proj_r_[order_[r]] - proj_i_[r];
-      distance += std::abs(diff);
-      d_proj_[order_[r]] = diff > 0 ? step : (diff < 0 ? -step : 0.0);
+      const double diff = ranked[r].first - input_sorted[r];
+      sum += std::abs(diff);
+      d_proj_(ranked[r].second, j) =
+          diff > 0 ? step : (diff < 0 ? -step : 0.0);
     }
-    if (d_rendered == nullptr) continue;
+    distances[j] = sum;
+  }
+  const double distance =
+      std::accumulate(distances.begin(), distances.end(), 0.0);
+
+  if (d_rendered != nullptr) {
+    // The projections' adjoint: feature (b, o)'s gradient, scattered to
+    // its taps.
+    d_bands_.assign(rendered_bands_.size(), std::vector<double>(pixels, 0.0));
     for (size_t b = 0; b < d_bands_.size(); ++b) {
-      const int stride = 1 << (static_cast<int>(b) % options_.bands);
-      const double* t = theta_.data() + b * kNeighbours;
+      const std::vector<int>& taps = taps_[b % options_.bands];
       double* d = d_bands_[b].data();
-      for (size_t i = 0; i < n; ++i) {
-        const int x = water_[i] % w_, y = water_[i] / w_;
-        for (int o = 0; o < kNeighbours; ++o)
-          d[Neighbour(x, y, o, stride, w_, h_)] += t[o] * d_proj_[i];
+      for (int o = 0; o < kNeighbours; ++o) {
+        tap_values_.noalias() =
+            d_proj_ * directions_.row(b * kNeighbours + o).transpose();
+        for (size_t i = 0; i < n; ++i)
+          d[taps[i * kNeighbours + o]] += tap_values_[i];
       }
     }
-  }
-  if (d_rendered != nullptr) {
     for (int c = 0; c < kChannels; ++c) {
       channel_.assign(pixels, 0.0);
       for (int k = 0; k < options_.bands; ++k)

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <vector>
 
+#include <Eigen/Core>
 #include <opencv2/core.hpp>
 
 #include "costs/water_image_filters.h"
@@ -57,22 +58,27 @@ class WaterTextureLoss {
   // The bands of every channel of one RGB image, channel-major.
   void Bands(const double* rgb, std::vector<std::vector<double>>* bands);
 
-  // Each water pixel's projection on direction `theta` (dims() long).
+  // Each water pixel's 3 x 3 neighbourhood per band level: taps_[k][9 i +
+  // o], pixel indices.
+  void FindTaps();
+
+  // Every water pixel's projection on every direction: n x projections.
   void Project(const std::vector<std::vector<double>>& bands,
-               const std::vector<double>& theta, std::vector<double>* out)
-      const;
+               Eigen::MatrixXd* out);
 
   WaterTextureOptions options_;
   std::vector<std::vector<double>> kernels_;  // G_k
   int w_ = 0, h_ = 0;
   std::vector<int> water_;  // pixel indices
+  std::vector<std::vector<int>> taps_;
   // Scratch, reused.
   cv::Mat input_;
   std::vector<double> channel_, low_, coarse_, mask_;
   internal::BlurScratch blur_;
   std::vector<std::vector<double>> rendered_bands_, input_bands_, d_bands_;
-  std::vector<double> theta_, proj_r_, proj_i_, d_proj_;
-  std::vector<int> order_;
+  Eigen::MatrixXd directions_;  // dims x projections, unit columns
+  Eigen::MatrixXd proj_r_, proj_i_, d_proj_;  // n x projections
+  Eigen::VectorXd tap_values_;
 };
 
 }  // namespace es

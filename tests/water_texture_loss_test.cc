@@ -4,6 +4,7 @@
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <omp.h>
 #include <opencv2/imgproc.hpp>
 
 #include "tests/central_differences.h"
@@ -81,6 +82,26 @@ TEST(WaterTextureLossTest, DrawPicksTheDirections) {
                              nullptr));
   EXPECT_NE(a, loss.Evaluate(render.data(), input, cv::Mat(), 1.0, 4,
                              nullptr));
+}
+
+// The directions are shared among threads, each writing its own: one
+// thread and four give the same value and gradient, bit for bit (a
+// resumed run on another machine trains the same).
+TEST(WaterTextureLossTest, ThreadsDoNotChangeTheResult) {
+  const cv::Mat input = RandomRgbImage(40, 30, 8);
+  const std::vector<double> render = FlatRgb(RandomRgbImage(40, 30, 9));
+  WaterTextureLoss loss(On());
+  const int threads = omp_get_max_threads();
+  std::vector<double> one(render.size(), 0.0), four(render.size(), 0.0);
+  omp_set_num_threads(1);
+  const double a = loss.Evaluate(render.data(), input, cv::Mat(), 1.0, 5,
+                                 one.data());
+  omp_set_num_threads(4);
+  const double b = loss.Evaluate(render.data(), input, cv::Mat(), 1.0, 5,
+                                 four.data());
+  omp_set_num_threads(threads);
+  EXPECT_EQ(a, b);
+  EXPECT_EQ(one, four);
 }
 
 // Every rendered value against central differences (the loss is piecewise
