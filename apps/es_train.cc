@@ -176,7 +176,9 @@ DEFINE_double(texture_weight, 0,
               "the water's texture in each frame to the input frame's "
               "(sliced Wasserstein distance between the water pixels' "
               "band neighbourhoods, wherever each streak is), with this "
-              "weight; 0: off. On --device cuda it runs on the host.");
+              "weight; 0: off. About 2.4x the joint time at 160x120 (3 is "
+              "the weight docs/RESULTS.md measured). On --device cuda it "
+              "runs on the host.");
 DEFINE_int32(texture_bands, 2,
              "Bands of the texture term's difference-of-Gaussians "
              "pyramid, finest first, each twice the scale of the last.");
