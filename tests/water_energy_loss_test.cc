@@ -129,11 +129,12 @@ TEST(WaterEnergyLossTest, GradientMatchesFiniteDifferences) {
     options.detail_weight = setting == 0 ? 0.0 : 1.3;
     options.detail_sigma = 0.8;
     options.window_sigma = 1.2;
-    options.detail_octaves = setting >= 4 ? 3 : 1;  // the pyramid's bands
+    options.detail_octaves = setting >= 4 ? 3 : 1; // the pyramid's bands
     const bool masked = setting != 3 && setting != 5;
     const cv::Mat ma = masked ? HalfMask(true) : cv::Mat();
     const cv::Mat mb = masked ? HalfMask(false) : cv::Mat();
-    std::vector<double> ra = FlatRgb(RandomImage(7)), rb = FlatRgb(RandomImage(8));
+    std::vector<double> ra = FlatRgb(RandomImage(7)),
+                        rb = FlatRgb(RandomImage(8));
     const double scale = 50.0;  // gradients of order 1
     WaterEnergyLoss loss(options);
     std::vector<double> da(ra.size(), 0.25), db(rb.size(), -0.5);
@@ -188,7 +189,8 @@ TEST(WaterEnergyLossTest, CoarseBandsSeeTextureTheFinestMisses) {
 // same check: the test can fail.
 TEST(WaterEnergyLossTest, WrongGradientIsCaught) {
   const cv::Mat a = RandomImage(9), b = RandomImage(10);
-  std::vector<double> ra = FlatRgb(RandomImage(11)), rb = FlatRgb(RandomImage(12));
+  std::vector<double> ra = FlatRgb(RandomImage(11)),
+                      rb = FlatRgb(RandomImage(12));
   WaterEnergyOptions options;
   options.detail_weight = 0;
   WaterEnergyLoss loss(options);

@@ -35,7 +35,8 @@ TEST(WaterTextureLossTest, RenderLikeTheInputScoresZero) {
 // sheet of water), although it is the worse per-pixel match.
 TEST(WaterTextureLossTest, AnotherDrawIsCloserThanABlur) {
   const int w = 64, h = 64;
-  const cv::Mat input = RandomRgbImage(w, h, 2), other = RandomRgbImage(w, h, 3);
+  const cv::Mat input = RandomRgbImage(w, h, 2),
+                other = RandomRgbImage(w, h, 3);
   cv::Mat blurred;
   cv::GaussianBlur(input, blurred, cv::Size(5, 5), 1.5);
   WaterTextureLoss loss(On());

@@ -7,6 +7,7 @@
 
 #include "core/model/dynamic_set.h"
 #include "core/profile/stage_profile.h"
+#include "costs/cuda/splat_cost_kernels.h"
 #include "solvers/train/cuda/device_density_stats.h"
 #include "solvers/train/cuda/training_kernels.h"
 #include "solvers/train/joint_training_steps.h"
@@ -239,10 +240,11 @@ double DeviceJointTrainer::TextureLossGradient(const float* render_a,
     sum += texture_->Evaluate(host_render_.data(), frame.image,
                               energy_masks_ ? frame.mask : cv::Mat(), 1.0,
                               draw + f, host_grad_.data());
-    grad.Download(host_values_.data());
-    for (size_t i = 0; i < values; ++i)
-      host_values_[i] += static_cast<float>(host_grad_[i]);
-    grad.Upload(host_values_);
+    // Up once, then added on the device to the energy's gradient.
+    host_values_.assign(host_grad_.begin(), host_grad_.end());
+    texture_grad_.Upload(host_values_);
+    cuda::AddFloatArray(static_cast<long long>(values), texture_grad_.data(),
+                        grad.data());
   }
   out->texture = 0.5 * sum / options_.water_texture.weight;
   return sum;

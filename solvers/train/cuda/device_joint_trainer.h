@@ -135,8 +135,10 @@ class DeviceJointTrainer : public JointStageTrainer {
   std::optional<DeviceWaterEnergyLoss> energy_;
   DeviceBuffer<float> energy_grad_a_, energy_grad_b_;
   std::optional<WaterTextureLoss> texture_;
-  std::vector<float> host_values_;  // the texture term's transfers
+  // The texture term's transfers.
+  std::vector<float> host_values_;
   std::vector<double> host_render_, host_grad_;
+  DeviceBuffer<float> texture_grad_;
   int64_t iteration_ = 0;
   DivergenceGuard guard_;
 };
