@@ -123,7 +123,8 @@ async function main() {
   renderer.setClearColor(new THREE.Color(...loop.background), 1);
   document.body.appendChild(renderer.domElement);
   const scene = new THREE.Scene();
-  scene.add(new SparkRenderer({ renderer }));
+  const spark = new SparkRenderer({ renderer });
+  scene.add(spark);
   const packed = new PackedSplats({ fileBytes: loop.ply, fileType: "ply" });
   await packed.initialized;
   if (packed.numSplats !== loop.numSplats) {
@@ -189,17 +190,26 @@ async function main() {
         " · drag to orbit, scroll to zoom, space to pause";
   });
 
-  // For tests: show frame f (paused) and report after a few drawn frames,
-  // so that the splat sort has caught up.
+  // For tests: show frame f (paused) and return once it is drawn in depth
+  // order. Spark sorts in a worker, frames behind the draw, and keeps
+  // re-sorting for a while after loading, so neither a fixed wait nor an
+  // idle sorter says the frame is sorted: regenerate the splats now, wait
+  // for a sort that started after that to finish, then draw twice.
+  const nextFrame = () => new Promise((resolve) => requestAnimationFrame(resolve));
   window.esLoop = {
     numFrames: loop.numFrames,
     numWater: loop.numWater,
     async showFrame(f) {
       paused = true;
       frame = f % loop.numFrames;
-      for (let i = 0; i < 6; ++i) {
-        await new Promise((resolve) => requestAnimationFrame(resolve));
-      }
+      while (shown !== frame) await nextFrame();
+      const generated = performance.now();
+      spark.update({ scene, camera });
+      while (spark.lastSortTime < generated) await nextFrame();
+      const ours = spark.lastSortTime;
+      while (spark.sorting && spark.lastSortTime === ours) await nextFrame();
+      await nextFrame();
+      await nextFrame();
     },
   };
   window.esLoopReady = true;
