@@ -179,6 +179,14 @@ DEFINE_double(texture_weight, 0,
               "weight; 0: off. About 2.4x the joint time at 160x120 (3 is "
               "the weight docs/RESULTS.md measured). On --device cuda it "
               "runs on the host.");
+DEFINE_double(loop_texture_weight, 0,
+              "> 0: also render each sampled frame as the loop plays it "
+              "(every water Gaussian at cycle number 0, as es_animate "
+              "shows it) and match its water's texture to the input "
+              "frame's with this weight (the texture term's bands and "
+              "projections); 0: off. Training fits each frame at its own "
+              "cycle numbers; this scores the frames the loop shows. CPU "
+              "only; one more render and backward pass per iteration.");
 DEFINE_int32(texture_bands, 2,
              "Bands of the texture term's difference-of-Gaussians "
              "pyramid, finest first, each twice the scale of the last.");
@@ -232,6 +240,7 @@ JointTrainerOptions OptionsFromFlags() {
   RequireNonNegative("detail_energy_weight", FLAGS_detail_energy_weight);
   RequireInRange("detail_energy_octaves", FLAGS_detail_energy_octaves, 1, 8);
   RequireNonNegative("texture_weight", FLAGS_texture_weight);
+  RequireNonNegative("loop_texture_weight", FLAGS_loop_texture_weight);
   RequireInRange("texture_bands", FLAGS_texture_bands, 1, 6);
   RequireInRange("texture_projections", FLAGS_texture_projections, 1, 1024);
   RequireInRange("flow_prior_final_factor", FLAGS_flow_prior_final_factor, 0,
@@ -283,6 +292,7 @@ JointTrainerOptions OptionsFromFlags() {
   o.water_energy.detail_weight = FLAGS_detail_energy_weight;
   o.water_energy.detail_octaves = FLAGS_detail_energy_octaves;
   o.water_texture.weight = FLAGS_texture_weight;
+  o.loop_texture_weight = FLAGS_loop_texture_weight;
   o.water_texture.bands = FLAGS_texture_bands;
   o.water_texture.projections = FLAGS_texture_projections;
   o.motion.triplane.resolution = FLAGS_motion_resolution;
@@ -421,8 +431,9 @@ TrainingOutcome Train(const JointTrainerOptions& options, const Scene& scene,
   };
   const int64_t first = trainer->iteration();
   int64_t last_row = first;
-  // loss, photometric, mask, residual, motion and detail energy, texture
-  double sums[7] = {0, 0, 0, 0, 0, 0, 0};
+  // loss, photometric, mask, residual, motion and detail energy, texture,
+  // the loop's texture
+  double sums[8] = {0, 0, 0, 0, 0, 0, 0, 0};
   int64_t counted = 0;             // steps in the sums
   TrainingOutcome outcome;
   StageProfile::Get().Start(FLAGS_profile);
@@ -436,6 +447,7 @@ TrainingOutcome Train(const JointTrainerOptions& options, const Scene& scene,
       sums[4] += s.energy.motion;
       sums[5] += s.energy.detail;
       sums[6] += s.texture;
+      sums[7] += s.loop_texture;
       ++counted;
     }
     const int64_t it = trainer->iteration();
@@ -492,6 +504,8 @@ TrainingOutcome Train(const JointTrainerOptions& options, const Scene& scene,
       }
       if (options.water_texture.weight > 0)
         std::printf("  texture %.5f", sums[6] / window);
+      if (options.loop_texture_weight > 0)
+        std::printf("  loop texture %.5f", sums[7] / window);
       if (eval) std::printf("  held-out PSNR %.2f dB", held_out.psnr);
       std::printf("\n");
       std::fflush(stdout);
@@ -549,6 +563,8 @@ int Run() {
   const JointTrainerOptions options = OptionsFromFlags();
   std::string device_name;
   const ComputeDevice device = ParseDeviceFlag(FLAGS_device, &device_name);
+  Require(device != ComputeDevice::kCuda || options.loop_texture_weight == 0,
+          "--loop_texture_weight runs on --device cpu only");
   PrepareOutputDirectory(FLAGS_out, "out");
   SceneOptions scene_options;
   scene_options.image_scale = FLAGS_image_scale;

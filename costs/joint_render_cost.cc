@@ -152,13 +152,13 @@ void JointRenderCost::BackwardWithImageGradient(
     double** gradients, bool accumulate,
     char* const* triplane_chunks) const {
   const LoopModelView model = AttachedView(parameters);
-  if (extra_d_rgb) image_loss_.AddRgbGradient(extra_d_rgb);
+  if (extra_d_rgb) image_loss_.AddRgbGradient(extra_d_rgb, render_.rgb.size());
   Backward(model, gradients, accumulate, triplane_chunks);
 }
 
 double JointRenderCost::Forward(const LoopModelView& model,
                                 bool want_grad) const {
-  const SplatView& view = composer_.Compose(model, frame_index_);
+  const SplatView& view = composer_.Compose(model, frame_index_, cycle_number_);
   rasterizer_->Forward(frame_->camera, view, options_, &render_);
   double loss = image_loss_.Score(render_, *frame_, want_grad);
   last_residual_ = 0;

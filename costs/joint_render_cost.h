@@ -2,6 +2,7 @@
 #define EULERSPLAT_COSTS_JOINT_RENDER_COST_H_
 
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include <ceres/cost_function.h>
@@ -65,6 +66,12 @@ class JointRenderCost : public ceres::CostFunction {
   // Points the cost at another frame or model shape, keeping its buffers.
   void Reset(const Frame* frame, int frame_index,
              const LoopStructure& structure);
+  // Composes every dynamic Gaussian at this cycle number instead of the
+  // frame's own (FrameComposer::Compose): 0 scores frame i of the loop as
+  // it plays; nullopt (the default) the frame as training fits it.
+  void set_cycle_number(std::optional<int> cycle_number) {
+    cycle_number_ = cycle_number;
+  }
 
   bool Evaluate(double const* const* parameters, double* residuals,
                 double** jacobians) const override;
@@ -91,8 +98,8 @@ class JointRenderCost : public ceres::CostFunction {
   // the loss as LossGradient does) and keeps what the backward pass needs;
   // render() is the image; BackwardWithImageGradient adds `extra_d_rgb`
   // (nullable, H x W x 3: the other loss's d / d image) to this cost's
-  // image gradient and writes d loss / d block into `gradients`. The
-  // photometric term must be on when extra_d_rgb is given.
+  // image gradient and writes d loss / d block into `gradients` (with
+  // every term off, the other loss alone).
   double RenderForGradient(double const* const* parameters) const;
   const RenderResult& render() const { return render_; }
   // With accumulate it adds (+=) into the rows, with triplane_chunks as
@@ -132,6 +139,7 @@ class JointRenderCost : public ceres::CostFunction {
 
   const Frame* frame_ = nullptr;
   int frame_index_ = 0;
+  std::optional<int> cycle_number_;
   LoopStructure structure_;
   JointBlockLayout layout_;
   double residual_weight_ = 0;

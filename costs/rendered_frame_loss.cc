@@ -38,6 +38,7 @@ double RenderedFrameLoss::Score(const RenderResult& render, const Frame& frame,
       static_cast<size_t>(frame.camera.width) * frame.camera.height;
   double loss = 0;
   last_photometric_ = last_mask_ = 0;
+  d_rgb_.clear();  // sized below, or by AddRgbGradient
   if (terms_.photometric_weight != 0) {
     d_rgb_.resize(3 * pixels);
     last_photometric_ = photometric_.Evaluate(
@@ -55,15 +56,15 @@ double RenderedFrameLoss::Score(const RenderResult& render, const Frame& frame,
   return loss;
 }
 
-void RenderedFrameLoss::AddRgbGradient(const double* extra) {
-  CHECK(terms_.photometric_weight != 0)
-      << "an image gradient needs the photometric term on";
-  for (size_t i = 0; i < d_rgb_.size(); ++i) d_rgb_[i] += extra[i];
+void RenderedFrameLoss::AddRgbGradient(const double* extra, size_t size) {
+  if (d_rgb_.empty()) d_rgb_.assign(size, 0.0);  // photometric term off
+  CHECK_EQ(d_rgb_.size(), size);
+  for (size_t i = 0; i < size; ++i) d_rgb_[i] += extra[i];
 }
 
 RenderGradients RenderedFrameLoss::ImageGradients() const {
   RenderGradients g;
-  g.d_rgb = terms_.photometric_weight != 0 ? d_rgb_.data() : nullptr;
+  g.d_rgb = d_rgb_.empty() ? nullptr : d_rgb_.data();
   g.d_extra = mask_on() ? d_extra_.data() : nullptr;
   return g;
 }

@@ -50,8 +50,8 @@ class RenderedFrameLoss {
 
   // Adds `extra` (H x W x 3, the last Score's frame size) to the kept
   // d loss / d image: a loss on the render that this class does not know
-  // (e.g. one across frames). Needs the photometric term on.
-  void AddRgbGradient(const double* extra);
+  // (e.g. one across frames), `size` = H x W x 3 of the last Score.
+  void AddRgbGradient(const double* extra, size_t size);
 
   // Rasterizer::Backward's input for the last Score(want_grad = true).
   RenderGradients ImageGradients() const;

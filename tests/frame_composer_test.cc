@@ -1,6 +1,7 @@
 #include "core/loop/frame_composer.h"
 
 #include <cmath>
+#include <optional>
 #include <random>
 #include <vector>
 
@@ -169,7 +170,10 @@ struct LinearLoss {
   }
 };
 
-TEST(FrameComposerTest, BackwardMatchesCentralDifferences) {
+// Compose (at the frame's own cycle numbers, or all at `cycle_number`)
+// and Backward of a LinearLoss against central differences of every block.
+void ExpectBackwardMatchesCentralDifferences(
+    std::optional<int> cycle_number) {
   LoopModel m = TinyModel(1);
   const int n = m.gaussians.size();
   const int frame = 9;  // cycle numbers 2, 1, 2, 1
@@ -183,7 +187,8 @@ TEST(FrameComposerTest, BackwardMatchesCentralDifferences) {
     for (double& x : *w) x = u(rng);
 
   FrameComposer composer;
-  const SplatView& v = composer.Compose(LoopModelView::Of(m), frame);
+  const SplatView& v =
+      composer.Compose(LoopModelView::Of(m), frame, cycle_number);
   SplatGradients grads;
   grads.Resize(n, 1, 0);
   grads.means = loss.w_means;
@@ -214,9 +219,11 @@ TEST(FrameComposerTest, BackwardMatchesCentralDifferences) {
       const double h = 1e-6;
       FrameComposer c;
       (*params)[i] = saved + h;
-      const double plus = loss.Value(c.Compose(LoopModelView::Of(m), frame));
+      const double plus =
+          loss.Value(c.Compose(LoopModelView::Of(m), frame, cycle_number));
       (*params)[i] = saved - h;
-      const double minus = loss.Value(c.Compose(LoopModelView::Of(m), frame));
+      const double minus =
+          loss.Value(c.Compose(LoopModelView::Of(m), frame, cycle_number));
       (*params)[i] = saved;
       const double numeric = (plus - minus) / (2 * h);
       EXPECT_NEAR(analytic[i], numeric, 1e-6 * max_abs + 1e-8)
@@ -230,6 +237,48 @@ TEST(FrameComposerTest, BackwardMatchesCentralDifferences) {
   check(&m.motion->triplane_params(), d_vt, "V triplane");
   check(&m.residual->mlp_params(), d_dm, "D mlp");
   check(&m.residual->triplane_params(), d_dt, "D triplane");
+}
+
+TEST(FrameComposerTest, BackwardMatchesCentralDifferences) {
+  ExpectBackwardMatchesCentralDifferences(std::nullopt);
+}
+
+// The loop's frame (every Gaussian at cycle number 0) takes gradients too:
+// training can score the loop as es_animate plays it.
+TEST(FrameComposerTest, BackwardAtOneCycleNumberMatchesCentralDifferences) {
+  ExpectBackwardMatchesCentralDifferences(0);
+}
+
+// Compose at cycle number 0 is the frame Alg. 2 plays (LoopAnimator's
+// positions, ComposeAdvected at p = 0), also at a frame where the video's
+// own cycle numbers are 1 and 2; at those it differs.
+TEST(FrameComposerTest, ComposeAtCycleNumberZeroIsTheLoopAsPlayed) {
+  const LoopModel m = TinyModel(2);
+  const LoopModelView view = LoopModelView::Of(m);
+  const int frame = 9;  // cycle numbers 2, 1, 2, 1
+  std::vector<double> x0;
+  for (int n : m.dynamic_index)
+    for (int j = 0; j < 3; ++j) x0.push_back(m.gaussians.means[3 * n + j]);
+  LoopAnimator animator(&*m.motion, EulerOptions(), kCycle);
+  animator.Start(m.motion->params(), m.num_dynamic(), x0.data(),
+                 m.start_times, frame);
+  FrameComposer played, loop, video;
+  const SplatView& vp = played.ComposeAdvected(
+      view, animator.positions().data(), animator.cycle_indices().data(), 0);
+  const SplatView& vl = loop.Compose(view, frame, 0);
+  const SplatView& vv = video.Compose(view, frame);
+  for (int p : loop.cycle_numbers()) EXPECT_EQ(p, 0);
+  const int n = m.gaussians.size();
+  double video_gap = 0;
+  for (int i = 0; i < 3 * n; ++i) {
+    EXPECT_NEAR(vl.means[i], vp.means[i], 1e-12);
+    video_gap = std::max(video_gap, std::abs(vv.means[i] - vl.means[i]));
+  }
+  for (int i = 0; i < n; ++i)
+    EXPECT_NEAR(vl.opacity_logits[i], vp.opacity_logits[i], 1e-12);
+  for (size_t i = 0; i < m.gaussians.sh.size(); ++i)
+    EXPECT_NEAR(vl.sh[i], vp.sh[i], 1e-12);
+  EXPECT_GT(video_gap, 1e-6);  // D sees the cycle number
 }
 
 // Every output of one Compose + Backward, for comparing runs.

@@ -216,6 +216,66 @@ TEST(JointCostTest, GradientCheckerCatchesAWrongFieldJacobian) {
   EXPECT_FALSE(ProbeBlockwise(wrong, JointBlocks(&m), 1e-4, &log));
 }
 
+// <w, image> of a JointRenderCost's render, with the gradient that
+// BackwardWithImageGradient passes back from w alone: the trainer's path
+// for a loss on renders that the cost does not know (the loop's energy).
+class ImageFunctional : public ceres::CostFunction {
+ public:
+  ImageFunctional(const JointRenderCost* cost, std::vector<double> w)
+      : cost_(cost), w_(std::move(w)) {
+    set_num_residuals(1);
+    *mutable_parameter_block_sizes() = cost->parameter_block_sizes();
+  }
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const override {
+    cost_->RenderForGradient(parameters);
+    const std::vector<double>& rgb = cost_->render().rgb;
+    EXPECT_EQ(rgb.size(), w_.size());
+    residuals[0] = 0;
+    for (size_t i = 0; i < rgb.size(); ++i) residuals[0] += w_[i] * rgb[i];
+    if (jacobians != nullptr)
+      cost_->BackwardWithImageGradient(parameters, w_.data(), jacobians);
+    return true;
+  }
+
+ private:
+  const JointRenderCost* cost_;
+  std::vector<double> w_;
+};
+
+// With every term off and all water at cycle number 0 (the loop as
+// es_animate plays frame 6, whose own cycle numbers are 1 and 0), an image
+// gradient alone reaches every block through D and the Euler chain, and
+// the render is not the video's frame 6.
+TEST(JointCostTest, LoopFrameImageGradientMatchesFiniteDifferences) {
+  const Frame frame = TinyFrame();
+  LoopModel m = TinyModel();
+  JointRenderTerms none;
+  none.photometric_weight = 0;
+  JointRenderCost loop(&frame, kFrameIndex, LoopStructure::Of(m), none,
+                       DoubleOptions());
+  loop.set_cycle_number(0);
+  const std::vector<double*> blocks = JointBlocks(&m);
+  EXPECT_NEAR(loop.RenderForGradient(blocks.data()), 0.5 * kScalarLossEps,
+              1e-15);
+  const std::vector<double> loop_rgb = loop.render().rgb;
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::vector<double> w(loop_rgb.size());
+  for (double& x : w) x = u(rng);
+  const ImageFunctional functional(&loop, w);
+  std::string log;
+  EXPECT_TRUE(ProbeBlockwise(functional, blocks, 1e-4, &log)) << log;
+
+  const JointRenderCost video(&frame, kFrameIndex, LoopStructure::Of(m), none,
+                              DoubleOptions());
+  video.RenderForGradient(blocks.data());
+  double gap = 0;
+  for (size_t i = 0; i < loop_rgb.size(); ++i)
+    gap = std::max(gap, std::abs(loop_rgb[i] - video.render().rgb[i]));
+  EXPECT_GT(gap, 1e-4);
+}
+
 // Problem::Evaluate with ScaledLoss over the single-term costs gives the
 // combined cost's loss and gradient.
 TEST(JointCostTest, SingleTermCostsSumToTheCombinedCost) {

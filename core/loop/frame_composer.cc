@@ -125,7 +125,8 @@ void FrameComposer::EvaluateFields(const LoopModelView& model, bool advect) {
 }
 
 const SplatView& FrameComposer::Compose(const LoopModelView& model,
-                                        int frame) {
+                                        int frame,
+                                        std::optional<int> cycle_number) {
   ScopedStage timer(Stage::kComposition);
   const LoopStructure& s = model.structure;
   const int* dynamic = DynamicIndices(s);
@@ -143,8 +144,9 @@ const SplatView& FrameComposer::Compose(const LoopModelView& model,
               &canonical_[3 * k]);
     cycle_index_[k] =
         CycleIndex(frame, start_times[k], s.cycle_length);
-    cycle_number_[k] =
-        CycleNumber(frame, start_times[k], s.cycle_length);
+    cycle_number_[k] = cycle_number ? *cycle_number
+                                    : CycleNumber(frame, start_times[k],
+                                                  s.cycle_length);
   }
   // The Euler chain overwrites these when there is a motion field.
   positions_ = canonical_;

@@ -64,8 +64,11 @@ class FrameComposer {
   explicit FrameComposer(const EulerOptions& euler_options = {});
 
   // Training / evaluation: frame i, Alg. 1 from the canonical positions,
-  // t and p from the true frame index. Keeps what Backward needs.
-  const SplatView& Compose(const LoopModelView& model, int frame);
+  // t and p from the true frame index. Keeps what Backward needs. With
+  // `cycle_number`, every dynamic Gaussian takes that p instead: frame i
+  // of the loop as Alg. 2 plays it (p = 0), with its gradient.
+  const SplatView& Compose(const LoopModelView& model, int frame,
+                           std::optional<int> cycle_number = std::nullopt);
 
   // Animation (Alg. 2): dynamic positions already advected elsewhere
   // (num_dynamic x 3, in dynamic order, e.g. LoopAnimator::positions()),

@@ -79,6 +79,14 @@ struct JointTrainerOptions {
   // two frames (costs/water_texture_loss.h): the distribution of the
   // water's texture matched to the input frame's. Off by default.
   WaterTextureOptions water_texture;
+  // > 0: the sampled frame is also composed as the loop plays it (every
+  // water Gaussian at cycle number 0, Alg. 2), rendered, and
+  // WaterTextureLoss of that render against the same input frame enters
+  // the loss at this weight (with water_texture's bands and projections).
+  // Training fits frame i with each Gaussian at its own cycle number; the
+  // loop shows them all at 0, whose texture no other loss sees. One more
+  // render and backward pass per iteration.
+  double loop_texture_weight = 0;
   // Shapes of fields made from scratch (a given V keeps its own). D's
   // cycle_length is set to cycle_length and its max_cycles to cover every
   // frame of the video.
@@ -100,6 +108,7 @@ struct JointIterationStats {
   int pair_frame = -1;    // the neighbour rendered for the energy term
   WaterEnergyTerms energy;  // unweighted; weighted into loss
   double texture = 0;  // unweighted, mean of the pair's; weighted into loss
+  double loop_texture = 0;  // unweighted, of the loop's frame; weighted too
   int num_dynamic = 0;
   EulerStats euler;
   bool skipped = false;  // non-finite loss or gradient: no update

@@ -47,9 +47,23 @@ JointTrainer::JointTrainer(const std::vector<Frame>* frames,
                 LoopStructure::Of(model_),
                 JointLossTerms(options_, use_masks_),
                 render_options(), &rasterizer_, options_.euler);
+  energy_masks_ = (PairLossOn(options_) || options_.loop_texture_weight > 0) &&
+                  AllHaveMasks(*frames_, train_);
+  if (options_.loop_texture_weight > 0) {
+    // No term of its own: only the texture loss's image gradient.
+    JointRenderTerms none;
+    none.photometric_weight = 0;
+    loop_cost_.emplace(&(*frames_)[train_.at(0)],
+                       (*frames_)[train_.at(0)].time_index,
+                       LoopStructure::Of(model_), none, render_options(),
+                       &rasterizer_, options_.euler);
+    loop_cost_->set_cycle_number(0);
+    WaterTextureOptions texture = options_.water_texture;
+    texture.weight = options_.loop_texture_weight;
+    loop_texture_.emplace(texture);
+  }
   if (PairLossOn(options_)) {
     partner_ = TrainingNeighbours(*frames_, train_);
-    energy_masks_ = AllHaveMasks(*frames_, train_);
     energy_.emplace(options_.water_energy);
     if (WaterTextureOn(options_)) texture_.emplace(options_.water_texture);
     // Its own rasterizer: both renders are kept until both backward passes.
@@ -135,6 +149,7 @@ JointIterationStats JointTrainer::Step() {
     out.residual = cost_->last_residual();
   }
   out.euler = cost_->last_euler_stats();
+  if (loop_cost_) out.loss += LoopTextureGradient(frame, &out);
   if (flow_prior_) {
     // V's blocks come first among the field gradients.
     out.flow_prior = flow_prior_->AddLossAndGradient(
@@ -283,6 +298,26 @@ double JointTrainer::TextureLossGradient(const double* render_a,
                          1.0, draw + 1, energy_grad_b_.data());
   out->texture = 0.5 * sum / options_.water_texture.weight;
   return sum;
+}
+
+double JointTrainer::LoopTextureGradient(const Frame& frame,
+                                         JointIterationStats* out) {
+  loop_cost_->Reset(&frame, frame.time_index, LoopStructure::Of(model_));
+  std::vector<double*> params = JointBlocks(&model_);
+  loop_cost_->RenderForGradient(params.data());
+  loop_grad_.assign(loop_cost_->render().rgb.size(), 0.0);
+  const double loss = loop_texture_->Evaluate(
+      loop_cost_->render().rgb.data(), frame.image,
+      energy_masks_ ? frame.mask : cv::Mat(), 1.0,
+      LoopTextureDraw(iteration_), loop_grad_.data());
+  out->loop_texture = loss / options_.loop_texture_weight;
+  std::vector<double*> gradients = SplatRenderCost::Blocks(&grad_);
+  for (std::vector<double>& g : field_grad_) gradients.push_back(g.data());
+  const std::vector<char*> chunks = TriplaneChunkFlags();
+  loop_cost_->BackwardWithImageGradient(params.data(), loop_grad_.data(),
+                                        gradients.data(), /*accumulate=*/true,
+                                        chunks.data());
+  return loss;
 }
 
 WaterDensifyResult JointTrainer::DensifyWaterNow() {

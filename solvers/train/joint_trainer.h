@@ -67,6 +67,10 @@ class JointTrainer : public JointStageTrainer {
   double TextureLossGradient(const double* render_a, const double* render_b,
                              const Frame& a, const Frame& b,
                              JointIterationStats* out);
+  // The loop texture term of `frame` (composed at cycle number 0, as
+  // es_animate plays it): its weighted value, its gradient added into
+  // grad_ and field_grad_ (+=).
+  double LoopTextureGradient(const Frame& frame, JointIterationStats* out);
   // Ranks the water Gaussians by their mean view-space gradient over
   // water_densify.views training frames and densifies the top fraction.
   // Stateless (frames and draws follow from seed and iteration), so a
@@ -111,6 +115,12 @@ class JointTrainer : public JointStageTrainer {
   std::optional<JointRenderCost> pair_cost_;
   GaussianSet pair_grad_;
   std::vector<double> energy_grad_a_, energy_grad_b_;
+  // loop_texture_weight > 0: the frame as the loop plays it (rendered on
+  // rasterizer_ after cost_'s backward pass), its texture loss and its
+  // image gradient.
+  std::optional<JointRenderCost> loop_cost_;
+  std::optional<WaterTextureLoss> loop_texture_;
+  std::vector<double> loop_grad_;
   int64_t iteration_ = 0;
   DivergenceGuard guard_;
 };

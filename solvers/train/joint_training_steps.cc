@@ -57,6 +57,10 @@ bool PairLossOn(const JointTrainerOptions& o) {
   return WaterEnergyOn(o) || WaterTextureOn(o);
 }
 
+uint64_t LoopTextureDraw(int64_t iteration) {
+  return (uint64_t{1} << 40) + static_cast<uint64_t>(iteration);
+}
+
 std::vector<int> TrainingNeighbours(const std::vector<Frame>& frames,
                                     const std::vector<int>& train) {
   std::vector<int> by_time;

@@ -33,6 +33,9 @@ bool WaterEnergyOn(const JointTrainerOptions& o);
 bool WaterTextureOn(const JointTrainerOptions& o);
 // Either loss on frame pairs is on: each step renders a neighbour too.
 bool PairLossOn(const JointTrainerOptions& o);
+// The loop texture term's random directions at an iteration: apart from
+// the pair's texture term's (2 i and 2 i + 1), and the same on a resume.
+uint64_t LoopTextureDraw(int64_t iteration);
 
 // For every training frame (by frame index), the training frame next to
 // it in the video: the next one, else the previous one; -1 for none.

@@ -37,6 +37,8 @@ DeviceJointTrainer::DeviceJointTrainer(const std::vector<Frame>* frames,
       pair_cost_(JointLossTerms(options, use_masks_), options.background,
                  &pair_rasterizer_, options.euler),
       guard_("Stage 3 training", options.max_nonfinite_steps) {
+  CHECK_EQ(options.loop_texture_weight, 0)
+      << "the loop texture term runs on the CPU trainer only";
   model_ = InitialLoopModel(options_, static_cast<int>(frames_->size()),
                             std::move(initial), std::move(motion), &rng_);
   initial_dynamic_ = model_.num_dynamic();
