@@ -185,8 +185,10 @@ DEFINE_double(loop_texture_weight, 0,
               "shows it) and match its water's texture to the input "
               "frame's with this weight (the texture term's bands and "
               "projections); 0: off. Training fits each frame at its own "
-              "cycle numbers; this scores the frames the loop shows. CPU "
-              "only; one more render and backward pass per iteration.");
+              "cycle numbers; this scores the frames the loop shows "
+              "(docs/RESULTS.md). One more "
+              "render and backward pass per iteration; on --device cuda "
+              "its texture loss runs on the host, as the texture term's.");
 DEFINE_int32(texture_bands, 2,
              "Bands of the texture term's difference-of-Gaussians "
              "pyramid, finest first, each twice the scale of the last.");
@@ -563,8 +565,6 @@ int Run() {
   const JointTrainerOptions options = OptionsFromFlags();
   std::string device_name;
   const ComputeDevice device = ParseDeviceFlag(FLAGS_device, &device_name);
-  Require(device != ComputeDevice::kCuda || options.loop_texture_weight == 0,
-          "--loop_texture_weight runs on --device cpu only");
   PrepareOutputDirectory(FLAGS_out, "out");
   SceneOptions scene_options;
   scene_options.image_scale = FLAGS_image_scale;

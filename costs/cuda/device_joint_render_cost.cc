@@ -73,7 +73,8 @@ DeviceLoopModelView DeviceJointRenderCost::View(
 double DeviceJointRenderCost::Forward(double const* const* parameters,
                                       bool want_grad) const {
   const DeviceSplatView& view =
-      composer_.Compose(View(parameters, /*attach=*/true), frame_index_);
+      composer_.Compose(View(parameters, /*attach=*/true), frame_index_,
+                        cycle_number_);
   render_ = rasterizer_->ForwardDevice(camera_, view, background_);
 
   // RenderedFrameLoss::Score, then D's L2.
@@ -81,6 +82,7 @@ double DeviceJointRenderCost::Forward(double const* const* parameters,
   const size_t pixels = static_cast<size_t>(w) * h;
   double loss = 0;
   last_photometric_ = last_mask_ = last_residual_ = 0;
+  have_d_rgb_ = terms_.photometric_weight != 0 && want_grad;
   if (terms_.photometric_weight != 0) {
     d_rgb_.Resize(3 * pixels);
     last_photometric_ = photometric_.Evaluate(
@@ -113,7 +115,7 @@ void DeviceJointRenderCost::Backward(double const* const* parameters,
   CHECK(gradients_ready_)
       << "DeviceJointRenderCost: a backward without a forward for it";
   DeviceImageGradients image_grads;
-  if (terms_.photometric_weight != 0) image_grads.d_rgb = d_rgb_.data();
+  if (have_d_rgb_) image_grads.d_rgb = d_rgb_.data();
   if (mask_on()) image_grads.d_extra = d_extra_.data();
   const int count = structure_.count;
   splat_grads_.Resize(count, structure_.sh_degree, mask_on() ? 1 : 0);
@@ -181,12 +183,15 @@ void DeviceJointRenderCost::BackwardWithImageGradient(
     double const* const* parameters, const float* extra_d_rgb,
     double** gradients, bool accumulate) const {
   if (extra_d_rgb != nullptr) {
-    CHECK(terms_.photometric_weight != 0)
-        << "an image gradient needs the photometric term on";
     CHECK(gradients_ready_) << "BackwardWithImageGradient before "
                                "RenderForGradient";
-    AddFloatArray(3LL * camera_.width * camera_.height, extra_d_rgb,
-                  d_rgb_.data());
+    const long long values = 3LL * camera_.width * camera_.height;
+    if (!have_d_rgb_) {  // the photometric term is off
+      d_rgb_.Resize(values);
+      d_rgb_.Zero();
+      have_d_rgb_ = true;
+    }
+    AddFloatArray(values, extra_d_rgb, d_rgb_.data());
   }
   if (!accumulate) {
     const std::vector<int32_t>& sizes = layout_.sizes();

@@ -17,6 +17,8 @@
 // for callers that evaluate it directly (EvaluateDeviceScalarLossGradient,
 // AddLossGradient).
 
+#include <optional>
+
 #include <ceres/cost_function.h>
 
 #include <Eigen/Core>
@@ -55,6 +57,11 @@ class DeviceJointRenderCost : public ceres::CostFunction {
   // unchanged (DeviceFrameComposer::SetStructure).
   void Reset(const Camera& camera, const float* image, const float* mask,
              int frame_index, const LoopStructure& structure);
+  // Composes every dynamic Gaussian at this cycle number instead of the
+  // frame's own (JointRenderCost::set_cycle_number).
+  void set_cycle_number(std::optional<int> cycle_number) {
+    cycle_number_ = cycle_number;
+  }
 
   // parameters: the device blocks in layout() order; jacobians: nullptr,
   // or device blocks of the same sizes (a null block is skipped), written
@@ -72,9 +79,9 @@ class DeviceJointRenderCost : public ceres::CostFunction {
   // the frame, returning 0.5 r^2 and keeping what the backward needs;
   // render() is the image (valid until the next render);
   // BackwardWithImageGradient adds extra_d_rgb (device, H W 3 floats,
-  // nullable: another loss's d / d image; needs the photometric term on)
-  // to this cost's image gradient and writes (or, with accumulate, adds)
-  // dl/d block into the device gradient blocks.
+  // nullable: another loss's d / d image) to this cost's image gradient
+  // (with every term off, the other loss alone) and writes (or, with
+  // accumulate, adds) dl/d block into the device gradient blocks.
   double RenderForGradient(double const* const* parameters) const;
   const DeviceImages& render() const { return render_; }
   void BackwardWithImageGradient(double const* const* parameters,
@@ -113,6 +120,7 @@ class DeviceJointRenderCost : public ceres::CostFunction {
   const float* image_ = nullptr;
   const float* mask_ = nullptr;
   int frame_index_ = 0;
+  std::optional<int> cycle_number_;
   LoopStructure structure_;
   JointBlockLayout layout_;
   // Reused between evaluations.
@@ -123,6 +131,9 @@ class DeviceJointRenderCost : public ceres::CostFunction {
   mutable DeviceImages render_;
   mutable DeviceBuffer<double> probability_, d_residuals_;
   mutable DeviceBuffer<float> d_rgb_, d_extra_;
+  // d_rgb_ holds an image gradient for Backward: the photometric term's
+  // of the last Forward, or BackwardWithImageGradient's extra one.
+  mutable bool have_d_rgb_ = false;
   mutable DeviceGradientArrays splat_grads_;
   mutable bool gradients_ready_ = false;  // the last Forward kept them
   mutable double last_photometric_ = 0, last_mask_ = 0, last_residual_ = 0;

@@ -188,6 +188,10 @@ void ExpectPairStepsMatch(JointTrainerOptions o) {
       EXPECT_GT(c.texture, 0);
       EXPECT_NEAR(d.texture, c.texture, 1e-3 * c.texture);
     }
+    if (o.loop_texture_weight > 0) {
+      EXPECT_GT(c.loop_texture, 0);
+      EXPECT_NEAR(d.loop_texture, c.loop_texture, 1e-3 * c.loop_texture);
+    }
   }
   ExpectModelsClose(cpu, device, 2, o, CameraExtent(frames, kTrain));
 }
@@ -206,6 +210,18 @@ TEST(CudaJointTrainerTest, TextureTermMatchesTheCpuTrainer) {
   ES_REQUIRE_GPU("device Stage 3 trainer's texture term");
   JointTrainerOptions o = FullOptions();
   o.water_texture.weight = 3.0;
+  ExpectPairStepsMatch(o);
+}
+
+// The loop texture term beside the energy pairs (es_train's defaults):
+// the frame composed at cycle number 0 on the device, its texture loss on
+// the host, its gradient back through the device cost with no term of
+// its own.
+TEST(CudaJointTrainerTest, LoopTextureTermMatchesTheCpuTrainer) {
+  ES_REQUIRE_GPU("device Stage 3 trainer's loop texture term");
+  JointTrainerOptions o = FullOptions();
+  o.water_energy = WaterEnergyOptions();
+  o.loop_texture_weight = 3.0;
   ExpectPairStepsMatch(o);
 }
 

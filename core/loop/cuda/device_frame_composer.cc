@@ -78,7 +78,8 @@ void DeviceFrameComposer::SetStructure(const LoopStructure& s) {
   structure_ = s;
 }
 
-void DeviceFrameComposer::SetFrame(int frame) {
+void DeviceFrameComposer::SetFrame(int frame,
+                                   std::optional<int> cycle_number) {
   const int m = num_dynamic_;
   const int* start = structure_.start_times->data();
   const int length = structure_.cycle_length;
@@ -88,7 +89,8 @@ void DeviceFrameComposer::SetFrame(int frame) {
   cycle_number_.resize(m);
   for (int k = 0; k < m; ++k) {
     const int t = CycleIndex(frame, start[k], length);
-    const int p = CycleNumber(frame, start[k], length);
+    const int p =
+        cycle_number ? *cycle_number : CycleNumber(frame, start[k], length);
     changed = changed || t != cycle_index_[k] || p != cycle_number_[k];
     cycle_index_[k] = t;
     cycle_number_[k] = p;
@@ -100,7 +102,8 @@ void DeviceFrameComposer::SetFrame(int frame) {
 }
 
 const DeviceSplatView& DeviceFrameComposer::Compose(
-    const DeviceLoopModelView& model, int frame) {
+    const DeviceLoopModelView& model, int frame,
+    std::optional<int> cycle_number) {
   CHECK(structure_.dynamic_index != nullptr) << "SetStructure before Compose";
   const DeviceSplatView& c = model.canonical;
   CHECK(c.count == structure_.count && c.sh_degree == structure_.sh_degree)
@@ -112,7 +115,7 @@ const DeviceSplatView& DeviceFrameComposer::Compose(
   const int m = num_dynamic_;
   DeviceDynamicFrame dynamic;
   if (m > 0) {
-    SetFrame(frame);
+    SetFrame(frame, cycle_number);
     x0_.Resize(3 * static_cast<size_t>(m));
     GatherDynamicMeansKernel(m, dynamic_.data(), c.means, x0_.data());
     dynamic = {m, dynamic_.data(), x0_.data(), x0_.data(),

@@ -64,10 +64,13 @@ class DeviceFrameComposer {
   void SetStructure(const LoopStructure& structure);
 
   // Frame i's splats (FrameComposer::Compose): t = CycleIndex(i, t0, L)
-  // Euler steps of V from x0, plus D(x0, t, p = CycleNumber(i, t0, L)).
-  // The view stays valid until the next Compose; log-scales, quaternions
-  // and extra point at the canonical arrays.
-  const DeviceSplatView& Compose(const DeviceLoopModelView& model, int frame);
+  // Euler steps of V from x0, plus D(x0, t, p = CycleNumber(i, t0, L)),
+  // or with `cycle_number` D at that p for every Gaussian (0: the loop as
+  // Alg. 2 plays it). The view stays valid until the next Compose;
+  // log-scales, quaternions and extra point at the canonical arrays.
+  const DeviceSplatView& Compose(
+      const DeviceLoopModelView& model, int frame,
+      std::optional<int> cycle_number = std::nullopt);
 
   // Backward of the last Compose (same values): grads (device, the
   // composed splats' d loss, every array but extra read) to the canonical
@@ -100,9 +103,9 @@ class DeviceFrameComposer {
   };
   static FieldKey KeyOf(const MotionField* field);
   static FieldKey KeyOf(const ResidualField* field);
-  // Frame i's cycle indices and numbers from the host start times,
-  // uploaded when they changed.
-  void SetFrame(int frame);
+  // Frame i's cycle indices and numbers (or `cycle_number` for all) from
+  // the host start times, uploaded when they changed.
+  void SetFrame(int frame, std::optional<int> cycle_number);
 
   EulerOptions euler_options_;
   LoopStructure structure_;

@@ -25,7 +25,8 @@ DeviceJointTrainer::DeviceJointTrainer(const std::vector<Frame>* frames,
       train_(std::move(train)),
       options_(options),
       use_masks_(options.mask_weight > 0 && AllHaveMasks(*frames, train_)),
-      energy_masks_(PairLossOn(options) && AllHaveMasks(*frames, train_)),
+      energy_masks_((PairLossOn(options) || options.loop_texture_weight > 0) &&
+                    AllHaveMasks(*frames, train_)),
       extent_(CameraExtent(*frames, train_)),
       sampler_(train_, options.seed),
       rng_(options.seed + 1),
@@ -37,8 +38,6 @@ DeviceJointTrainer::DeviceJointTrainer(const std::vector<Frame>* frames,
       pair_cost_(JointLossTerms(options, use_masks_), options.background,
                  &pair_rasterizer_, options.euler),
       guard_("Stage 3 training", options.max_nonfinite_steps) {
-  CHECK_EQ(options.loop_texture_weight, 0)
-      << "the loop texture term runs on the CPU trainer only";
   model_ = InitialLoopModel(options_, static_cast<int>(frames_->size()),
                             std::move(initial), std::move(motion), &rng_);
   initial_dynamic_ = model_.num_dynamic();
@@ -54,6 +53,17 @@ DeviceJointTrainer::DeviceJointTrainer(const std::vector<Frame>* frames,
     f.v.Zero();
   }
   UpdateScaleBounds();
+  if (options_.loop_texture_weight > 0) {
+    // No term of its own: only the texture loss's image gradient.
+    JointRenderTerms none;
+    none.photometric_weight = 0;
+    loop_cost_.emplace(none, options_.background, &rasterizer_,
+                       options_.euler);
+    loop_cost_->set_cycle_number(0);
+    WaterTextureOptions texture = options_.water_texture;
+    texture.weight = options_.loop_texture_weight;
+    loop_texture_.emplace(texture);
+  }
   if (PairLossOn(options_)) {
     partner_ = TrainingNeighbours(*frames_, train_);
     energy_.emplace(options_.water_energy);
@@ -114,6 +124,7 @@ JointIterationStats DeviceJointTrainer::Step() {
     out.residual = cost_.last_residual();
   }
   out.euler = cost_.last_euler_stats();
+  if (loop_cost_) out.loss += LoopTextureGradient(out.frame, &out);
   if (flow_prior_) {
     // V's blocks come first among the fields.
     out.flow_prior = flow_prior_->AddLossAndGradient(
@@ -229,27 +240,56 @@ double DeviceJointTrainer::TextureLossGradient(const float* render_a,
   if (!texture_) return 0;
   // As JointTrainer's: each frame at full weight, the draws by iteration.
   const uint64_t draw = 2 * static_cast<uint64_t>(iteration_);
-  double sum = 0;
-  for (int f = 0; f < 2; ++f) {
-    const Frame& frame = (*frames_)[f == 0 ? a : b];
-    DeviceBuffer<float>& grad = f == 0 ? energy_grad_a_ : energy_grad_b_;
-    const size_t values = grad.size();
-    host_values_.resize(values);
-    CopyToHost(host_values_.data(), f == 0 ? render_a : render_b,
-               values * sizeof(float));
-    host_render_.assign(host_values_.begin(), host_values_.end());
-    host_grad_.assign(values, 0.0);
-    sum += texture_->Evaluate(host_render_.data(), frame.image,
-                              energy_masks_ ? frame.mask : cv::Mat(), 1.0,
-                              draw + f, host_grad_.data());
-    // Up once, then added on the device to the energy's gradient.
-    host_values_.assign(host_grad_.begin(), host_grad_.end());
-    texture_grad_.Upload(host_values_);
-    cuda::AddFloatArray(static_cast<long long>(values), texture_grad_.data(),
-                        grad.data());
-  }
+  const double sum =
+      HostTextureGradient(&*texture_, render_a, (*frames_)[a], draw,
+                          energy_grad_a_.data()) +
+      HostTextureGradient(&*texture_, render_b, (*frames_)[b], draw + 1,
+                          energy_grad_b_.data());
   out->texture = 0.5 * sum / options_.water_texture.weight;
   return sum;
+}
+
+double DeviceJointTrainer::LoopTextureGradient(int frame_index,
+                                               JointIterationStats* out) {
+  const Frame& frame = (*frames_)[frame_index];
+  loop_cost_->Reset(frame.camera, images_.image(frame_index), nullptr,
+                    frame.time_index, Structure());
+  std::vector<double*> params = ParamBlocks();
+  loop_cost_->RenderForGradient(params.data());
+  loop_grad_.Resize(3 * static_cast<size_t>(frame.camera.width) *
+                    frame.camera.height);
+  loop_grad_.Zero();
+  const double loss =
+      HostTextureGradient(&*loop_texture_, loop_cost_->render().rgb, frame,
+                          LoopTextureDraw(iteration_), loop_grad_.data());
+  out->loop_texture = loss / options_.loop_texture_weight;
+  std::vector<double*> gradients = GradientBlocks(&grad_);
+  loop_cost_->BackwardWithImageGradient(params.data(), loop_grad_.data(),
+                                        gradients.data(), /*accumulate=*/true);
+  return loss;
+}
+
+double DeviceJointTrainer::HostTextureGradient(WaterTextureLoss* loss,
+                                               const float* render,
+                                               const Frame& frame,
+                                               uint64_t draw,
+                                               float* device_grad) {
+  const size_t values =
+      3 * static_cast<size_t>(frame.camera.width) * frame.camera.height;
+  host_values_.resize(values);
+  CopyToHost(host_values_.data(), render, values * sizeof(float));
+  host_render_.assign(host_values_.begin(), host_values_.end());
+  host_grad_.assign(values, 0.0);
+  const double value =
+      loss->Evaluate(host_render_.data(), frame.image,
+                     energy_masks_ ? frame.mask : cv::Mat(), 1.0, draw,
+                     host_grad_.data());
+  // Up once, then added on the device.
+  host_values_.assign(host_grad_.begin(), host_grad_.end());
+  texture_grad_.Upload(host_values_);
+  cuda::AddFloatArray(static_cast<long long>(values), texture_grad_.data(),
+                      device_grad);
+  return value;
 }
 
 void DeviceJointTrainer::RefreshDynamicSet() {

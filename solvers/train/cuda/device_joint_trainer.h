@@ -99,6 +99,16 @@ class DeviceJointTrainer : public JointStageTrainer {
   // of images, in exchange for one implementation of its sorts.
   double TextureLossGradient(const float* render_a, const float* render_b,
                              int a, int b, JointIterationStats* out);
+  // The loop texture term of the frame (composed at cycle number 0, as
+  // JointTrainer's): its weighted value, its gradient added into grad_
+  // and the fields' gradients. Its texture loss runs on the host too.
+  double LoopTextureGradient(int frame_index, JointIterationStats* out);
+  // `loss` of the device render of `frame` (draw: its directions) on the
+  // host; its gradient goes up once and is added to `device_grad` (H W 3
+  // floats). Returns the loss.
+  double HostTextureGradient(WaterTextureLoss* loss, const float* render,
+                             const Frame& frame, uint64_t draw,
+                             float* device_grad);
   WaterDensifyResult DensifyWaterNow();
   // Whether every value of `splats` and of the field blocks' `grad` (or
   // `x`) is finite: one flag for all, one int back to the host.
@@ -135,7 +145,12 @@ class DeviceJointTrainer : public JointStageTrainer {
   std::optional<DeviceWaterEnergyLoss> energy_;
   DeviceBuffer<float> energy_grad_a_, energy_grad_b_;
   std::optional<WaterTextureLoss> texture_;
-  // The texture term's transfers.
+  // loop_texture_weight > 0: the frame as the loop plays it (on
+  // rasterizer_, after cost_'s backward pass), its loss and gradient.
+  std::optional<DeviceJointRenderCost> loop_cost_;
+  std::optional<WaterTextureLoss> loop_texture_;
+  DeviceBuffer<float> loop_grad_;
+  // The texture terms' transfers.
   std::vector<float> host_values_;
   std::vector<double> host_render_, host_grad_;
   DeviceBuffer<float> texture_grad_;
