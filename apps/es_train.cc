@@ -179,16 +179,16 @@ DEFINE_double(texture_weight, 0,
               "weight; 0: off. About 2.4x the joint time at 160x120 (3 is "
               "the weight docs/RESULTS.md measured). On --device cuda it "
               "runs on the host.");
-DEFINE_double(loop_texture_weight, 0,
+DEFINE_double(loop_texture_weight, 3,
               "> 0: also render each sampled frame as the loop plays it "
               "(every water Gaussian at cycle number 0, as es_animate "
               "shows it) and match its water's texture to the input "
               "frame's with this weight (the texture term's bands and "
-              "projections); 0: off. Training fits each frame at its own "
-              "cycle numbers; this scores the frames the loop shows "
-              "(docs/RESULTS.md). One more "
-              "render and backward pass per iteration; on --device cuda "
-              "its texture loss runs on the host, as the texture term's.");
+              "projections); 0: off, and about half the joint time. "
+              "Training fits each frame at its own cycle numbers; this "
+              "scores the frames the loop shows (docs/RESULTS.md: every "
+              "preset's loop closer to the video). Its loss runs on the "
+              "host, so on --device cuda it is off unless given.");
 DEFINE_int32(texture_bands, 2,
              "Bands of the texture term's difference-of-Gaussians "
              "pyramid, finest first, each twice the scale of the last.");
@@ -562,9 +562,18 @@ void RecordFinalMetrics(const LoopMetrics& metrics, int64_t iteration,
 }
 
 int Run() {
-  const JointTrainerOptions options = OptionsFromFlags();
+  JointTrainerOptions options = OptionsFromFlags();
   std::string device_name;
   const ComputeDevice device = ParseDeviceFlag(FLAGS_device, &device_name);
+  if (device == ComputeDevice::kCuda && options.loop_texture_weight > 0 &&
+      gflags::GetCommandLineFlagInfoOrDie("loop_texture_weight").is_default) {
+    // Its loss runs on the host: at the paper's resolution it would take
+    // most of a GPU iteration.
+    options.loop_texture_weight = 0;
+    std::printf("--device cuda: the loop texture term is off unless "
+                "--loop_texture_weight is given (its loss runs on the "
+                "host)\n");
+  }
   PrepareOutputDirectory(FLAGS_out, "out");
   SceneOptions scene_options;
   scene_options.image_scale = FLAGS_image_scale;
