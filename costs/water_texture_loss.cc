@@ -4,7 +4,6 @@
 #include <cmath>
 #include <numeric>
 #include <random>
-#include <utility>
 
 #include <glog/logging.h>
 
@@ -126,22 +125,20 @@ double WaterTextureLoss::Evaluate(const double* rendered,
   d_proj_.resize(static_cast<Eigen::Index>(n), projections);
   std::vector<double> distances(projections);
   const double step = factor / (static_cast<double>(n) * projections);
+  sorts_.resize(projections);
 #pragma omp parallel for schedule(static)
   for (int j = 0; j < projections; ++j) {
-    std::vector<double> input_sorted(proj_i_.col(j).data(),
-                                     proj_i_.col(j).data() + n);
-    std::sort(input_sorted.begin(), input_sorted.end());
-    std::vector<std::pair<double, int>> ranked(n);
-    for (size_t i = 0; i < n; ++i)
-      ranked[i] = {proj_r_(static_cast<Eigen::Index>(i), j),
-                   static_cast<int>(i)};
-    std::sort(ranked.begin(), ranked.end());
+    DirectionSort& s = sorts_[j];
+    SortedOrder(proj_i_.col(j).data(), static_cast<int>(n), 1, &s.scratch,
+                &s.input_order);
+    SortedOrder(proj_r_.col(j).data(), static_cast<int>(n), 1, &s.scratch,
+                &s.rendered_order);
     double sum = 0;
     for (size_t r = 0; r < n; ++r) {
-      const double diff = ranked[r].first - input_sorted[r];
+      const int k = s.rendered_order[r];
+      const double diff = proj_r_(k, j) - proj_i_(s.input_order[r], j);
       sum += std::abs(diff);
-      d_proj_(ranked[r].second, j) =
-          diff > 0 ? step : (diff < 0 ? -step : 0.0);
+      d_proj_(k, j) = diff > 0 ? step : (diff < 0 ? -step : 0.0);
     }
     distances[j] = sum;
   }

@@ -7,6 +7,7 @@
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
 
+#include "core/metrics/sorted_order.h"
 #include "costs/water_image_filters.h"
 
 namespace es {
@@ -78,6 +79,12 @@ class WaterTextureLoss {
   std::vector<std::vector<double>> rendered_bands_, input_bands_, d_bands_;
   Eigen::MatrixXd directions_;  // dims x projections, unit columns
   Eigen::MatrixXd proj_r_, proj_i_, d_proj_;  // n x projections
+  // Per direction, both sets' rank orders (one per thread at a time).
+  struct DirectionSort {
+    SortedOrderScratch scratch;
+    std::vector<int> input_order, rendered_order;
+  };
+  std::vector<DirectionSort> sorts_;
   Eigen::VectorXd tap_values_;
 };
 

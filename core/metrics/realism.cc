@@ -10,6 +10,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "core/metrics/random_direction.h"
+#include "core/metrics/sorted_order.h"
 
 namespace es {
 namespace {
@@ -176,6 +177,8 @@ double SlicedWasserstein(const Features& a, const Features& b,
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> normal;
   std::vector<double> dir(d), pa(n), pb(n);
+  SortedOrderScratch scratch;
+  std::vector<int> order_a, order_b;
   double total = 0;
   for (int k = 0; k < projections; ++k) {
     DrawUnitDirection(&rng, &normal, &dir);
@@ -188,10 +191,11 @@ double SlicedWasserstein(const Features& a, const Features& b,
       pa[i] = sa;
       pb[i] = sb;
     }
-    std::sort(pa.begin(), pa.end());
-    std::sort(pb.begin(), pb.end());
+    SortedOrder(pa.data(), static_cast<int>(n), 1, &scratch, &order_a);
+    SortedOrder(pb.data(), static_cast<int>(n), 1, &scratch, &order_b);
     double w = 0;
-    for (size_t i = 0; i < n; ++i) w += std::abs(pa[i] - pb[i]);
+    for (size_t i = 0; i < n; ++i)
+      w += std::abs(pa[order_a[i]] - pb[order_b[i]]);
     total += w / n;
   }
   return total / projections;
