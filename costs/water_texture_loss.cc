@@ -16,6 +16,9 @@ namespace {
 
 constexpr int kChannels = internal::kWaterChannels;
 constexpr int kNeighbours = 9;  // 3 x 3
+// Rows of the projections that one thread updates at a time: small enough
+// for their n x projections block to stay in cache across the features.
+constexpr Eigen::Index kRowBlock = 512;
 
 // Offset o of the 3 x 3 neighbourhood, spaced `step` pixels, clamped.
 inline int Neighbour(int x, int y, int o, int step, int w, int h) {
@@ -66,19 +69,26 @@ void WaterTextureLoss::FindTaps() {
 
 void WaterTextureLoss::Project(const std::vector<std::vector<double>>& bands,
                                Eigen::MatrixXd* out) {
-  const size_t n = water_.size();
-  out->setZero(static_cast<Eigen::Index>(n), options_.projections);
-  tap_values_.resize(static_cast<Eigen::Index>(n));
-  // Feature (b, o) of every pixel at once, times its row of the
-  // directions: no n x dims feature matrix is ever held.
-  for (size_t b = 0; b < bands.size(); ++b) {
-    const std::vector<int>& taps = taps_[b % options_.bands];
-    const double* band = bands[b].data();
-    for (int o = 0; o < kNeighbours; ++o) {
-      for (size_t i = 0; i < n; ++i)
-        tap_values_[i] = band[taps[i * kNeighbours + o]];
-      out->noalias() +=
-          tap_values_ * directions_.row(b * kNeighbours + o);
+  const Eigen::Index n = static_cast<Eigen::Index>(water_.size());
+  out->setZero(n, options_.projections);
+  const Eigen::Index blocks = (n + kRowBlock - 1) / kRowBlock;
+  // Per block of pixels, feature (b, o) of each at once times its row of
+  // the directions: no n x dims feature matrix is ever held. Each block
+  // is its own rows, so the threads do not change the sums.
+#pragma omp parallel for schedule(static)
+  for (Eigen::Index k = 0; k < blocks; ++k) {
+    const Eigen::Index begin = k * kRowBlock;
+    const Eigen::Index rows = std::min(kRowBlock, n - begin);
+    Eigen::VectorXd values(rows);
+    auto block = out->middleRows(begin, rows);
+    for (size_t b = 0; b < bands.size(); ++b) {
+      const int* taps = taps_[b % options_.bands].data() + begin * kNeighbours;
+      const double* band = bands[b].data();
+      for (int o = 0; o < kNeighbours; ++o) {
+        for (Eigen::Index i = 0; i < rows; ++i)
+          values[i] = band[taps[i * kNeighbours + o]];
+        block.noalias() += values * directions_.row(b * kNeighbours + o);
+      }
     }
   }
 }
@@ -149,14 +159,17 @@ double WaterTextureLoss::Evaluate(const double* rendered,
     // The projections' adjoint: feature (b, o)'s gradient, scattered to
     // its taps.
     d_bands_.assign(rendered_bands_.size(), std::vector<double>(pixels, 0.0));
-    for (size_t b = 0; b < d_bands_.size(); ++b) {
+    const int num_bands = static_cast<int>(d_bands_.size());
+#pragma omp parallel for schedule(dynamic)
+    for (int b = 0; b < num_bands; ++b) {  // each band its own array
       const std::vector<int>& taps = taps_[b % options_.bands];
       double* d = d_bands_[b].data();
+      Eigen::VectorXd values(static_cast<Eigen::Index>(n));
       for (int o = 0; o < kNeighbours; ++o) {
-        tap_values_.noalias() =
+        values.noalias() =
             d_proj_ * directions_.row(b * kNeighbours + o).transpose();
         for (size_t i = 0; i < n; ++i)
-          d[taps[i * kNeighbours + o]] += tap_values_[i];
+          d[taps[i * kNeighbours + o]] += values[i];
       }
     }
     for (int c = 0; c < kChannels; ++c) {

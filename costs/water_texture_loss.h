@@ -85,7 +85,6 @@ class WaterTextureLoss {
     std::vector<int> input_order, rendered_order;
   };
   std::vector<DirectionSort> sorts_;
-  Eigen::VectorXd tap_values_;
 };
 
 }  // namespace es
