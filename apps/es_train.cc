@@ -176,7 +176,7 @@ DEFINE_double(texture_weight, 0,
               "the water's texture in each frame to the input frame's "
               "(sliced Wasserstein distance between the water pixels' "
               "band neighbourhoods, wherever each streak is), with this "
-              "weight; 0: off. About 2.4x the joint time at 160x120 (3 is "
+              "weight; 0: off. About 1.7x the joint time at 160x120 (3 is "
               "the weight docs/RESULTS.md measured). On --device cuda it "
               "runs on the host.");
 DEFINE_double(loop_texture_weight, 3,
@@ -184,7 +184,8 @@ DEFINE_double(loop_texture_weight, 3,
               "(every water Gaussian at cycle number 0, as es_animate "
               "shows it) and match its water's texture to the input "
               "frame's with this weight (the texture term's bands and "
-              "projections); 0: off, and about half the joint time. "
+              "projections); 0: off, and about 1.7x faster joint "
+              "iterations. "
               "Training fits each frame at its own cycle numbers; this "
               "scores the frames the loop shows (docs/RESULTS.md: every "
               "preset's loop closer to the video). Its loss runs on the "
