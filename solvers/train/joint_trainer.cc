@@ -47,20 +47,14 @@ JointTrainer::JointTrainer(const std::vector<Frame>* frames,
                 LoopStructure::Of(model_),
                 JointLossTerms(options_, use_masks_),
                 render_options(), &rasterizer_, options_.euler);
-  energy_masks_ = (PairLossOn(options_) || options_.loop_texture_weight > 0) &&
-                  AllHaveMasks(*frames_, train_);
-  if (options_.loop_texture_weight > 0) {
-    // No term of its own: only the texture loss's image gradient.
-    JointRenderTerms none;
-    none.photometric_weight = 0;
+  energy_masks_ = WaterLossOn(options_) && AllHaveMasks(*frames_, train_);
+  if (LoopTextureOn(options_)) {
     loop_cost_.emplace(&(*frames_)[train_.at(0)],
                        (*frames_)[train_.at(0)].time_index,
-                       LoopStructure::Of(model_), none, render_options(),
-                       &rasterizer_, options_.euler);
+                       LoopStructure::Of(model_), ImageGradientOnlyTerms(),
+                       render_options(), &rasterizer_, options_.euler);
     loop_cost_->set_cycle_number(0);
-    WaterTextureOptions texture = options_.water_texture;
-    texture.weight = options_.loop_texture_weight;
-    loop_texture_.emplace(texture);
+    loop_texture_.emplace(LoopTextureOptions(options_));
   }
   if (PairLossOn(options_)) {
     partner_ = TrainingNeighbours(*frames_, train_);

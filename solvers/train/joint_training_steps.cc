@@ -57,6 +57,26 @@ bool PairLossOn(const JointTrainerOptions& o) {
   return WaterEnergyOn(o) || WaterTextureOn(o);
 }
 
+bool LoopTextureOn(const JointTrainerOptions& o) {
+  return o.loop_texture_weight > 0;
+}
+
+bool WaterLossOn(const JointTrainerOptions& o) {
+  return PairLossOn(o) || LoopTextureOn(o);
+}
+
+WaterTextureOptions LoopTextureOptions(const JointTrainerOptions& o) {
+  WaterTextureOptions texture = o.water_texture;
+  texture.weight = o.loop_texture_weight;
+  return texture;
+}
+
+JointRenderTerms ImageGradientOnlyTerms() {
+  JointRenderTerms none;
+  none.photometric_weight = 0;
+  return none;
+}
+
 uint64_t LoopTextureDraw(int64_t iteration) {
   return (uint64_t{1} << 40) + static_cast<uint64_t>(iteration);
 }

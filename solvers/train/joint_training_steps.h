@@ -33,6 +33,15 @@ bool WaterEnergyOn(const JointTrainerOptions& o);
 bool WaterTextureOn(const JointTrainerOptions& o);
 // Either loss on frame pairs is on: each step renders a neighbour too.
 bool PairLossOn(const JointTrainerOptions& o);
+bool LoopTextureOn(const JointTrainerOptions& o);
+// Any loss on the water's statistics is on (those read the water masks).
+bool WaterLossOn(const JointTrainerOptions& o);
+// The loop texture term's WaterTextureLoss: water_texture's bands and
+// projections at loop_texture_weight.
+WaterTextureOptions LoopTextureOptions(const JointTrainerOptions& o);
+// A render cost's terms when another loss's image gradient is its only
+// one (the loop texture term's render).
+JointRenderTerms ImageGradientOnlyTerms();
 // The loop texture term's random directions at an iteration: apart from
 // the pair's texture term's (2 i and 2 i + 1), and the same on a resume.
 uint64_t LoopTextureDraw(int64_t iteration);

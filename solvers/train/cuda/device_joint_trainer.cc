@@ -25,8 +25,7 @@ DeviceJointTrainer::DeviceJointTrainer(const std::vector<Frame>* frames,
       train_(std::move(train)),
       options_(options),
       use_masks_(options.mask_weight > 0 && AllHaveMasks(*frames, train_)),
-      energy_masks_((PairLossOn(options) || options.loop_texture_weight > 0) &&
-                    AllHaveMasks(*frames, train_)),
+      energy_masks_(WaterLossOn(options) && AllHaveMasks(*frames, train_)),
       extent_(CameraExtent(*frames, train_)),
       sampler_(train_, options.seed),
       rng_(options.seed + 1),
@@ -53,16 +52,11 @@ DeviceJointTrainer::DeviceJointTrainer(const std::vector<Frame>* frames,
     f.v.Zero();
   }
   UpdateScaleBounds();
-  if (options_.loop_texture_weight > 0) {
-    // No term of its own: only the texture loss's image gradient.
-    JointRenderTerms none;
-    none.photometric_weight = 0;
-    loop_cost_.emplace(none, options_.background, &rasterizer_,
-                       options_.euler);
+  if (LoopTextureOn(options_)) {
+    loop_cost_.emplace(ImageGradientOnlyTerms(), options_.background,
+                       &rasterizer_, options_.euler);
     loop_cost_->set_cycle_number(0);
-    WaterTextureOptions texture = options_.water_texture;
-    texture.weight = options_.loop_texture_weight;
-    loop_texture_.emplace(texture);
+    loop_texture_.emplace(LoopTextureOptions(options_));
   }
   if (PairLossOn(options_)) {
     partner_ = TrainingNeighbours(*frames_, train_);
