@@ -79,8 +79,11 @@ void ExpectSameStep(const JointIterationStats& cpu,
   EXPECT_EQ(device.densified.cloned, cpu.densified.cloned);
   if (cpu.skipped) return;
   // Float renders of models that parted by float rounding in earlier
-  // steps.
-  constexpr double kRel = 2e-5;
+  // steps. On a GPU the atomics add a near-zero gradient in another order
+  // than the CPU, and Adam's first step turns its sign into a full-rate
+  // move: the second step's losses parted by up to 6.3e-5 on an H200 (2e-5
+  // held in the host emulation, which adds in a fixed order).
+  constexpr double kRel = 2e-4;
   EXPECT_NEAR(device.loss, cpu.loss, kRel * cpu.loss);
   EXPECT_NEAR(device.photometric, cpu.photometric, kRel * cpu.photometric);
   EXPECT_NEAR(device.mask, cpu.mask, kRel * cpu.mask + 1e-9);
