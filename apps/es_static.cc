@@ -66,6 +66,15 @@ DEFINE_double(densify_grad_threshold, 2e-4,
 DEFINE_double(percent_dense, 0.01,
               "Clone below, split above this fraction of the scene extent.");
 DEFINE_double(min_opacity, 0.005, "Prune Gaussians below this opacity.");
+DEFINE_double(max_screen_radius, 20,
+              "After the first opacity reset, prune Gaussians whose screen "
+              "radius exceeded this many pixels since the last "
+              "densification (3DGS: 20).");
+DEFINE_double(max_world_scale, 0,
+              "After the first opacity reset, prune Gaussians larger than "
+              "this times the cameras' extent (3DGS: 0.1; 0: off, the "
+              "default, since a hand-held video's small extent made it "
+              "prune the backdrop).");
 DEFINE_int32(max_gaussians, 1000000, "Cap on the number of Gaussians.");
 DEFINE_bool(white_background, false, "Render on white instead of black.");
 DEFINE_string(device, "cpu", es::kDeviceFlagHelp);
@@ -120,6 +129,8 @@ int main(int argc, char** argv) {
         t.densify_options.grad_threshold = FLAGS_densify_grad_threshold;
         t.densify_options.percent_dense = FLAGS_percent_dense;
         t.densify_options.min_opacity = FLAGS_min_opacity;
+        t.densify_options.max_screen_radius = FLAGS_max_screen_radius;
+        t.densify_options.max_world_scale = FLAGS_max_world_scale;
         t.densify_options.max_gaussians = FLAGS_max_gaussians;
         if (FLAGS_white_background) t.background.setOnes();
         if (device == es::ComputeDevice::kCuda)

@@ -12,7 +12,7 @@ returns 0 (OpenCV's GDAL codec calls GDALAllRegister when it is set up;
 nothing else is called). The loader binds symbols at load time (OpenCV is
 linked with BIND_NOW), so the stub must define them all.
 
-    cuda_pack_libs.py BIN LIB
+    scripts/cuda_pack_libs.py BIN LIB
 """
 import os
 import re
@@ -139,6 +139,9 @@ def main(bin_dir, lib_dir):
 
 
 if __name__ == "__main__":
-    if len(sys.argv) != 3 or sys.argv[1] in ("-h", "--help"):
+    if len(sys.argv) == 2 and sys.argv[1] in ("-h", "--help"):
+        print(__doc__)
+    elif len(sys.argv) != 3:
         sys.exit(__doc__)
-    main(sys.argv[1], sys.argv[2])
+    else:
+        main(sys.argv[1], sys.argv[2])

@@ -175,6 +175,9 @@ TEST_F(CliTest, OutOfRangeValuesAreRefusedBeforeAnyWork) {
                 "--densify_water_growth=0.5: must be in [1, 1000]");
   ExpectRefused("es_static", scene + " --out " + out + " --iterations 0",
                 "--iterations must be positive");
+  ExpectRefused("es_static",
+                scene + " --out " + out + " --max_world_scale -0.1",
+                "--max_world_scale must be >= 0 and finite (0: off)");
   ExpectRefused("es_animate",
                 scene + " --model m --out " + out + " --track_count -3",
                 "--track_count=-3: must be >= 1");

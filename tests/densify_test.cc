@@ -84,7 +84,11 @@ TEST(DensifyTest, PrunesTransparentAndTooLarge) {
   ASSERT_EQ(f.g.size(), 1);
   EXPECT_EQ(f.g.means[0], 1.0);
   EXPECT_EQ(f.adam.m().size(), 1);
-  // Gaussian 1 (max scale 0.5) is too large in a world of extent 4.
+  // Gaussian 1 (max scale 0.5) is too large in a world of extent 4 when
+  // the world-size prune is on (it is off by default).
+  r = DensifyAndPrune(f.options, 4.0, true, &f.rng, &f.g, &f.adam, &f.stats);
+  EXPECT_EQ(r.pruned, 0);
+  f.options.max_world_scale = 0.1;
   r = DensifyAndPrune(f.options, 4.0, true, &f.rng, &f.g, &f.adam, &f.stats);
   EXPECT_EQ(r.pruned, 1);
   EXPECT_EQ(f.g.size(), 0);

@@ -128,7 +128,7 @@ DensifyResult DensifyAndPrune(const DensifyOptions& options,
     bool prune = Sigmoid(g->opacity_logits[i]) < options.min_opacity;
     if (prune_large)
       prune = prune || stats->max_radius[i] > options.max_screen_radius ||
-              MaxScale(*g, i) > max_world;
+              (max_world > 0 && MaxScale(*g, i) > max_world);
     survive[i] = !prune;
     result.pruned += prune;
   }

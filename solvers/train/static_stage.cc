@@ -53,6 +53,10 @@ void Validate(const StaticStageOptions& o) {
   if (!(d.percent_dense > 0)) fail("--percent_dense must be > 0");
   if (!(d.min_opacity >= 0 && d.min_opacity < 1))
     fail("--min_opacity must be in [0, 1)");
+  if (!(d.max_screen_radius > 0))
+    fail("--max_screen_radius must be > 0");
+  if (!(d.max_world_scale >= 0 && std::isfinite(d.max_world_scale)))
+    fail("--max_world_scale must be >= 0 and finite (0: off)");
 }
 
 void WriteMetrics(const StaticStageResult& r, const std::string& path) {
