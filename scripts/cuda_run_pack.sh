@@ -83,7 +83,8 @@ for b in ${ES_BENCHES:-$(cat "$root/benches.txt")}; do
 done
 
 # The paper preset at its resolution with fewer frames and iterations: each
-# stage's wall time, to scale to the full preset's iteration counts.
+# stage's wall time, to scale to the full preset's iteration counts, and
+# es_train's time per part of an iteration (--profile).
 read -r e2e_static e2e_flow e2e_joint <<< "${ES_E2E_ITERATIONS:-1000 200 1000}"
 e2e_frames=${ES_E2E_FRAMES:-60}
 if ((SECONDS + 150 < budget)); then
@@ -95,10 +96,12 @@ if ((SECONDS + 150 < budget)); then
   timeout $((budget - SECONDS + 60)) "${timer[@]}" "$root/bin/eulersplat" \
     --scene /tmp/es_e2e_scene --out /tmp/es_e2e --preset paper --device cuda \
     --static_iterations "$e2e_static" --flow_iterations "$e2e_flow" \
-    --joint_iterations "$e2e_joint" --animate=false >> "$logs/e2e.txt" 2>&1
+    --joint_iterations "$e2e_joint" --animate=false \
+    --train_flags=--profile >> "$logs/e2e.txt" 2>&1
   note "eulersplat exit $? at $SECONDS s"
   grep -E 'so far|done in|it/s|Elapsed|Maximum resident|PSNR|EPE|rror' \
     "$logs/e2e.txt" | tail -40 | tee -a "$summary"
+  sed -n '/^profile:/,/^total /p' "$logs/e2e.txt" | tee -a "$summary"
 fi
 
 # Memcheck, four programs at a time, while the time allows.
