@@ -68,13 +68,15 @@ def dynamic_symbols(path):
     return symbols
 
 
-def write_stub(soname, path, importers, lib_dir, work):
-    """Writes lib_dir/soname: `path`'s symbols that `importers` use."""
-    wanted = set()
-    for importer in importers:
-        for name, version, _, _, defined in dynamic_symbols(importer):
-            if not defined:
-                wanted.add((name, version))
+def imported(paths):
+    """{(name, version)} of the symbols `paths` take from elsewhere."""
+    return {(name, version) for path in paths
+            for name, version, _, _, defined in dynamic_symbols(path)
+            if not defined}
+
+
+def write_stub(soname, path, wanted, lib_dir, work):
+    """Writes lib_dir/soname: `path`'s symbols among `wanted`."""
     source, nodes = [], {}
     for name, version, function, size, defined in dynamic_symbols(path):
         if not defined or (name, version) not in wanted and \
@@ -130,10 +132,10 @@ def main(bin_dir, lib_dir):
         with open(path, "rb") as src, \
                 open(os.path.join(lib_dir, soname), "wb") as dst:
             dst.write(src.read())
-    importers = programs + list(real.values())
+    wanted = imported(programs + list(real.values()))
     with tempfile.TemporaryDirectory() as work:
         for soname, path in stubs.items():
-            write_stub(soname, path, importers, lib_dir, work)
+            write_stub(soname, path, wanted, lib_dir, work)
     print("cuda_pack_libs.py: %d libraries, %d stubs (%s)" %
           (len(real), len(stubs), " ".join(sorted(stubs))))
 

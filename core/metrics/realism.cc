@@ -308,8 +308,9 @@ RealismMetrics ComputeRealism(const std::vector<cv::Mat>& rendered,
     Pyramid pt = BuildPyramid(real[t], options.levels);
     std::array<LevelMasks, kRegions> region =
         RegionMasks(has_masks ? water[t] : cv::Mat(), pt);
-    // The 3D patches' temporal features, once per frame pair (once per
-    // patch made es_eval take minutes at 1168x880).
+    // Each level's change since the last frame, once per frame pair: the
+    // motion sums and the 3D patches' features (once per patch made
+    // es_eval take minutes at 1168x880).
     std::vector<cv::Mat> change_rendered, change_real;
     if (t > 0) {
       change_rendered = LevelChanges(prev_rendered, pr, options.levels);
@@ -327,9 +328,8 @@ RealismMetrics ComputeRealism(const std::vector<cv::Mat>& rendered,
       if (t == 0) continue;
       const cv::Mat both = prev_masks[r][0] & region[r][0];
       a.motion_pixels += cv::countNonZero(both);
-      a.motion_rendered +=
-          MaskedAbsSum(pr.gauss[0] - prev_rendered.gauss[0], both);
-      a.motion_real += MaskedAbsSum(pt.gauss[0] - prev_real.gauss[0], both);
+      a.motion_rendered += MaskedAbsSum(change_rendered[0], both);
+      a.motion_real += MaskedAbsSum(change_real[0], both);
       while (a.next_patch < a.patches.size() &&
              a.patches[a.next_patch].t == t - 1) {
         const Patch& p = a.patches[a.next_patch++];
