@@ -19,9 +19,9 @@ namespace es {
 namespace {
 
 constexpr FlowMethod kAllMethods[] = {
-    FlowMethod::kDisUltrafast, FlowMethod::kDisFast, FlowMethod::kDisMedium,
-    FlowMethod::kFarneback,    FlowMethod::kDeepFlow, FlowMethod::kDualTvl1,
-    FlowMethod::kPcaFlow};
+    FlowMethod::kDisUltrafast, FlowMethod::kDisFast,  FlowMethod::kDisMedium,
+    FlowMethod::kDisFine,      FlowMethod::kFarneback, FlowMethod::kDeepFlow,
+    FlowMethod::kDualTvl1,     FlowMethod::kPcaFlow};
 
 bool IsContrib(FlowMethod method) {
   return method == FlowMethod::kDeepFlow || method == FlowMethod::kDualTvl1 ||
@@ -36,6 +36,14 @@ cv::Ptr<cv::DenseOpticalFlow> CreateEstimator(FlowMethod method) {
       return cv::DISOpticalFlow::create(cv::DISOpticalFlow::PRESET_FAST);
     case FlowMethod::kDisMedium:
       return cv::DISOpticalFlow::create(cv::DISOpticalFlow::PRESET_MEDIUM);
+    case FlowMethod::kDisFine: {
+      // The medium preset stops at half resolution; small videos' fine
+      // water texture only shows at full resolution.
+      cv::Ptr<cv::DISOpticalFlow> dis =
+          cv::DISOpticalFlow::create(cv::DISOpticalFlow::PRESET_MEDIUM);
+      dis->setFinestScale(0);
+      return dis;
+    }
     case FlowMethod::kFarneback:
       // A larger window than OpenCV's default (13) is steadier on the
       // low-texture water surfaces this is used on.
@@ -71,6 +79,7 @@ std::string FlowMethodName(FlowMethod method) {
     case FlowMethod::kDisUltrafast: return "dis_ultrafast";
     case FlowMethod::kDisFast: return "dis_fast";
     case FlowMethod::kDisMedium: return "dis";
+    case FlowMethod::kDisFine: return "dis_fine";
     case FlowMethod::kFarneback: return "farneback";
     case FlowMethod::kDeepFlow: return "deepflow";
     case FlowMethod::kDualTvl1: return "tvl1";

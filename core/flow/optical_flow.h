@@ -19,6 +19,7 @@ enum class FlowMethod {
   kDisUltrafast,  // cv::DISOpticalFlow presets
   kDisFast,
   kDisMedium,
+  kDisFine,       // the medium preset down to full resolution (finest scale 0)
   kFarneback,     // cv::calcOpticalFlowFarneback (pyramid 0.5, 5 levels)
   kDeepFlow,      // contrib cv::optflow (only if built with it)
   kDualTvl1,
@@ -26,7 +27,7 @@ enum class FlowMethod {
 };
 
 // The flag spelling of each method: dis_ultrafast, dis_fast, dis (medium),
-// farneback, deepflow, tvl1, pcaflow.
+// dis_fine, farneback, deepflow, tvl1, pcaflow.
 std::string FlowMethodName(FlowMethod method);
 // The methods this build can run (contrib ones only with opencv_optflow).
 std::vector<FlowMethod> AvailableFlowMethods();
