@@ -41,7 +41,8 @@ DEFINE_bool(use_test_frames, false,
 // Optical flow and lifting.
 DEFINE_string(flow, "dis",
               "Optical flow method: dis, dis_fine (dis at full resolution), "
-              "dis_fast, dis_ultrafast, farneback, and with OpenCV contrib deepflow, tvl1, pcaflow.");
+              "dis_fast, dis_ultrafast, farneback, and with OpenCV contrib "
+              "deepflow, tvl1, pcaflow.");
 DEFINE_string(flow_image, "fluctuation",
               "What the flow is computed on: frame (the video frames) or "
               "fluctuation (each frame minus the static model's render of "
