@@ -79,6 +79,11 @@ DEFINE_int32(frame_gap, 1,
              "by the gap: larger displacements, but stochastic water "
              "changes between the frames and fewer matches pass the "
              "forward-backward check (on es_synth water 1 was best).");
+DEFINE_bool(oracle_velocity, false,
+            "Diagnosis on synthetic scenes (needs SCENE/gt/): keep where the "
+            "lifted samples are, but give each the true velocity there, "
+            "seen in every direction: what a perfect optical flow would "
+            "give V. The samples written (and es_train's prior) are these.");
 DEFINE_double(max_fb_px, 1.0,
               "Reject flow whose forward-backward round trip misses by more "
               "than this (px): occlusions and unreliable matches.");
@@ -268,6 +273,11 @@ es::SceneFlowResult LiftWaterFlow(const es::Scene& scene,
         "Nothing was written.");
   }
   Subsample(FLAGS_max_samples, FLAGS_seed, &lifted.samples);
+  if (FLAGS_oracle_velocity) {
+    es::ReplaceWithTruth(es::LoadMotionGt(FLAGS_scene), &lifted.samples);
+    std::printf("--oracle_velocity: every sample now has the true velocity "
+                "at its position\n");
+  }
   return lifted;
 }
 
@@ -321,6 +331,7 @@ void WriteFlowMetrics(const std::string& path, double seconds,
       {"free_line_of_sight", FLAGS_free_line_of_sight},
       {"line_of_sight_weight", FLAGS_line_of_sight_weight},
       {"tv_weight", FLAGS_tv_weight},
+      {"oracle_velocity", FLAGS_oracle_velocity},
       {"solver", FLAGS_solver},
       {"iterations", fit.iterations},
       {"num_pairs", lifted.num_pairs},
@@ -365,6 +376,12 @@ void WriteFlowMetrics(const std::string& path, double seconds,
 int Run() {
   CheckFlags();
   const es::FlowPretrainer pretrain = PretrainerFromFlags();
+  if (FLAGS_oracle_velocity && !es::HasMotionGt(FLAGS_scene)) {
+    throw es::InputError(FLAGS_scene + "/gt/velocity_grid.bin: missing; "
+                         "--oracle_velocity needs a synthetic scene with "
+                         "ground-truth motion (es_synth). Nothing was "
+                         "written.");
+  }
   const auto start = std::chrono::steady_clock::now();
   const std::string static_path = FLAGS_static.empty()
                                       ? FLAGS_scene + "/static.ply"

@@ -281,6 +281,20 @@ TEST_F(CliTest, FlowinitDeviceIsCheckedBeforeAnyWork) {
   EXPECT_FALSE(fs::exists(root_ / "o")) << "work started anyway";
 }
 
+// --oracle_velocity needs the scene's ground truth: a scene without gt/ (a
+// real video's) is refused by name before any flow is computed.
+TEST_F(CliTest, OracleVelocityNeedsGroundTruth) {
+  const fs::path plain = root_ / "no_truth";
+  fs::copy(scene_, plain, fs::copy_options::recursive);
+  fs::remove_all(plain / "gt");
+  ExpectRefused("es_flowinit",
+                "--scene " + plain.string() + " --out " +
+                    (root_ / "oracle").string() + " --oracle_velocity",
+                "gt/velocity_grid.bin: missing; --oracle_velocity needs a "
+                "synthetic scene");
+  EXPECT_FALSE(fs::exists(root_ / "oracle")) << "work started anyway";
+}
+
 // The loop cannot be longer than the video (and its cost grows with L):
 // es_train refuses it, and the driver before Stage 1 trains.
 TEST_F(CliTest, CycleLengthLongerThanTheVideoIsRefused) {

@@ -160,6 +160,24 @@ TEST(MotionGtTest, EndpointErrorOfSamples) {
   EXPECT_EQ(EvaluateSamplesGt({}, TrueVelocity).num_points, 0);
 }
 
+TEST(MotionGtTest, TruthReplacesSampleVelocitiesAndSeesEveryDirection) {
+  std::vector<SceneFlowSample> samples = SamplesOf(50, 8);
+  std::vector<SceneFlowSample> noisy = samples;
+  for (SceneFlowSample& s : noisy) {
+    s.v = 0.4 * s.v + Eigen::Vector3d(0.1, -0.2, 0.05);
+    s.unseen = Eigen::Vector3d(0, 0, 1);
+  }
+  ASSERT_GT(EvaluateSamplesGt(noisy, TrueVelocity).rel_epe, 0.3);
+  ReplaceWithTruth(TrueVelocity, &noisy);
+  ASSERT_EQ(noisy.size(), samples.size());
+  for (size_t k = 0; k < noisy.size(); ++k) {
+    EXPECT_EQ(noisy[k].x, samples[k].x);
+    EXPECT_EQ(noisy[k].v, TrueVelocity(samples[k].x));
+    EXPECT_EQ(noisy[k].unseen, Eigen::Vector3d::Zero());
+  }
+  EXPECT_EQ(EvaluateSamplesGt(noisy, TrueVelocity).epe, 0.0);
+}
+
 TEST(MotionGtTest, EndpointErrorOfFittedAndZeroFields) {
   std::vector<Eigen::Vector3d> points;
   for (const SceneFlowSample& s : SamplesOf(400, 6)) points.push_back(s.x);

@@ -83,6 +83,14 @@ MotionGtMetrics EvaluateSamplesGt(const std::vector<SceneFlowSample>& samples,
   return SummarizeMotionGt(points);
 }
 
+void ReplaceWithTruth(const VelocityFunction& truth,
+                      std::vector<SceneFlowSample>* samples) {
+  for (SceneFlowSample& s : *samples) {
+    s.v = truth(s.x);
+    s.unseen.setZero();
+  }
+}
+
 bool HasMotionGt(const std::string& scene_dir) {
   return std::filesystem::exists(GridPath(scene_dir));
 }

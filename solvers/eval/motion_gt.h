@@ -50,6 +50,13 @@ MotionGtMetrics EvaluateMotionGt(const MotionField& field,
 MotionGtMetrics EvaluateSamplesGt(const std::vector<SceneFlowSample>& samples,
                                   const VelocityFunction& truth);
 
+// Diagnosis ("what would a perfect optical flow give?"): each sample's
+// velocity becomes the truth at its position, seen in every direction
+// (unseen = 0), so the samples keep the flow's spatial coverage and lose
+// its errors.
+void ReplaceWithTruth(const VelocityFunction& truth,
+                      std::vector<SceneFlowSample>* samples);
+
 // The synthetic scenes' ground truth, DIR/gt/velocity_grid.bin
 // (core/io/velocity_grid.h), sampled trilinearly. HasMotionGt says
 // whether the scene has it; LoadMotionGt throws InputError naming the file
