@@ -79,11 +79,13 @@ DEFINE_int32(frame_gap, 1,
              "by the gap: larger displacements, but stochastic water "
              "changes between the frames and fewer matches pass the "
              "forward-backward check (on es_synth water 1 was best).");
-DEFINE_bool(oracle_velocity, false,
-            "Diagnosis on synthetic scenes (needs SCENE/gt/): keep where the "
-            "lifted samples are, but give each the true velocity there, "
-            "seen in every direction: what a perfect optical flow would "
-            "give V. The samples written (and es_train's prior) are these.");
+DEFINE_string(oracle_velocity, "none",
+              "Diagnosis on synthetic scenes (needs SCENE/gt/): keep where the "
+              "lifted samples are, but give each the true velocity there. "
+              "full: all of it, seen in every direction; seen: the truth "
+              "across each sample's line of sight, that line left free (a "
+              "perfect 2D flow, lifted as today); none: the optical flow. "
+              "The samples written (and es_train's prior) are these.");
 DEFINE_double(max_fb_px, 1.0,
               "Reject flow whose forward-backward round trip misses by more "
               "than this (px): occlusions and unreliable matches.");
@@ -161,6 +163,11 @@ void CheckFlags() {
   es::RequirePositive("max_fb_px", FLAGS_max_fb_px);
   es::RequirePositive("max_depth_jump", FLAGS_max_depth_jump);
   es::RequireNonNegative("tv_weight", FLAGS_tv_weight);
+  if (FLAGS_oracle_velocity != "none" && FLAGS_oracle_velocity != "seen" &&
+      FLAGS_oracle_velocity != "full") {
+    throw es::InputError("--oracle_velocity must be none, seen or full, not '" +
+                         FLAGS_oracle_velocity + "'");
+  }
 }
 
 // --device's pretraining, checked before the optical flow is computed: the
@@ -273,10 +280,14 @@ es::SceneFlowResult LiftWaterFlow(const es::Scene& scene,
         "Nothing was written.");
   }
   Subsample(FLAGS_max_samples, FLAGS_seed, &lifted.samples);
-  if (FLAGS_oracle_velocity) {
-    es::ReplaceWithTruth(es::LoadMotionGt(FLAGS_scene), &lifted.samples);
-    std::printf("--oracle_velocity: every sample now has the true velocity "
-                "at its position\n");
+  if (FLAGS_oracle_velocity != "none") {
+    es::ReplaceWithTruth(es::LoadMotionGt(FLAGS_scene),
+                         FLAGS_oracle_velocity == "full" ? es::TruthPart::kFull
+                                                         : es::TruthPart::kSeen,
+                         &lifted.samples);
+    std::printf("--oracle_velocity %s: every sample now has the true "
+                "velocity at its position\n",
+                FLAGS_oracle_velocity.c_str());
   }
   return lifted;
 }
@@ -376,7 +387,7 @@ void WriteFlowMetrics(const std::string& path, double seconds,
 int Run() {
   CheckFlags();
   const es::FlowPretrainer pretrain = PretrainerFromFlags();
-  if (FLAGS_oracle_velocity && !es::HasMotionGt(FLAGS_scene)) {
+  if (FLAGS_oracle_velocity != "none" && !es::HasMotionGt(FLAGS_scene)) {
     throw es::InputError(FLAGS_scene + "/gt/velocity_grid.bin: missing; "
                          "--oracle_velocity needs a synthetic scene with "
                          "ground-truth motion (es_synth). Nothing was "

@@ -289,9 +289,13 @@ TEST_F(CliTest, OracleVelocityNeedsGroundTruth) {
   fs::remove_all(plain / "gt");
   ExpectRefused("es_flowinit",
                 "--scene " + plain.string() + " --out " +
-                    (root_ / "oracle").string() + " --oracle_velocity",
+                    (root_ / "oracle").string() + " --oracle_velocity seen",
                 "gt/velocity_grid.bin: missing; --oracle_velocity needs a "
                 "synthetic scene");
+  ExpectRefused("es_flowinit",
+                "--scene " + scene_.string() + " --out " +
+                    (root_ / "oracle").string() + " --oracle_velocity all",
+                "--oracle_velocity must be none, seen or full, not 'all'");
   EXPECT_FALSE(fs::exists(root_ / "oracle")) << "work started anyway";
 }
 

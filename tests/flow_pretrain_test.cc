@@ -160,22 +160,36 @@ TEST(MotionGtTest, EndpointErrorOfSamples) {
   EXPECT_EQ(EvaluateSamplesGt({}, TrueVelocity).num_points, 0);
 }
 
-TEST(MotionGtTest, TruthReplacesSampleVelocitiesAndSeesEveryDirection) {
+TEST(MotionGtTest, TruthReplacesSampleVelocitiesInFullOrAsSeen) {
   std::vector<SceneFlowSample> samples = SamplesOf(50, 8);
-  std::vector<SceneFlowSample> noisy = samples;
-  for (SceneFlowSample& s : noisy) {
+  for (SceneFlowSample& s : samples) {
     s.v = 0.4 * s.v + Eigen::Vector3d(0.1, -0.2, 0.05);
-    s.unseen = Eigen::Vector3d(0, 0, 1);
+    s.unseen = Eigen::Vector3d(0, 0.6, 0.8);  // a unit line of sight
   }
-  ASSERT_GT(EvaluateSamplesGt(noisy, TrueVelocity).rel_epe, 0.3);
-  ReplaceWithTruth(TrueVelocity, &noisy);
-  ASSERT_EQ(noisy.size(), samples.size());
-  for (size_t k = 0; k < noisy.size(); ++k) {
-    EXPECT_EQ(noisy[k].x, samples[k].x);
-    EXPECT_EQ(noisy[k].v, TrueVelocity(samples[k].x));
-    EXPECT_EQ(noisy[k].unseen, Eigen::Vector3d::Zero());
+  samples[7].unseen.setZero();  // a sample that saw every direction
+  ASSERT_GT(EvaluateSamplesGt(samples, TrueVelocity).rel_epe, 0.3);
+
+  std::vector<SceneFlowSample> full = samples;
+  ReplaceWithTruth(TrueVelocity, TruthPart::kFull, &full);
+  for (size_t k = 0; k < full.size(); ++k) {
+    EXPECT_EQ(full[k].x, samples[k].x);
+    EXPECT_EQ(full[k].v, TrueVelocity(samples[k].x));
+    EXPECT_EQ(full[k].unseen, Eigen::Vector3d::Zero());
   }
-  EXPECT_EQ(EvaluateSamplesGt(noisy, TrueVelocity).epe, 0.0);
+  EXPECT_EQ(EvaluateSamplesGt(full, TrueVelocity).epe, 0.0);
+
+  std::vector<SceneFlowSample> seen = samples;
+  ReplaceWithTruth(TrueVelocity, TruthPart::kSeen, &seen);
+  for (size_t k = 0; k < seen.size(); ++k) {
+    const Eigen::Vector3d truth = TrueVelocity(samples[k].x);
+    EXPECT_EQ(seen[k].unseen, samples[k].unseen);
+    // Across the line the truth holds; along it nothing is claimed.
+    EXPECT_NEAR(seen[k].v.dot(samples[k].unseen), 0.0, 1e-12) << k;
+    const Eigen::Vector3d across =
+        truth - truth.dot(samples[k].unseen) * samples[k].unseen;
+    EXPECT_LT((seen[k].v - across).norm(), 1e-12) << k;
+  }
+  EXPECT_EQ(seen[7].v, TrueVelocity(samples[7].x));
 }
 
 TEST(MotionGtTest, EndpointErrorOfFittedAndZeroFields) {

@@ -83,11 +83,16 @@ MotionGtMetrics EvaluateSamplesGt(const std::vector<SceneFlowSample>& samples,
   return SummarizeMotionGt(points);
 }
 
-void ReplaceWithTruth(const VelocityFunction& truth,
+void ReplaceWithTruth(const VelocityFunction& truth, TruthPart part,
                       std::vector<SceneFlowSample>* samples) {
   for (SceneFlowSample& s : *samples) {
     s.v = truth(s.x);
-    s.unseen.setZero();
+    if (part == TruthPart::kFull) {
+      s.unseen.setZero();
+    } else if (s.unseen.squaredNorm() > 0) {
+      const Eigen::Vector3d line = s.unseen.normalized();
+      s.v -= s.v.dot(line) * line;
+    }
   }
 }
 

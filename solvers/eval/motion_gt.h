@@ -51,10 +51,14 @@ MotionGtMetrics EvaluateSamplesGt(const std::vector<SceneFlowSample>& samples,
                                   const VelocityFunction& truth);
 
 // Diagnosis ("what would a perfect optical flow give?"): each sample's
-// velocity becomes the truth at its position, seen in every direction
-// (unseen = 0), so the samples keep the flow's spatial coverage and lose
-// its errors.
-void ReplaceWithTruth(const VelocityFunction& truth,
+// velocity becomes the truth at its position, so the samples keep the
+// flow's spatial coverage and lose its errors. kFull: all three components,
+// seen in every direction (unseen = 0). kSeen: what a perfect 2D flow lifted
+// as es_flowinit lifts it would give: the truth less its component along
+// the sample's unseen line, which stays free; a sample without that line
+// (unseen = 0) gets the whole truth.
+enum class TruthPart { kFull, kSeen };
+void ReplaceWithTruth(const VelocityFunction& truth, TruthPart part,
                       std::vector<SceneFlowSample>* samples);
 
 // The synthetic scenes' ground truth, DIR/gt/velocity_grid.bin
