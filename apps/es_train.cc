@@ -67,12 +67,6 @@ DEFINE_bool(no_random_start, false,
             "Ablation: every loop starts at frame 0 (all reborn together).");
 DEFINE_bool(static_only, false,
             "Comparison: no V and no D, only the splats are optimized.");
-DEFINE_bool(centre_water_paths, false,
-            "With a pretrained V (--init's motion_field.bin), first move each "
-            "water Gaussian back along V by (L - 1) / 2 steps: Stage 1 put it "
-            "where the water is on average, and Alg. 1 starts it there and "
-            "carries it on average that far downstream; centred, its path "
-            "over the cycle averages to where Stage 1 put it.");
 DEFINE_double(dynamic_threshold, 0.2,
               "A Gaussian is dynamic when sigmoid(dynamic_logit) exceeds "
               "this.");
@@ -269,7 +263,6 @@ JointTrainerOptions OptionsFromFlags() {
   o.use_motion = !FLAGS_no_motion_field && !FLAGS_static_only;
   o.use_residual = !FLAGS_no_residual && !FLAGS_static_only;
   o.random_start = !FLAGS_no_random_start;
-  o.centre_water_paths = FLAGS_centre_water_paths;
   o.dynamic_threshold = FLAGS_dynamic_threshold;
   o.refresh_interval = FLAGS_refresh_interval;
   o.ssim_weight = FLAGS_ssim_weight;
@@ -335,7 +328,6 @@ void WriteMetrics(const std::string& path, const LoopMetrics& m,
                        {"flow_init", flow_init},
                        {"residual_field", model.residual.has_value()},
                        {"random_start", !FLAGS_no_random_start},
-                       {"centre_water_paths", FLAGS_centre_water_paths},
                        {"final_loss", final_loss}});
 }
 

@@ -15,7 +15,6 @@
 #include <opencv2/imgproc.hpp>
 
 #include "core/io/input_error.h"
-#include "core/loop/euler_chain.h"
 #include "core/loop/frame_composer.h"
 #include "core/loop/loop_renderer.h"
 #include "core/render/rasterizer.h"
@@ -23,7 +22,6 @@
 #include "solvers/checkpoint/joint_checkpoint.h"
 #include "solvers/eval/loop_evaluation.h"
 #include "solvers/train/joint_training_steps.h"
-#include "tests/small_motion_field.h"
 #include "tests/tiny_loop_scene.h"
 
 namespace es {
@@ -515,89 +513,6 @@ TEST(JointTrainerTest, ResidualCycleNumbersCoverTheWholeVideo) {
                        std::nullopt);
   EXPECT_EQ(trainer.model().residual->options().max_cycles,
             CyclesCovering(kFrames, kCycle));
-}
-
-// The mean position over a cycle of a point's forward Euler path (t = 0 ..
-// L - 1 steps from x0), as Alg. 1 shows it over the frames.
-Eigen::Vector3d CycleMean(const MotionField& field, const double* x0,
-                          int cycle) {
-  EulerChain chain(&field, EulerOptions());
-  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-  for (int t = 0; t < cycle; ++t) {
-    Eigen::Vector3d x;
-    chain.Forward(field.params(), 1, x0, &t, x.data());
-    sum += x;
-  }
-  return sum / cycle;
-}
-
-TEST(JointTrainerTest, CentredWaterPathsAverageToWhereStageOnePutThem) {
-  // Over a cycle the points drift ~0.35 (the box is 2 wide) on average:
-  // V varies along their paths.
-  const MotionField field = SmallMotionField(3, 0.01);
-  const int cycle = 15;
-  GaussianSet g;
-  g.Resize(40);
-  std::mt19937 rng(5);
-  std::uniform_real_distribution<double> u(-0.5, 0.5);
-  for (double& m : g.means) m = u(rng);
-  std::vector<int> dynamic;
-  for (int n = 0; n < g.size(); n += 2) dynamic.push_back(n);
-
-  GaussianSet centred = g;
-  StepBackAlongV(field, EulerOptions(), dynamic, 0.5 * (cycle - 1), &centred);
-  double drift = 0, centred_error = 0;
-  for (int n = 0; n < g.size(); ++n) {
-    const Eigen::Vector3d stage1(&g.means[3 * n]);
-    if (n % 2 == 1) {  // static: untouched
-      EXPECT_EQ(Eigen::Vector3d(&centred.means[3 * n]), stage1) << n;
-      continue;
-    }
-    drift += (CycleMean(field, &g.means[3 * n], cycle) - stage1).norm();
-    centred_error +=
-        (CycleMean(field, &centred.means[3 * n], cycle) - stage1).norm();
-  }
-  ASSERT_GT(drift, 0.05 * dynamic.size());  // the field moves them visibly
-  EXPECT_LT(centred_error, 0.1 * drift);
-
-  // Zero steps change nothing; a half step goes half as far as a whole one
-  // (to first order).
-  GaussianSet same = g;
-  StepBackAlongV(field, EulerOptions(), dynamic, 0.0, &same);
-  EXPECT_EQ(same.means, g.means);
-  GaussianSet half = g, whole = g;
-  StepBackAlongV(field, EulerOptions(), dynamic, 0.5, &half);
-  StepBackAlongV(field, EulerOptions(), dynamic, 1.0, &whole);
-  for (int n : dynamic) {
-    const Eigen::Vector3d x(&g.means[3 * n]);
-    const Eigen::Vector3d h = Eigen::Vector3d(&half.means[3 * n]) - x;
-    const Eigen::Vector3d w = Eigen::Vector3d(&whole.means[3 * n]) - x;
-    EXPECT_LT((2 * h - w).norm(), 1e-12 + 1e-9 * w.norm()) << n;
-  }
-}
-
-// The trainer centres the water's paths only when asked and only on a
-// pretrained V (a V drawn at random carries no motion to centre on).
-TEST(JointTrainerTest, CentringNeedsTheOptionAndAPretrainedField) {
-  JointTrainerOptions options = TinyOptions();
-  const GaussianSet canonical = TrueCanonical();
-  auto start = [&](bool centre, bool pretrained) {
-    options.centre_water_paths = centre;
-    std::mt19937_64 rng(1);
-    std::optional<MotionField> motion;
-    if (pretrained) motion = SmallMotionField(3);
-    return InitialLoopModel(options, kFrames, canonical, motion, &rng);
-  };
-  const LoopModel plain = start(false, true);
-  const LoopModel centred = start(true, true);
-  EXPECT_EQ(plain.gaussians.means, canonical.means);
-  EXPECT_EQ(start(true, false).gaussians.means, canonical.means);
-  ASSERT_FALSE(centred.dynamic_index.empty());
-  GaussianSet expected = canonical;
-  StepBackAlongV(*centred.motion, options.euler, centred.dynamic_index,
-                 0.5 * (options.cycle_length - 1), &expected);
-  EXPECT_EQ(centred.gaussians.means, expected.means);
-  EXPECT_NE(centred.gaussians.means, canonical.means);
 }
 
 TEST(JointTrainerTest, MaxDynamicPixelsKeepsWaterGaussiansSmall) {

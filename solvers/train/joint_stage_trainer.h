@@ -44,11 +44,6 @@ struct JointTrainerOptions {
   bool use_motion = true;      // false: --no_motion_field / --static_only
   bool use_residual = true;    // false: --no_residual / --static_only
   bool random_start = true;    // false: every start time 0
-  // With a pretrained V, move each initial water Gaussian back along V by
-  // half a cycle's steps, so that its path over the cycle is centred on
-  // where Stage 1 put it (the time average of the water) instead of
-  // starting there and drifting (L - 1) / 2 steps downstream on average.
-  bool centre_water_paths = false;
   double dynamic_threshold = 0.2;  // sigmoid(dynamic_logit) > this: water
   int refresh_interval = 10;       // re-derive the dynamic set this often
   double ssim_weight = 0.2;

@@ -7,7 +7,6 @@
 
 #include "core/io/input_error.h"
 #include "core/loop/cycle_time.h"
-#include "core/loop/euler_chain.h"
 #include "core/model/dynamic_set.h"
 #include "solvers/checkpoint/rng_state.h"
 #include "solvers/optim/lr_schedule.h"
@@ -114,7 +113,6 @@ LoopModel InitialLoopModel(const JointTrainerOptions& o, int num_frames,
                    &model);
   Eigen::Vector3d lo, hi;
   FieldBox(model.gaussians, model.dynamic_index, &lo, &hi);
-  const bool motion_pretrained = motion.has_value();
   if (o.use_motion) {
     if (motion) {
       model.motion.emplace(std::move(*motion));
@@ -125,10 +123,6 @@ LoopModel InitialLoopModel(const JointTrainerOptions& o, int num_frames,
       model.motion->SetBox(lo, hi);
     }
   }
-  if (o.centre_water_paths && model.motion && motion_pretrained) {
-    StepBackAlongV(*model.motion, o.euler, model.dynamic_index,
-                   0.5 * (o.cycle_length - 1), &model.gaussians);
-  }
   if (o.use_residual) {
     ResidualFieldOptions r = o.residual;
     r.cycle_length = o.cycle_length;
@@ -137,32 +131,6 @@ LoopModel InitialLoopModel(const JointTrainerOptions& o, int num_frames,
     model.residual->SetBox(lo, hi);
   }
   return model;
-}
-
-void StepBackAlongV(const MotionField& field, const EulerOptions& euler,
-                    const std::vector<int>& dynamic, double steps,
-                    GaussianSet* gaussians) {
-  CHECK_GE(steps, 0.0);
-  const int n = static_cast<int>(dynamic.size());
-  std::vector<double> x(3 * n), v(3 * n);
-  for (int k = 0; k < n; ++k) {
-    const double* mean = &gaussians->means[3 * dynamic[k]];
-    std::copy(mean, mean + 3, &x[3 * k]);
-  }
-  const double max_step = euler.max_step_fraction * field.box_diagonal();
-  FieldWorkspace ws;
-  EulerStats stats;
-  for (double left = steps; left > 0; left -= 1.0) {
-    field.Evaluate(field.params(), n, x.data(), v.data(), &ws);
-    const double share = -std::min(left, 1.0);
-    for (double& c : v) c *= share;
-    for (int k = 0; k < n; ++k) {
-      TakeSafeStep(&v[3 * k], max_step, &x[3 * k], &stats);
-    }
-  }
-  for (int k = 0; k < n; ++k) {
-    std::copy(&x[3 * k], &x[3 * k] + 3, &gaussians->means[3 * dynamic[k]]);
-  }
 }
 
 bool DynamicSetRefreshDue(const JointTrainerOptions& o, int64_t iteration) {

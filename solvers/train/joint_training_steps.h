@@ -60,15 +60,6 @@ LoopModel InitialLoopModel(const JointTrainerOptions& o, int num_frames,
                            std::optional<MotionField> motion,
                            std::mt19937_64* rng);
 
-// Moves each of the `dynamic` Gaussians' means `steps` (>= 0, may be
-// fractional: the last step is shortened) backward-Euler steps against V,
-// x <- x - V(x), each step limited as Alg. 1 limits its steps. With
-// steps = (L - 1) / 2 the mean over a cycle of a Gaussian's forward path
-// from there is (to first order in V's variation) where it was.
-void StepBackAlongV(const MotionField& field, const EulerOptions& euler,
-                    const std::vector<int>& dynamic, double steps,
-                    GaussianSet* gaussians);
-
 // Whether the dynamic set is re-derived before iteration `iteration`.
 bool DynamicSetRefreshDue(const JointTrainerOptions& o, int64_t iteration);
 // Makes `next` (ascending Gaussian indices) the dynamic set: the
