@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <optional>
 #include <random>
 #include <string>
 #include <vector>
@@ -140,6 +141,15 @@ es::PlaneCombination ParseCombination(const std::string& name) {
                        "'; available: product, sum, concat");
 }
 
+// The part of the truth --oracle_velocity asks for; none: the flow's own.
+std::optional<es::TruthPart> OracleTruthPart() {
+  if (FLAGS_oracle_velocity == "none") return std::nullopt;
+  if (FLAGS_oracle_velocity == "seen") return es::TruthPart::kSeen;
+  if (FLAGS_oracle_velocity == "full") return es::TruthPart::kFull;
+  throw es::InputError("--oracle_velocity must be none, seen or full, not '" +
+                       FLAGS_oracle_velocity + "'");
+}
+
 void CheckFlags() {
   es::RequireFlag("scene", FLAGS_scene);
   es::RequirePositive("image_scale", FLAGS_image_scale);
@@ -163,11 +173,7 @@ void CheckFlags() {
   es::RequirePositive("max_fb_px", FLAGS_max_fb_px);
   es::RequirePositive("max_depth_jump", FLAGS_max_depth_jump);
   es::RequireNonNegative("tv_weight", FLAGS_tv_weight);
-  if (FLAGS_oracle_velocity != "none" && FLAGS_oracle_velocity != "seen" &&
-      FLAGS_oracle_velocity != "full") {
-    throw es::InputError("--oracle_velocity must be none, seen or full, not '" +
-                         FLAGS_oracle_velocity + "'");
-  }
+  OracleTruthPart();
 }
 
 // --device's pretraining, checked before the optical flow is computed: the
@@ -280,10 +286,8 @@ es::SceneFlowResult LiftWaterFlow(const es::Scene& scene,
         "Nothing was written.");
   }
   Subsample(FLAGS_max_samples, FLAGS_seed, &lifted.samples);
-  if (FLAGS_oracle_velocity != "none") {
-    es::ReplaceWithTruth(es::LoadMotionGt(FLAGS_scene),
-                         FLAGS_oracle_velocity == "full" ? es::TruthPart::kFull
-                                                         : es::TruthPart::kSeen,
+  if (const std::optional<es::TruthPart> part = OracleTruthPart()) {
+    es::ReplaceWithTruth(es::LoadMotionGt(FLAGS_scene), *part,
                          &lifted.samples);
     std::printf("--oracle_velocity %s: every sample now has the true "
                 "velocity at its position\n",
@@ -387,7 +391,7 @@ void WriteFlowMetrics(const std::string& path, double seconds,
 int Run() {
   CheckFlags();
   const es::FlowPretrainer pretrain = PretrainerFromFlags();
-  if (FLAGS_oracle_velocity != "none" && !es::HasMotionGt(FLAGS_scene)) {
+  if (OracleTruthPart() && !es::HasMotionGt(FLAGS_scene)) {
     throw es::InputError(FLAGS_scene + "/gt/velocity_grid.bin: missing; "
                          "--oracle_velocity needs a synthetic scene with "
                          "ground-truth motion (es_synth). Nothing was "
