@@ -15,7 +15,7 @@
 // has: each tile's cost is the Gaussian-pixel pairs the forward pass
 // evaluates in it (recomputed from the projection, early stop included),
 // handed out as the rasterizer's schedule(dynamic, 1) hands out tiles
-// (core/profile/schedule_simulation.h). Counters: speedup (one thread's
+// (core/base/schedule_simulation.h). Counters: speedup (one thread's
 // work over the simulated makespan, an upper bound: no scheduling overhead
 // or memory contention), largest_tile (the costliest tile's share of the
 // work; 1 / largest_tile bounds any speedup) and pairs_model (the modelled
@@ -36,8 +36,8 @@
 #include "apps/common/raster_bench_scene.h"
 #include "core/model/camera.h"
 #include "core/model/gaussians.h"
-#include "core/profile/schedule_simulation.h"
-#include "core/profile/stage_profile.h"
+#include "core/base/schedule_simulation.h"
+#include "core/base/stage_profile.h"
 #include "core/render/raster_constants.h"
 #include "core/render/raster_project.h"
 #include "core/render/rasterizer.h"

@@ -20,9 +20,9 @@
 #include <vector>
 
 #include "apps/common/app_main.h"
-#include "core/io/atomic_file.h"
+#include "core/base/atomic_file.h"
 #include "core/io/csv_table.h"
-#include "core/io/input_error.h"
+#include "core/base/input_error.h"
 #include "solvers/train/static_stage.h"
 
 DEFINE_string(scene, "out/default_scene",

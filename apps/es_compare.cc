@@ -20,7 +20,7 @@
 #include "apps/common/eval_report.h"
 #include "apps/common/realism_flags.h"
 #include "apps/common/scaled_scene.h"
-#include "core/io/input_error.h"
+#include "core/base/input_error.h"
 #include "core/io/json_file.h"
 #include "core/io/output_dir.h"
 #include "core/io/scene.h"

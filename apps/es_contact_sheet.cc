@@ -12,7 +12,7 @@
 #include "apps/common/app_main.h"
 #include "apps/common/flag_checks.h"
 #include "core/io/image_file.h"
-#include "core/io/input_error.h"
+#include "core/base/input_error.h"
 #include "core/viz/contact_sheet.h"
 
 DEFINE_string(scene, "", "Scene directory (with images/ and masks/).");

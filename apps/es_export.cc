@@ -16,11 +16,11 @@
 #include <gflags/gflags.h>
 
 #include "apps/common/app_main.h"
-#include "core/io/input_error.h"
+#include "core/base/input_error.h"
 #include "core/io/ply_io.h"
 #include "core/io/scene.h"
 #include "core/loop/loop_frame.h"
-#include "core/model/loop_model.h"
+#include "core/loop/loop_model.h"
 #include "core/viz/web_player.h"
 
 DEFINE_string(model, "", "Trained looping model directory (es_train --out).");

@@ -19,10 +19,10 @@
 #include <opencv2/imgproc.hpp>
 
 #include "apps/common/app_main.h"
-#include "core/io/atomic_file.h"
+#include "core/base/atomic_file.h"
 #include "core/io/frame_loading.h"
 #include "core/io/image_file.h"
-#include "core/io/input_error.h"
+#include "core/base/input_error.h"
 #include "core/io/ply_io.h"
 #include "core/io/scene.h"
 #include "core/masks/water_masks.h"

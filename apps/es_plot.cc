@@ -23,7 +23,7 @@
 #include "apps/common/flag_checks.h"
 #include "core/io/csv_table.h"
 #include "core/io/image_file.h"
-#include "core/io/input_error.h"
+#include "core/base/input_error.h"
 #include "core/io/output_dir.h"
 #include "core/viz/line_plot.h"
 

@@ -19,7 +19,7 @@
 #include "apps/common/app_main.h"
 #include "apps/common/colmap_poses.h"
 #include "apps/common/pose_accuracy.h"
-#include "core/io/input_error.h"
+#include "core/base/input_error.h"
 #include "core/io/json_file.h"
 
 DEFINE_string(scene, "", "Scene directory whose images/ holds the frames "

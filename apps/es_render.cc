@@ -9,7 +9,7 @@
 #include "apps/common/app_main.h"
 #include "apps/common/parse_color.h"
 #include "core/io/colmap_io.h"
-#include "core/io/input_error.h"
+#include "core/base/input_error.h"
 #include "core/io/pinhole_camera.h"
 #include "core/io/ply_io.h"
 #include "core/render/rasterizer.h"

@@ -49,7 +49,7 @@
 #include "apps/common/scene_inputs.h"
 #include "core/io/colmap_io.h"
 #include "core/io/image_file.h"
-#include "core/io/input_error.h"
+#include "core/base/input_error.h"
 #include "core/io/output_dir.h"
 #include "core/io/ply_io.h"
 #include "core/model/dynamic_set.h"

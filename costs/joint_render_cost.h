@@ -9,7 +9,7 @@
 
 #include "core/io/scene.h"
 #include "core/loop/frame_composer.h"
-#include "core/model/loop_model.h"
+#include "core/loop/loop_model.h"
 #include "core/render/rasterizer.h"
 #include "costs/rendered_frame_loss.h"
 #include "costs/residual_l2_cost.h"

@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "core/profile/stage_profile.h"
+#include "core/base/stage_profile.h"
 
 namespace es {
 namespace {

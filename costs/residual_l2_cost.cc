@@ -5,7 +5,7 @@
 #include <glog/logging.h>
 
 #include "core/loop/cycle_time.h"
-#include "core/profile/stage_profile.h"
+#include "core/base/stage_profile.h"
 #include "costs/residual_l2_terms.h"
 #include "costs/scalar_loss.h"
 

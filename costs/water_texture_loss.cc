@@ -8,7 +8,7 @@
 #include <glog/logging.h>
 
 #include "core/metrics/random_direction.h"
-#include "core/profile/stage_profile.h"
+#include "core/base/stage_profile.h"
 #include "costs/water_energy_terms.h"
 
 namespace es {

@@ -4,7 +4,7 @@
 
 #include <glog/logging.h>
 
-#include "core/io/input_error.h"
+#include "core/base/input_error.h"
 #include "synth/random.h"
 
 namespace es {

@@ -5,7 +5,7 @@
 
 #include <glog/logging.h>
 
-#include "core/io/input_error.h"
+#include "core/base/input_error.h"
 #include "core/render/render_maps.h"
 #include "synth/camera.h"
 #include "synth/random.h"

@@ -10,7 +10,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "core/io/colmap_io.h"
-#include "core/io/input_error.h"
+#include "core/base/input_error.h"
 
 namespace es {
 namespace {

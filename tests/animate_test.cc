@@ -10,10 +10,10 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/videoio.hpp>
 
-#include "core/io/input_error.h"
+#include "core/base/input_error.h"
 #include "core/loop/cycle_time.h"
 #include "core/loop/loop_renderer.h"
-#include "core/model/loop_model.h"
+#include "core/loop/loop_model.h"
 #include "core/viz/camera_path.h"
 #include "core/viz/tracks.h"
 #include "core/viz/video_writer.h"

@@ -18,7 +18,7 @@
 #include <vector>
 
 #ifdef ES_HAVE_CUDA
-#include "core/render/cuda/cuda_error.h"
+#include "core/base/cuda/cuda_error.h"
 #endif
 
 namespace {

@@ -9,7 +9,7 @@
 
 #include <gtest/gtest.h>
 
-#include "core/io/input_error.h"
+#include "core/base/input_error.h"
 #include "tests/temp_dir_test.h"
 
 namespace es {

@@ -10,7 +10,7 @@
 
 #include <gtest/gtest.h>
 
-#include "core/io/input_error.h"
+#include "core/base/input_error.h"
 #include "core/io/undistort.h"
 
 namespace es {

@@ -24,9 +24,9 @@
 
 #include "apps/common/run_lock.h"
 #include "core/fields/motion_field.h"
-#include "core/io/atomic_file.h"
-#include "core/io/field_io.h"
-#include "core/io/input_error.h"
+#include "core/base/atomic_file.h"
+#include "core/fields/field_io.h"
+#include "core/base/input_error.h"
 #include "core/io/ply_io.h"
 #include "solvers/checkpoint/checkpoint.h"
 #include "tests/temp_dir_test.h"

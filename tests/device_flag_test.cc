@@ -8,10 +8,10 @@
 
 #include <string>
 
-#include "core/io/input_error.h"
+#include "core/base/input_error.h"
 
 #ifdef ES_HAVE_CUDA
-#include "core/render/cuda/cuda_error.h"
+#include "core/base/cuda/cuda_error.h"
 #include "solvers/train/cuda/device_flow_pretrain.h"
 #endif
 

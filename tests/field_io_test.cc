@@ -1,4 +1,4 @@
-#include "core/io/field_io.h"
+#include "core/fields/field_io.h"
 
 #include <filesystem>
 #include <fstream>
@@ -7,7 +7,7 @@
 
 #include <gtest/gtest.h>
 
-#include "core/io/input_error.h"
+#include "core/base/input_error.h"
 #include "tests/memory_limit.h"
 #include "tests/temp_dir_test.h"
 

@@ -6,7 +6,7 @@
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
 
-#include "core/io/input_error.h"
+#include "core/base/input_error.h"
 #include "core/render/render_maps.h"
 #include "synth/random_texture.h"
 

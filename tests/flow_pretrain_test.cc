@@ -6,7 +6,7 @@
 
 #include <gtest/gtest.h>
 
-#include "core/io/input_error.h"
+#include "core/base/input_error.h"
 #include "solvers/eval/motion_gt.h"
 #include "solvers/train/divergence_guard.h"
 

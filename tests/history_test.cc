@@ -7,7 +7,7 @@
 #include <fstream>
 
 #include "core/io/csv_table.h"
-#include "core/io/input_error.h"
+#include "core/base/input_error.h"
 #include "solvers/train/densify_eta.h"
 #include "solvers/train/training_history.h"
 #include "tests/temp_dir_test.h"

@@ -14,7 +14,7 @@
 
 #include <opencv2/imgproc.hpp>
 
-#include "core/io/input_error.h"
+#include "core/base/input_error.h"
 #include "core/loop/frame_composer.h"
 #include "core/loop/loop_renderer.h"
 #include "core/render/rasterizer.h"

@@ -12,7 +12,7 @@
 #include <sstream>
 #include <string>
 
-#include "core/io/input_error.h"
+#include "core/base/input_error.h"
 #include "core/io/output_dir.h"
 #include "tests/temp_dir_test.h"
 

@@ -1,4 +1,4 @@
-#include "core/model/loop_model.h"
+#include "core/loop/loop_model.h"
 
 #include <filesystem>
 #include <fstream>
@@ -7,7 +7,7 @@
 
 #include <gtest/gtest.h>
 
-#include "core/io/input_error.h"
+#include "core/base/input_error.h"
 #include "tests/temp_dir_test.h"
 
 namespace es {

@@ -10,7 +10,7 @@
 #include <functional>
 #include <string>
 
-#include "core/io/input_error.h"
+#include "core/base/input_error.h"
 
 // AddressSanitizer reserves terabytes of shadow memory up front, so an
 // address-space limit cannot be applied under it (gcc and clang spell the

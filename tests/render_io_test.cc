@@ -7,7 +7,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "apps/common/parse_color.h"
-#include "core/io/input_error.h"
+#include "core/base/input_error.h"
 #include "core/io/pinhole_camera.h"
 #include "core/viz/render_png.h"
 

@@ -1,4 +1,4 @@
-#include "core/io/scene_flow_io.h"
+#include "core/flow/scene_flow_io.h"
 
 #include <unistd.h>
 
@@ -10,7 +10,7 @@
 
 #include <gtest/gtest.h>
 
-#include "core/io/input_error.h"
+#include "core/base/input_error.h"
 
 namespace es {
 namespace {

@@ -12,7 +12,7 @@
 #include <opencv2/videoio.hpp>
 
 #include "core/io/colmap_io.h"
-#include "core/io/input_error.h"
+#include "core/base/input_error.h"
 #include "core/io/split.h"
 #include "tests/temp_dir_test.h"
 

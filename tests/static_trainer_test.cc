@@ -11,11 +11,11 @@
 #include <random>
 #include <set>
 
-#include "core/io/input_error.h"
+#include "core/base/input_error.h"
 #include "core/model/gaussian_init.h"
 #include "solvers/checkpoint/checkpoint.h"
 #include "solvers/eval/static_eval.h"
-#include "solvers/train/frame_sampler.h"
+#include "solvers/optim/frame_sampler.h"
 #include "tests/memory_limit.h"
 
 namespace es {

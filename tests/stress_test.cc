@@ -12,7 +12,7 @@
 #include <gtest/gtest.h>
 
 #include "core/model/gaussians.h"
-#include "core/model/loop_model.h"
+#include "core/loop/loop_model.h"
 #include "core/render/rasterizer.h"
 #include "solvers/train/divergence_guard.h"
 #include "solvers/train/joint_trainer.h"

@@ -11,7 +11,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "core/io/colmap_io.h"
-#include "core/io/input_error.h"
+#include "core/base/input_error.h"
 #include "core/io/scene.h"
 #include "core/render/rasterizer.h"
 #include "core/render/render_maps.h"

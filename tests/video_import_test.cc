@@ -13,7 +13,7 @@
 #include <opencv2/videoio.hpp>
 
 #include "core/io/frame_loading.h"
-#include "core/io/input_error.h"
+#include "core/base/input_error.h"
 #include "tests/temp_dir_test.h"
 
 namespace es {

@@ -6,7 +6,7 @@
 
 #include "core/loop/cycle_time.h"
 #include "core/model/camera.h"
-#include "core/model/loop_model.h"
+#include "core/loop/loop_model.h"
 #include "core/viz/camera_path.h"
 
 namespace es {

@@ -10,7 +10,7 @@
 #include <opencv2/core.hpp>
 #include <gtest/gtest.h>
 
-#include "core/io/input_error.h"
+#include "core/base/input_error.h"
 #include "core/io/ply_io.h"
 #include "core/loop/loop_file.h"
 #include "core/loop/loop_frame.h"

@@ -13,7 +13,7 @@
 
 #include "apps/common/flag_help.h"
 #include "apps/common/version.h"
-#include "core/io/input_error.h"
+#include "core/base/input_error.h"
 
 namespace es {
 namespace {

@@ -8,7 +8,7 @@
 #include <cerrno>
 #include <cstring>
 
-#include "core/io/input_error.h"
+#include "core/base/input_error.h"
 
 namespace es {
 

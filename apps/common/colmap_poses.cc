@@ -13,7 +13,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "apps/common/subprocess.h"
-#include "core/io/input_error.h"
+#include "core/base/input_error.h"
 
 namespace es {
 namespace {

@@ -1,10 +1,10 @@
 #include "apps/common/device_flag.h"
 
-#include "core/io/input_error.h"
+#include "core/base/input_error.h"
 #include "solvers/train/joint_trainer.h"
 
 #ifdef ES_HAVE_CUDA
-#include "core/render/cuda/cuda_error.h"
+#include "core/base/cuda/cuda_error.h"
 #include "solvers/train/cuda/device_flow_pretrain.h"
 #include "solvers/train/cuda/device_joint_trainer.h"
 #include "solvers/train/cuda/device_static_trainer.h"

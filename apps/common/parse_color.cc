@@ -5,7 +5,7 @@
 #include <sstream>
 #include <vector>
 
-#include "core/io/input_error.h"
+#include "core/base/input_error.h"
 
 namespace es {
 

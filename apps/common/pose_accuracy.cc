@@ -9,7 +9,7 @@
 #include <Eigen/Geometry>
 #include <Eigen/SVD>
 
-#include "core/io/input_error.h"
+#include "core/base/input_error.h"
 
 namespace es {
 namespace {

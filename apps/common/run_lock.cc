@@ -9,7 +9,7 @@
 #include <cstring>
 #include <filesystem>
 
-#include "core/io/input_error.h"
+#include "core/base/input_error.h"
 
 namespace es {
 

@@ -5,8 +5,8 @@
 #include <regex>
 #include <sstream>
 
-#include "core/io/atomic_file.h"
-#include "core/io/input_error.h"
+#include "core/base/atomic_file.h"
+#include "core/base/input_error.h"
 
 namespace es {
 namespace {

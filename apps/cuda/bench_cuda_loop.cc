@@ -26,8 +26,8 @@
 #include "core/loop/cuda/device_euler_chain.h"
 #include "core/loop/cuda/device_loop_renderer.h"
 #include "core/loop/cycle_time.h"
-#include "core/model/loop_model.h"
-#include "core/render/cuda/device_buffer.h"
+#include "core/loop/loop_model.h"
+#include "core/base/cuda/device_buffer.h"
 
 namespace es {
 namespace cuda {

@@ -19,7 +19,7 @@
 
 #include "apps/common/raster_bench_scene.h"
 #include "apps/cuda/cuda_benchmark_main.h"
-#include "core/render/cuda/device_buffer.h"
+#include "core/base/cuda/device_buffer.h"
 #include "core/render/cuda/device_rasterizer.h"
 #include "core/render/cuda/device_splats.h"
 

@@ -6,7 +6,7 @@
 
 #include <benchmark/benchmark.h>
 
-#include "core/render/cuda/cuda_error.h"
+#include "core/base/cuda/cuda_error.h"
 
 namespace es {
 namespace cuda {

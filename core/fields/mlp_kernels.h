@@ -3,10 +3,10 @@
 
 // The two matrix products of an MLP layer, compiled once per instruction
 // set (mlp_kernels_{sse2,avx2,avx512}.cc from the one source in
-// mlp_kernels_impl.h) and picked at run time (core/simd/simd_level.h).
+// mlp_kernels_impl.h) and picked at run time (core/base/simd_level.h).
 // Matrices are dense and row-major; core/fields/mlp.h is the caller.
 
-#include "core/simd/simd_level.h"
+#include "core/base/simd_level.h"
 
 namespace es {
 

@@ -4,7 +4,7 @@
 
 #include <glog/logging.h>
 
-#include "core/profile/stage_profile.h"
+#include "core/base/stage_profile.h"
 
 namespace es {
 

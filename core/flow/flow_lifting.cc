@@ -8,7 +8,7 @@
 
 #include <glog/logging.h>
 
-#include "core/io/input_error.h"
+#include "core/base/input_error.h"
 #include "core/render/render_maps.h"
 
 namespace es {

@@ -5,7 +5,7 @@
 #include <glog/logging.h>
 #include <opencv2/imgproc.hpp>
 
-#include "core/io/input_error.h"
+#include "core/base/input_error.h"
 
 // The contrib methods need opencv_optflow, which CMake links when found.
 #if __has_include(<opencv2/optflow.hpp>)

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <string>
 
-#include "core/io/input_error.h"
+#include "core/base/input_error.h"
 
 namespace es {
 

@@ -14,7 +14,7 @@
 #include "core/io/colmap_camera_models.h"
 #include "core/io/colmap_io.h"
 #include "core/io/colmap_points.h"
-#include "core/io/input_error.h"
+#include "core/base/input_error.h"
 
 namespace es {
 namespace {

@@ -8,7 +8,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "core/io/input_error.h"
+#include "core/base/input_error.h"
 
 namespace es {
 namespace {

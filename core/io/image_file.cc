@@ -4,8 +4,8 @@
 #include <opencv2/imgcodecs.hpp>
 #include <vector>
 
-#include "core/io/atomic_file.h"
-#include "core/io/input_error.h"
+#include "core/base/atomic_file.h"
+#include "core/base/input_error.h"
 
 namespace es {
 

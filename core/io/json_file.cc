@@ -1,6 +1,6 @@
 #include "core/io/json_file.h"
 
-#include "core/io/atomic_file.h"
+#include "core/base/atomic_file.h"
 
 namespace es {
 

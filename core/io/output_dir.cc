@@ -8,7 +8,7 @@
 #include <filesystem>
 #include <system_error>
 
-#include "core/io/input_error.h"
+#include "core/base/input_error.h"
 
 namespace es {
 

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <vector>
 
-#include "core/io/input_error.h"
+#include "core/base/input_error.h"
 
 namespace es {
 

@@ -20,7 +20,7 @@ namespace es {
 GaussianSet ReadPly(const std::string& path);
 
 // Writes binary little-endian in the standard layout plus "dynamic_logit",
-// atomically (core/io/atomic_file.h).
+// atomically (core/base/atomic_file.h).
 // Values round-trip bit-exactly through float32.
 void WritePly(const GaussianSet& gaussians, const std::string& path);
 // The bytes WritePly writes.

@@ -9,7 +9,7 @@
 
 #include "core/io/colmap_io.h"
 #include "core/io/frame_loading.h"
-#include "core/io/input_error.h"
+#include "core/base/input_error.h"
 #include "core/io/split.h"
 #include "core/io/undistort.h"
 

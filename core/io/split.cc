@@ -7,7 +7,7 @@
 #include <fstream>
 #include <map>
 
-#include "core/io/input_error.h"
+#include "core/base/input_error.h"
 
 namespace es {
 namespace {

@@ -9,7 +9,7 @@
 
 #include "core/io/frame_loading.h"
 #include "core/io/image_file.h"
-#include "core/io/input_error.h"
+#include "core/base/input_error.h"
 
 namespace es {
 namespace {

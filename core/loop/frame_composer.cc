@@ -6,7 +6,7 @@
 #include <omp.h>
 
 #include "core/loop/cycle_time.h"
-#include "core/profile/stage_profile.h"
+#include "core/base/stage_profile.h"
 
 namespace es {
 namespace {

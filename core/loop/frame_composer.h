@@ -8,13 +8,13 @@
 #include "core/fields/motion_field.h"
 #include "core/fields/residual_field.h"
 #include "core/loop/euler_chain.h"
-#include "core/model/loop_model.h"
+#include "core/loop/loop_model.h"
 #include "core/render/rasterizer.h"
 
 namespace es {
 
 // Read-only view of a looping model to compose: its structure
-// (core/model/loop_model.h) plus pointers to its parameter values, which may
+// (core/loop/loop_model.h) plus pointers to its parameter values, which may
 // be the model's own arrays or the blocks Ceres hands a cost function.
 struct LoopModelView {
   LoopStructure structure;  // no motion field: dynamic ones don't flow;

@@ -7,7 +7,7 @@
 #include <glog/logging.h>
 #include <opencv2/core.hpp>
 
-#include "core/io/atomic_file.h"
+#include "core/base/atomic_file.h"
 #include "core/io/ply_io.h"
 #include "core/loop/loop_frame.h"
 #include "core/loop/loop_renderer.h"

@@ -2,7 +2,7 @@
 #define EULERSPLAT_CORE_LOOP_LOOP_FRAME_H_
 
 #include "core/model/gaussians.h"
-#include "core/model/loop_model.h"
+#include "core/loop/loop_model.h"
 #include "core/render/rasterizer.h"
 
 namespace es {

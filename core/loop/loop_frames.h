@@ -9,7 +9,7 @@
 
 #include "core/loop/loop_renderer.h"
 #include "core/model/camera.h"
-#include "core/model/loop_model.h"
+#include "core/loop/loop_model.h"
 #include "core/render/rasterizer.h"
 
 namespace es {

@@ -8,7 +8,7 @@
 #include "core/loop/frame_composer.h"
 #include "core/loop/loop_animator.h"
 #include "core/model/camera.h"
-#include "core/model/loop_model.h"
+#include "core/loop/loop_model.h"
 #include "core/render/rasterizer.h"
 
 namespace es {

@@ -6,7 +6,7 @@
 // ssim_kernels_impl.h) and picked at run time. Callers use
 // core/metrics/ssim.h, which owns the buffers; these see raw pointers only.
 
-#include "core/simd/simd_level.h"
+#include "core/base/simd_level.h"
 
 namespace es {
 

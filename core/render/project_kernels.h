@@ -11,7 +11,7 @@
 // Plain types only: the per-instruction-set code includes nothing with
 // inline library code.
 
-#include "core/simd/simd_level.h"
+#include "core/base/simd_level.h"
 
 namespace es {
 

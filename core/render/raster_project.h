@@ -5,7 +5,7 @@
 
 #include "core/model/camera.h"
 #include "core/render/project_kernels.h"
-#include "core/render/rasterizer.h"
+#include "core/render/splat_view.h"
 
 namespace es {
 

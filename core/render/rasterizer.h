@@ -8,27 +8,10 @@
 #include "core/model/camera.h"
 #include "core/model/gaussians.h"
 #include "core/render/raster_constants.h"
+#include "core/render/splat_view.h"
 #include "core/render/tile_kernels.h"
 
 namespace es {
-
-// Read-only views of the splat attributes to render (layouts as in
-// GaussianSet). `means` may point at advected positions rather than the
-// canonical ones.
-struct SplatView {
-  int count = 0;
-  int sh_degree = 0;
-  const double* means = nullptr;           // 3N
-  const double* log_scales = nullptr;      // 3N
-  const double* quats = nullptr;           // 4N, w x y z
-  const double* opacity_logits = nullptr;  // N
-  const double* sh = nullptr;              // 3KN, [n][k][rgb]
-  int num_extra = 0;                       // extra channels per Gaussian
-  const double* extra = nullptr;           // N * num_extra, [n][e]
-
-  // All attributes of g, no extra channels.
-  static SplatView Of(const GaussianSet& g);
-};
 
 struct RenderOptions {
   Eigen::Vector3d background = Eigen::Vector3d::Zero();
@@ -57,12 +40,6 @@ struct RenderGradients {
   const double* d_alpha = nullptr;
   const double* d_depth = nullptr;
   const double* d_extra = nullptr;
-};
-
-// Gradients with respect to the SplatView arrays (same sizes and layouts).
-struct SplatGradients {
-  std::vector<double> means, log_scales, quats, opacity_logits, sh, extra;
-  void Resize(int count, int sh_degree, int num_extra);
 };
 
 // Tile-based EWA splatting, forward and analytic backward, parallel over

@@ -9,7 +9,7 @@
 #include <cmath>
 
 #include "core/render/raster_constants.h"
-#include "core/simd/simd_level.h"
+#include "core/base/simd_level.h"
 
 namespace es {
 

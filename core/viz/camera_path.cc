@@ -6,7 +6,7 @@
 #include <Eigen/Geometry>
 #include <glog/logging.h>
 
-#include "core/io/input_error.h"
+#include "core/base/input_error.h"
 
 namespace es {
 

@@ -13,8 +13,8 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/videoio.hpp>
 
-#include "core/io/atomic_file.h"
-#include "core/io/input_error.h"
+#include "core/base/atomic_file.h"
+#include "core/base/input_error.h"
 
 namespace es {
 namespace fs = std::filesystem;

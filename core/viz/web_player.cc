@@ -7,8 +7,8 @@
 
 #include <glog/logging.h>
 
-#include "core/io/atomic_file.h"
-#include "core/io/input_error.h"
+#include "core/base/atomic_file.h"
+#include "core/base/input_error.h"
 #include "core/loop/loop_file.h"
 
 namespace es {

@@ -8,7 +8,7 @@
 #include <Eigen/Core>
 
 #include "core/model/camera.h"
-#include "core/model/loop_model.h"
+#include "core/loop/loop_model.h"
 
 namespace es {
 

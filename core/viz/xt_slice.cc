@@ -7,7 +7,7 @@
 
 #include <glog/logging.h>
 
-#include "core/io/input_error.h"
+#include "core/base/input_error.h"
 
 namespace es {
 

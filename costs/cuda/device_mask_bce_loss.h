@@ -6,7 +6,7 @@
 // with the same clamp (kMaskProbabilityMargin), computed in double from
 // the rasterizer's float channel. No CUDA types; failures throw CudaError.
 
-#include "core/render/cuda/device_buffer.h"
+#include "core/base/cuda/device_buffer.h"
 
 namespace es {
 namespace cuda {

@@ -8,7 +8,7 @@
 // as training runs it (window, constants and zero padding of
 // core/metrics/ssim_kernels.h). No CUDA types; failures throw CudaError.
 
-#include "core/render/cuda/device_buffer.h"
+#include "core/base/cuda/device_buffer.h"
 
 namespace es {
 namespace cuda {

@@ -6,7 +6,7 @@
 // row-major, as the CPU field writes them). No CUDA types; failures throw
 // CudaError.
 
-#include "core/render/cuda/device_buffer.h"
+#include "core/base/cuda/device_buffer.h"
 
 namespace es {
 namespace cuda {

@@ -18,7 +18,7 @@
 #include <Eigen/Core>
 
 #include "core/model/camera.h"
-#include "core/render/cuda/device_buffer.h"
+#include "core/base/cuda/device_buffer.h"
 #include "core/render/cuda/device_rasterizer.h"
 #include "costs/cuda/device_mask_bce_loss.h"
 #include "costs/cuda/device_photometric_loss.h"

@@ -10,7 +10,7 @@
 
 #include <vector>
 
-#include "core/render/cuda/device_buffer.h"
+#include "core/base/cuda/device_buffer.h"
 #include "costs/water_energy_terms.h"
 
 namespace es {

@@ -4,7 +4,7 @@
 // gradients. Sums go through per-block partials added in block order, so
 // a loss does not depend on the order blocks finish in.
 
-#include "core/render/cuda/cuda_check.h"
+#include "core/base/cuda/cuda_check.h"
 #include "costs/cuda/mean_loss_kernels.h"
 #include "costs/mask_bce_terms.h"
 

@@ -5,7 +5,7 @@
 // order, so the loss does not depend on the order blocks finish in.
 
 #include "core/metrics/ssim_kernels.h"
-#include "core/render/cuda/cuda_check.h"
+#include "core/base/cuda/cuda_check.h"
 #include "costs/cuda/photometric_kernels.h"
 
 namespace es {

@@ -1,7 +1,7 @@
 // The device render costs' element-wise kernels (splat_cost_kernels.h),
 // with the CPU costs' arithmetic in double.
 
-#include "core/render/cuda/cuda_check.h"
+#include "core/base/cuda/cuda_check.h"
 #include "costs/cuda/splat_cost_kernels.h"
 
 namespace es {

@@ -7,7 +7,7 @@
 // Sums go through per-block partials added in block order, so the loss
 // does not depend on the order blocks finish in.
 
-#include "core/render/cuda/cuda_check.h"
+#include "core/base/cuda/cuda_check.h"
 #include "costs/cuda/water_energy_kernels.h"
 
 namespace es {

@@ -7,7 +7,7 @@
 
 #include "core/model/gaussians.h"
 #include "solvers/optim/adam.h"
-#include "solvers/train/frame_sampler.h"
+#include "solvers/optim/frame_sampler.h"
 
 namespace es {
 
@@ -22,7 +22,7 @@ struct Checkpoint {
   std::vector<double> grad_sum, grad_count, max_radius;  // DensityStats
 };
 
-// Writes a binary file atomically (core/io/atomic_file.h), so a run killed
+// Writes a binary file atomically (core/base/atomic_file.h), so a run killed
 // mid-write leaves the previous checkpoint intact.
 void WriteCheckpoint(const Checkpoint& checkpoint, const std::string& path);
 

@@ -7,11 +7,11 @@
 #include <string>
 #include <vector>
 
-#include "core/io/atomic_file.h"
-#include "core/io/input_error.h"
+#include "core/base/atomic_file.h"
+#include "core/base/input_error.h"
 #include "core/model/gaussians.h"
 #include "solvers/optim/adam.h"
-#include "solvers/train/frame_sampler.h"
+#include "solvers/optim/frame_sampler.h"
 
 namespace es {
 
@@ -147,7 +147,7 @@ class CheckpointReader {
 // version.
 using CheckpointMagic = char[8];
 
-// Writes PATH atomically (core/io/atomic_file.h): `write_records(
+// Writes PATH atomically (core/base/atomic_file.h): `write_records(
 // CheckpointWriter&)` fills a temporary file that then replaces PATH, so a
 // run killed mid-write keeps its previous checkpoint, and a failed write
 // (disk full) throws InputError and keeps it too.

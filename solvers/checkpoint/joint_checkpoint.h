@@ -7,7 +7,7 @@
 
 #include "core/model/gaussians.h"
 #include "solvers/optim/adam.h"
-#include "solvers/train/frame_sampler.h"
+#include "solvers/optim/frame_sampler.h"
 
 namespace es {
 
@@ -30,7 +30,7 @@ struct JointCheckpoint {
   std::string rng;  // the start-time RNG (std::mt19937_64 text form)
 };
 
-// Binary, written atomically (core/io/atomic_file.h).
+// Binary, written atomically (core/base/atomic_file.h).
 void WriteJointCheckpoint(const JointCheckpoint& checkpoint,
                           const std::string& path);
 

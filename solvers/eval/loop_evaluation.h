@@ -9,7 +9,7 @@
 #include "core/loop/loop_frames.h"
 #include "core/metrics/loop_seam.h"
 #include "core/model/camera.h"
-#include "core/model/loop_model.h"
+#include "core/loop/loop_model.h"
 #include "core/render/image_rasterizer.h"
 #include "core/render/rasterizer.h"
 

@@ -10,7 +10,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "core/io/atomic_file.h"
+#include "core/base/atomic_file.h"
 #include "solvers/eval/loop_evaluation.h"
 
 namespace es {

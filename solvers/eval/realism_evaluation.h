@@ -9,7 +9,7 @@
 #include "core/io/scene.h"
 #include "core/loop/loop_frames.h"
 #include "core/metrics/realism.h"
-#include "core/model/loop_model.h"
+#include "core/loop/loop_model.h"
 #include "core/render/image_rasterizer.h"
 
 namespace es {

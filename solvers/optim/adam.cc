@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <cstring>
 
-#include "core/profile/stage_profile.h"
+#include "core/base/stage_profile.h"
 
 namespace es {
 

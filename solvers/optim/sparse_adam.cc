@@ -8,7 +8,7 @@
 #include <glog/logging.h>
 
 #include "core/fields/gradient_chunks.h"
-#include "core/profile/stage_profile.h"
+#include "core/base/stage_profile.h"
 
 namespace es {
 namespace {

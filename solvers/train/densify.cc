@@ -7,7 +7,7 @@
 #include <cmath>
 #include <numeric>
 
-#include "core/profile/stage_profile.h"
+#include "core/base/stage_profile.h"
 
 namespace es {
 namespace {

@@ -9,8 +9,8 @@
 #include <ceres/ceres.h>
 #include <glog/logging.h>
 
-#include "core/io/input_error.h"
-#include "core/profile/stage_profile.h"
+#include "core/base/input_error.h"
+#include "core/base/stage_profile.h"
 #include "costs/scene_flow_cost.h"
 #include "solvers/optim/adam.h"
 #include "solvers/train/divergence_guard.h"
@@ -198,24 +198,6 @@ int FitWithLm(const std::vector<SceneFlowSample>& samples,
 }
 
 }  // namespace
-
-std::string PretrainSolverName(PretrainSolver solver) {
-  switch (solver) {
-    case PretrainSolver::kAdam: return "adam";
-    case PretrainSolver::kLbfgs: return "lbfgs";
-    case PretrainSolver::kLm: return "lm";
-  }
-  return "unknown";
-}
-
-PretrainSolver ParsePretrainSolver(const std::string& name) {
-  for (PretrainSolver s :
-       {PretrainSolver::kAdam, PretrainSolver::kLbfgs, PretrainSolver::kLm}) {
-    if (PretrainSolverName(s) == name) return s;
-  }
-  throw InputError("unknown pretraining solver '" + name +
-                   "'; available: adam, lbfgs, lm");
-}
 
 double FitRmse(const MotionField& field,
                const std::vector<SceneFlowSample>& samples) {

@@ -5,7 +5,7 @@
 
 #include <glog/logging.h>
 
-#include "core/io/input_error.h"
+#include "core/base/input_error.h"
 #include "solvers/optim/lr_schedule.h"
 #include "solvers/train/divergence_guard.h"
 

@@ -14,7 +14,7 @@
 
 #include "core/flow/flow_lifting.h"
 #include "solvers/optim/adam.h"
-#include "solvers/train/flow_pretrain.h"
+#include "solvers/train/flow_pretrain_options.h"
 
 namespace es {
 

@@ -15,7 +15,7 @@
 #include "core/io/scene.h"
 #include "core/flow/flow_lifting.h"
 #include "core/loop/euler_chain.h"
-#include "core/model/loop_model.h"
+#include "core/loop/loop_model.h"
 #include "core/render/rasterizer.h"
 #include "costs/water_energy_loss.h"
 #include "costs/water_texture_loss.h"

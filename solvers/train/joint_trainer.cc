@@ -7,13 +7,13 @@
 #include <glog/logging.h>
 
 #include "core/fields/gradient_chunks.h"
-#include "core/io/input_error.h"
+#include "core/base/input_error.h"
 #include "core/loop/cycle_time.h"
 #include "core/loop/frame_composer.h"
 #include "core/model/dynamic_set.h"
-#include "core/profile/stage_profile.h"
+#include "core/base/stage_profile.h"
 #include "costs/splat_render_cost.h"
-#include "solvers/checkpoint/rng_state.h"
+#include "core/base/rng_state.h"
 #include "solvers/optim/lr_schedule.h"
 #include "solvers/train/densify.h"
 #include "solvers/train/joint_training_steps.h"

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "core/io/scene.h"
-#include "core/model/loop_model.h"
+#include "core/loop/loop_model.h"
 #include "core/render/rasterizer.h"
 #include "costs/joint_render_cost.h"
 #include "costs/water_energy_loss.h"
@@ -17,7 +17,7 @@
 #include "solvers/optim/sparse_adam.h"
 #include "solvers/train/divergence_guard.h"
 #include "solvers/train/flow_prior.h"
-#include "solvers/train/frame_sampler.h"
+#include "solvers/optim/frame_sampler.h"
 #include "solvers/train/joint_stage_trainer.h"
 #include "solvers/train/joint_training_steps.h"
 

@@ -5,10 +5,10 @@
 
 #include <glog/logging.h>
 
-#include "core/io/input_error.h"
+#include "core/base/input_error.h"
 #include "core/loop/cycle_time.h"
 #include "core/model/dynamic_set.h"
-#include "solvers/checkpoint/rng_state.h"
+#include "core/base/rng_state.h"
 #include "solvers/optim/lr_schedule.h"
 #include "core/loop/frame_composer.h"
 #include "solvers/train/water_particles.h"

@@ -14,11 +14,11 @@
 #include <vector>
 
 #include "core/io/scene.h"
-#include "core/model/loop_model.h"
+#include "core/loop/loop_model.h"
 #include "costs/joint_render_cost.h"
 #include "solvers/checkpoint/joint_checkpoint.h"
 #include "solvers/optim/adam.h"
-#include "solvers/train/frame_sampler.h"
+#include "solvers/optim/frame_sampler.h"
 #include "solvers/train/joint_stage_trainer.h"
 
 namespace es {

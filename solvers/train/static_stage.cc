@@ -6,12 +6,12 @@
 #include <cstdio>
 #include <filesystem>
 
-#include "core/io/input_error.h"
+#include "core/base/input_error.h"
 #include "core/io/json_file.h"
 #include "core/io/output_dir.h"
 #include "core/io/ply_io.h"
 #include "core/model/gaussian_init.h"
-#include "core/profile/stage_profile.h"
+#include "core/base/stage_profile.h"
 #include "solvers/checkpoint/checkpoint.h"
 #include "solvers/train/densify_eta.h"
 #include "solvers/train/training_history.h"

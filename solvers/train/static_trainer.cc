@@ -5,10 +5,10 @@
 #include <algorithm>
 #include <cmath>
 
-#include "core/io/input_error.h"
-#include "core/profile/stage_profile.h"
+#include "core/base/input_error.h"
+#include "core/base/stage_profile.h"
 #include "costs/scalar_loss.h"
-#include "solvers/checkpoint/rng_state.h"
+#include "core/base/rng_state.h"
 
 namespace es {
 

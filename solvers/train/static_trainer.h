@@ -14,7 +14,7 @@
 #include "solvers/optim/adam.h"
 #include "solvers/train/densify.h"
 #include "solvers/train/divergence_guard.h"
-#include "solvers/train/frame_sampler.h"
+#include "solvers/optim/frame_sampler.h"
 #include "solvers/train/splat_training.h"
 #include "solvers/train/static_stage_trainer.h"
 

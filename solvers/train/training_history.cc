@@ -6,8 +6,8 @@
 #include <filesystem>
 #include <utility>
 
-#include "core/io/atomic_file.h"
-#include "core/io/input_error.h"
+#include "core/base/atomic_file.h"
+#include "core/base/input_error.h"
 
 namespace es {
 

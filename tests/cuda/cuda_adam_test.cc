@@ -15,9 +15,9 @@
 #include <gtest/gtest.h>
 
 #include "core/model/gaussians.h"
-#include "core/render/cuda/cuda_error.h"
+#include "core/base/cuda/cuda_error.h"
 #include "tests/cuda/require_gpu.h"
-#include "core/render/cuda/device_buffer.h"
+#include "core/base/cuda/device_buffer.h"
 #include "solvers/optim/adam.h"
 #include "solvers/optim/cuda/device_adam.h"
 

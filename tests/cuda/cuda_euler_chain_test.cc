@@ -19,7 +19,7 @@
 #include "core/loop/cuda/device_euler_chain.h"
 #include "core/loop/cycle_time.h"
 #include "core/loop/euler_chain.h"
-#include "core/render/cuda/device_buffer.h"
+#include "core/base/cuda/device_buffer.h"
 #include "tests/central_differences.h"
 #include "tests/small_motion_field.h"
 #include "tests/cuda/expect_twins_near.h"

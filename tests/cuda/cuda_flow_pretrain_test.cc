@@ -16,8 +16,8 @@
 #include <gtest/gtest.h>
 
 #include "core/fields/cuda/device_triplane.h"
-#include "core/io/input_error.h"
-#include "core/render/cuda/device_buffer.h"
+#include "core/base/input_error.h"
+#include "core/base/cuda/device_buffer.h"
 #include "solvers/train/cuda/device_flow_pretrain.h"
 #include "solvers/train/divergence_guard.h"
 #include "solvers/train/flow_pretrain.h"

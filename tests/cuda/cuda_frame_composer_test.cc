@@ -20,7 +20,7 @@
 #include "core/loop/cycle_time.h"
 #include "core/loop/frame_composer.h"
 #include "core/model/gaussians.h"
-#include "core/render/cuda/device_buffer.h"
+#include "core/base/cuda/device_buffer.h"
 #include "core/render/cuda/device_splats.h"
 #include "tests/cuda/expect_twins_near.h"
 #include "tests/cuda/require_gpu.h"

@@ -22,7 +22,7 @@
 #include <opencv2/core.hpp>
 
 #include "core/loop/cycle_time.h"
-#include "core/render/cuda/device_buffer.h"
+#include "core/base/cuda/device_buffer.h"
 #include "core/render/cuda/device_rasterizer.h"
 #include "costs/cuda/device_joint_render_cost.h"
 #include "costs/cuda/device_splat_render_cost.h"

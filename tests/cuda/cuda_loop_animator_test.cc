@@ -15,7 +15,7 @@
 #include "core/loop/cuda/device_loop_animator.h"
 #include "core/loop/cycle_time.h"
 #include "core/loop/loop_animator.h"
-#include "core/render/cuda/device_buffer.h"
+#include "core/base/cuda/device_buffer.h"
 #include "tests/central_differences.h"
 #include "tests/small_motion_field.h"
 #include "tests/cuda/expect_twins_near.h"

@@ -15,7 +15,7 @@
 #include "core/loop/cuda/device_loop_renderer.h"
 #include "core/loop/loop_renderer.h"
 #include "core/model/gaussians.h"
-#include "core/render/cuda/device_buffer.h"
+#include "core/base/cuda/device_buffer.h"
 #include "core/render/cuda/device_rasterizer.h"
 #include "tests/cuda/expect_twins_near.h"
 #include "tests/cuda/require_gpu.h"

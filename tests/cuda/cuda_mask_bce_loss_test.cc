@@ -16,7 +16,7 @@
 
 #include <gtest/gtest.h>
 
-#include "core/render/cuda/device_buffer.h"
+#include "core/base/cuda/device_buffer.h"
 #include "costs/cuda/device_mask_bce_loss.h"
 #include "costs/mask_bce_terms.h"
 #include "tests/cuda/require_gpu.h"

@@ -16,9 +16,9 @@
 #include <gtest/gtest.h>
 
 #include "core/metrics/ssim_target.h"
-#include "core/render/cuda/cuda_error.h"
+#include "core/base/cuda/cuda_error.h"
 #include "tests/cuda/require_gpu.h"
-#include "core/render/cuda/device_buffer.h"
+#include "core/base/cuda/device_buffer.h"
 #include "costs/cuda/device_photometric_loss.h"
 
 namespace es {

@@ -18,7 +18,7 @@
 #include <gtest/gtest.h>
 
 #include "apps/common/raster_bench_scene.h"
-#include "core/render/cuda/device_buffer.h"
+#include "core/base/cuda/device_buffer.h"
 #include "core/render/cuda/device_rasterizer.h"
 #include "core/render/cuda/device_splats.h"
 #include "core/render/cuda/raster_kernels.h"

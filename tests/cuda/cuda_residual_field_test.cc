@@ -15,7 +15,7 @@
 #include "core/fields/cuda/device_field_workspace.h"
 #include "core/fields/cuda/device_residual_field.h"
 #include "core/fields/residual_field.h"
-#include "core/render/cuda/device_buffer.h"
+#include "core/base/cuda/device_buffer.h"
 #include "tests/central_differences.h"
 #include "tests/cuda/expect_twins_near.h"
 #include "tests/cuda/require_gpu.h"

@@ -11,7 +11,7 @@
 
 #include <gtest/gtest.h>
 
-#include "core/render/cuda/device_buffer.h"
+#include "core/base/cuda/device_buffer.h"
 #include "costs/cuda/device_residual_l2_loss.h"
 #include "costs/residual_l2_terms.h"
 #include "tests/cuda/require_gpu.h"

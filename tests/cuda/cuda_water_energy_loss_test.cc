@@ -19,7 +19,7 @@
 #include <gtest/gtest.h>
 #include <opencv2/core.hpp>
 
-#include "core/render/cuda/device_buffer.h"
+#include "core/base/cuda/device_buffer.h"
 #include "costs/cuda/device_water_energy_loss.h"
 #include "costs/water_energy_loss.h"
 #include "tests/cuda/expect_twins_near.h"

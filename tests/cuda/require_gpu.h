@@ -5,7 +5,7 @@
 
 #include <gtest/gtest.h>
 
-#include "core/render/cuda/cuda_error.h"
+#include "core/base/cuda/cuda_error.h"
 
 // Skips the current test, saying why and what goes unchecked, when no CUDA
 // device can be used (every CUDA test on a machine without a GPU).

@@ -5,7 +5,7 @@
 
 #include <Eigen/Core>
 
-#include "core/model/loop_model.h"
+#include "core/loop/loop_model.h"
 
 namespace es {
 namespace cuda {

@@ -1,6 +1,6 @@
 // libFuzzer target: the Stage-1 and joint checkpoint readers (their 8-byte
 // tags differ, so both run on every input).
-#include "core/io/input_error.h"
+#include "core/base/input_error.h"
 #include "solvers/checkpoint/checkpoint.h"
 #include "solvers/checkpoint/joint_checkpoint.h"
 #include "tests/fuzz/fuzz_input.h"

@@ -1,7 +1,7 @@
 // libFuzzer target: COLMAP's text model; the input is cameras.txt,
 // images.txt and points3D.txt separated by "\n@@\n".
 #include "core/io/colmap_io.h"
-#include "core/io/input_error.h"
+#include "core/base/input_error.h"
 #include "tests/fuzz/fuzz_input.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

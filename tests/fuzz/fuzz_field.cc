@@ -1,8 +1,8 @@
 // libFuzzer target: the field files (motion_field.bin, residual_field.bin);
 // the magic line at the start decides which reader can accept it, so both
 // run on every input.
-#include "core/io/field_io.h"
-#include "core/io/input_error.h"
+#include "core/fields/field_io.h"
+#include "core/base/input_error.h"
 #include "tests/fuzz/fuzz_input.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

@@ -1,5 +1,5 @@
 // libFuzzer target: the PLY reader (ascii and binary little-endian).
-#include "core/io/input_error.h"
+#include "core/base/input_error.h"
 #include "core/io/ply_io.h"
 #include "tests/fuzz/fuzz_input.h"
 

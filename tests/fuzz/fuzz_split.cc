@@ -1,5 +1,5 @@
 // libFuzzer target: a scene's split.txt against a fixed list of frames.
-#include "core/io/input_error.h"
+#include "core/base/input_error.h"
 #include "core/io/split.h"
 #include "tests/fuzz/fuzz_input.h"
 

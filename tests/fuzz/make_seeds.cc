@@ -14,7 +14,7 @@
 #include "core/fields/motion_field.h"
 #include "core/fields/residual_field.h"
 #include "core/io/colmap_io.h"
-#include "core/io/field_io.h"
+#include "core/fields/field_io.h"
 #include "core/io/ply_io.h"
 #include "solvers/checkpoint/checkpoint.h"
 #include "solvers/checkpoint/joint_checkpoint.h"

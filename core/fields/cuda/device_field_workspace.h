@@ -9,7 +9,7 @@
 
 #include "core/fields/cuda/device_mlp.h"
 #include "core/fields/motion_field.h"
-#include "core/render/cuda/device_buffer.h"
+#include "core/base/cuda/device_buffer.h"
 
 namespace es {
 namespace cuda {

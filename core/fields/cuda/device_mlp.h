@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "core/fields/mlp.h"
-#include "core/render/cuda/device_buffer.h"
+#include "core/base/cuda/device_buffer.h"
 
 namespace es {
 namespace cuda {

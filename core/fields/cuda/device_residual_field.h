@@ -12,7 +12,7 @@
 #include "core/fields/cuda/device_mlp.h"
 #include "core/fields/cuda/device_triplane.h"
 #include "core/fields/residual_field.h"
-#include "core/render/cuda/device_buffer.h"
+#include "core/base/cuda/device_buffer.h"
 
 namespace es {
 namespace cuda {

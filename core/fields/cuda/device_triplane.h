@@ -7,7 +7,7 @@
 
 #include "core/fields/cuda/field_kernels.h"
 #include "core/fields/triplane.h"
-#include "core/render/cuda/device_buffer.h"
+#include "core/base/cuda/device_buffer.h"
 
 namespace es {
 namespace cuda {

@@ -3,7 +3,7 @@
 // double, into the MLP input rows next to the triplane features.
 
 #include "core/fields/cuda/field_kernels.h"
-#include "core/render/cuda/cuda_check.h"
+#include "core/base/cuda/cuda_check.h"
 
 namespace es {
 namespace cuda {

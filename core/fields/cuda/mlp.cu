@@ -5,7 +5,7 @@
 // results agree to rounding.
 
 #include "core/fields/cuda/field_kernels.h"
-#include "core/render/cuda/cuda_check.h"
+#include "core/base/cuda/cuda_check.h"
 
 namespace es {
 namespace cuda {

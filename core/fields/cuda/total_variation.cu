@@ -5,7 +5,7 @@
 // value does not depend on the order blocks finish in.
 
 #include "core/fields/cuda/field_kernels.h"
-#include "core/render/cuda/cuda_check.h"
+#include "core/base/cuda/cuda_check.h"
 
 namespace es {
 namespace cuda {

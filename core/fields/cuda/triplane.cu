@@ -3,7 +3,7 @@
 // align-corners texel mapping, border clamp and NaN rule.
 
 #include "core/fields/cuda/field_kernels.h"
-#include "core/render/cuda/cuda_check.h"
+#include "core/base/cuda/cuda_check.h"
 
 namespace es {
 namespace cuda {

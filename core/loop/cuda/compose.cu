@@ -3,7 +3,7 @@
 // same additions in double.
 
 #include "core/loop/cuda/compose_kernels.h"
-#include "core/render/cuda/cuda_check.h"
+#include "core/base/cuda/cuda_check.h"
 
 namespace es {
 namespace cuda {

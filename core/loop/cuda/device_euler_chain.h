@@ -13,7 +13,7 @@
 #include "core/fields/cuda/device_field_workspace.h"
 #include "core/fields/cuda/device_motion_field.h"
 #include "core/loop/euler_chain.h"
-#include "core/render/cuda/device_buffer.h"
+#include "core/base/cuda/device_buffer.h"
 
 namespace es {
 namespace cuda {

@@ -14,7 +14,7 @@
 #include "core/fields/cuda/device_motion_field.h"
 #include "core/loop/cuda/device_euler_chain.h"
 #include "core/loop/euler_chain.h"
-#include "core/render/cuda/device_buffer.h"
+#include "core/base/cuda/device_buffer.h"
 
 namespace es {
 namespace cuda {

@@ -21,8 +21,8 @@
 #include "core/loop/cuda/device_splat_assembly.h"
 #include "core/loop/euler_chain.h"
 #include "core/model/camera.h"
-#include "core/model/loop_model.h"
-#include "core/render/cuda/device_buffer.h"
+#include "core/loop/loop_model.h"
+#include "core/base/cuda/device_buffer.h"
 #include "core/render/cuda/device_rasterizer.h"
 #include "core/render/cuda/device_splats.h"
 

@@ -11,7 +11,7 @@
 #include "core/fields/cuda/device_residual_field.h"
 #include "core/fields/residual_field.h"
 #include "core/loop/cuda/compose_kernels.h"
-#include "core/render/cuda/device_buffer.h"
+#include "core/base/cuda/device_buffer.h"
 #include "core/render/cuda/device_splats.h"
 
 namespace es {

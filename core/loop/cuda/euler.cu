@@ -4,7 +4,7 @@
 // (LoopAnimator::Advance).
 
 #include "core/loop/cuda/euler_kernels.h"
-#include "core/render/cuda/cuda_check.h"
+#include "core/base/cuda/cuda_check.h"
 
 namespace es {
 namespace cuda {

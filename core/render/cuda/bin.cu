@@ -6,7 +6,7 @@
 #include <cub/device/device_radix_sort.cuh>
 #include <cub/device/device_scan.cuh>
 
-#include "core/render/cuda/cuda_check.h"
+#include "core/base/cuda/cuda_check.h"
 #include "core/render/cuda/raster_kernels.h"
 
 namespace es {

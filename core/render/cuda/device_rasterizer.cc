@@ -3,7 +3,7 @@
 #include <glog/logging.h>
 
 #include "core/model/gaussians.h"
-#include "core/render/cuda/device_buffer.h"
+#include "core/base/cuda/device_buffer.h"
 #include "core/render/cuda/raster_kernels.h"
 
 namespace es {

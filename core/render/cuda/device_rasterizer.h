@@ -14,7 +14,7 @@
 #include <Eigen/Core>
 
 #include "core/model/camera.h"
-#include "core/render/cuda/cuda_error.h"
+#include "core/base/cuda/cuda_error.h"
 #include "core/render/cuda/device_splats.h"
 #include "core/render/rasterizer.h"
 

@@ -6,7 +6,7 @@
 // and owning copies of host arrays. No CUDA types.
 
 #include "core/model/camera.h"
-#include "core/render/cuda/device_buffer.h"
+#include "core/base/cuda/device_buffer.h"
 #include "core/render/project_kernels.h"
 #include "core/render/rasterizer.h"
 

@@ -4,7 +4,7 @@
 // say why each step is done as it is), with the library exp and log where
 // the CPU has its own polynomials.
 
-#include "core/render/cuda/cuda_check.h"
+#include "core/base/cuda/cuda_check.h"
 #include "core/render/cuda/raster_kernels.h"
 
 namespace es {

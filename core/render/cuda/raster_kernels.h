@@ -11,7 +11,7 @@
 
 #include <cstdint>
 
-#include "core/render/cuda/device_buffer.h"
+#include "core/base/cuda/device_buffer.h"
 #include "core/render/project_kernels.h"
 #include "core/render/raster_constants.h"
 #include "core/render/tile_kernels.h"

@@ -2,7 +2,7 @@
 // arrays, as DeviceRasterizer::Radii and Mean2dGradients read them on the
 // host: one thread per Gaussian.
 
-#include "core/render/cuda/cuda_check.h"
+#include "core/base/cuda/cuda_check.h"
 #include "core/render/cuda/raster_kernels.h"
 
 namespace es {

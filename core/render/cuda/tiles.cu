@@ -8,7 +8,7 @@
 // here. The backward sums each Gaussian's per-pixel gradients over a warp
 // and adds them to its 2D gradient with one atomic add per warp.
 
-#include "core/render/cuda/cuda_check.h"
+#include "core/base/cuda/cuda_check.h"
 #include "core/render/cuda/raster_kernels.h"
 
 namespace es {

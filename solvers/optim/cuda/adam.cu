@@ -1,7 +1,7 @@
 // Adam on the device, one thread per value, with AdamStep::Update's
 // arithmetic (solvers/optim/adam.h) in double.
 
-#include "core/render/cuda/cuda_check.h"
+#include "core/base/cuda/cuda_check.h"
 #include "solvers/optim/cuda/adam_kernels.h"
 
 namespace es {

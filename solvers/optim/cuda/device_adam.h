@@ -7,7 +7,7 @@
 
 #include <cstdint>
 
-#include "core/render/cuda/device_buffer.h"
+#include "core/base/cuda/device_buffer.h"
 #include "solvers/optim/adam.h"
 
 namespace es {

@@ -5,7 +5,7 @@
 // the device rasterizer's last render, moved to the host only for a
 // densification step or a checkpoint. No CUDA types.
 
-#include "core/render/cuda/device_buffer.h"
+#include "core/base/cuda/device_buffer.h"
 #include "core/render/cuda/device_rasterizer.h"
 #include "solvers/train/densify.h"
 

@@ -8,8 +8,8 @@
 
 #include "core/fields/cuda/device_field_workspace.h"
 #include "core/fields/cuda/device_motion_field.h"
-#include "core/io/input_error.h"
-#include "core/profile/stage_profile.h"
+#include "core/base/input_error.h"
+#include "core/base/stage_profile.h"
 #include "solvers/optim/cuda/device_adam.h"
 #include "solvers/train/cuda/device_scene_flow_loss.h"
 #include "solvers/train/cuda/training_kernels.h"

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "core/io/scene.h"
-#include "core/render/cuda/device_buffer.h"
+#include "core/base/cuda/device_buffer.h"
 
 namespace es {
 namespace cuda {

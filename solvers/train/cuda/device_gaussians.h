@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "core/model/gaussians.h"
-#include "core/render/cuda/device_buffer.h"
+#include "core/base/cuda/device_buffer.h"
 #include "solvers/optim/cuda/device_adam.h"
 
 namespace es {

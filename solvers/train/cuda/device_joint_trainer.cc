@@ -6,7 +6,7 @@
 #include <utility>
 
 #include "core/model/dynamic_set.h"
-#include "core/profile/stage_profile.h"
+#include "core/base/stage_profile.h"
 #include "costs/cuda/splat_cost_kernels.h"
 #include "solvers/train/cuda/device_density_stats.h"
 #include "solvers/train/cuda/training_kernels.h"

@@ -24,7 +24,7 @@
 
 #include "core/fields/cuda/device_motion_field.h"
 #include "core/io/scene.h"
-#include "core/render/cuda/device_buffer.h"
+#include "core/base/cuda/device_buffer.h"
 #include "core/render/cuda/device_rasterizer.h"
 #include "costs/cuda/device_joint_render_cost.h"
 #include "costs/cuda/device_water_energy_loss.h"
@@ -34,7 +34,7 @@
 #include "solvers/train/cuda/device_frame_images.h"
 #include "solvers/train/cuda/device_gaussians.h"
 #include "solvers/train/divergence_guard.h"
-#include "solvers/train/frame_sampler.h"
+#include "solvers/optim/frame_sampler.h"
 #include "solvers/train/joint_stage_trainer.h"
 
 namespace es {

@@ -6,9 +6,9 @@
 #include <string>
 #include <utility>
 
-#include "core/io/input_error.h"
-#include "core/profile/stage_profile.h"
-#include "solvers/checkpoint/rng_state.h"
+#include "core/base/input_error.h"
+#include "core/base/stage_profile.h"
+#include "core/base/rng_state.h"
 #include "solvers/train/splat_training.h"
 
 namespace es {

@@ -19,7 +19,7 @@
 #include <vector>
 
 #include "core/io/scene.h"
-#include "core/render/cuda/device_buffer.h"
+#include "core/base/cuda/device_buffer.h"
 #include "core/render/cuda/device_rasterizer.h"
 #include "costs/cuda/device_splat_render_cost.h"
 #include "solvers/optim/adam.h"
@@ -29,7 +29,7 @@
 #include "solvers/train/cuda/device_gaussians.h"
 #include "solvers/train/densify.h"
 #include "solvers/train/divergence_guard.h"
-#include "solvers/train/frame_sampler.h"
+#include "solvers/optim/frame_sampler.h"
 #include "solvers/train/static_stage.h"
 #include "solvers/train/static_trainer.h"
 

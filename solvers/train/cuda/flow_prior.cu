@@ -1,7 +1,7 @@
 // The device scene-flow prior's own kernels: its batch gathered from the
 // uploaded samples, and V's residual against the lifted velocities.
 
-#include "core/render/cuda/cuda_check.h"
+#include "core/base/cuda/cuda_check.h"
 #include "solvers/train/cuda/flow_prior_kernels.h"
 
 namespace es {

@@ -3,7 +3,7 @@
 // of the divergence guard, the water's scale bound and gradient
 // averaging.
 
-#include "core/render/cuda/cuda_check.h"
+#include "core/base/cuda/cuda_check.h"
 #include "solvers/train/cuda/training_kernels.h"
 
 namespace es {

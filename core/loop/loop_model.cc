@@ -1,4 +1,4 @@
-#include "core/model/loop_model.h"
+#include "core/loop/loop_model.h"
 
 #include <filesystem>
 #include <fstream>
@@ -6,9 +6,9 @@
 
 #include <glog/logging.h>
 
-#include "core/io/atomic_file.h"
-#include "core/io/field_io.h"
-#include "core/io/input_error.h"
+#include "core/base/atomic_file.h"
+#include "core/fields/field_io.h"
+#include "core/base/input_error.h"
 #include "core/io/ply_io.h"
 
 namespace es {

@@ -1,5 +1,5 @@
-#ifndef EULERSPLAT_CORE_RENDER_CUDA_DEVICE_BUFFER_H_
-#define EULERSPLAT_CORE_RENDER_CUDA_DEVICE_BUFFER_H_
+#ifndef EULERSPLAT_CORE_BASE_CUDA_DEVICE_BUFFER_H_
+#define EULERSPLAT_CORE_BASE_CUDA_DEVICE_BUFFER_H_
 
 // An owning array in device memory, without CUDA types. Every call that
 // fails throws CudaError (cuda_error.h).
@@ -71,4 +71,4 @@ class DeviceBuffer {
 }  // namespace cuda
 }  // namespace es
 
-#endif  // EULERSPLAT_CORE_RENDER_CUDA_DEVICE_BUFFER_H_
+#endif  // EULERSPLAT_CORE_BASE_CUDA_DEVICE_BUFFER_H_

@@ -1,5 +1,5 @@
-#ifndef EULERSPLAT_CORE_RENDER_CUDA_CUDA_CHECK_H_
-#define EULERSPLAT_CORE_RENDER_CUDA_CUDA_CHECK_H_
+#ifndef EULERSPLAT_CORE_BASE_CUDA_CUDA_CHECK_H_
+#define EULERSPLAT_CORE_BASE_CUDA_CUDA_CHECK_H_
 
 // ES_CUDA_CHECK(call) throws CudaError when a CUDA runtime call fails;
 // ES_CUDA_CHECK_LAUNCH(name) after a kernel launch. Kernels run
@@ -9,7 +9,7 @@
 
 #include <cuda_runtime_api.h>
 
-#include "core/render/cuda/cuda_error.h"
+#include "core/base/cuda/cuda_error.h"
 
 namespace es {
 namespace cuda {
@@ -33,4 +33,4 @@ void CheckLaunch(const char* kernel, const char* file, int line);
 #define ES_CUDA_CHECK_LAUNCH(kernel) \
   ::es::cuda::CheckLaunch(kernel, __FILE__, __LINE__)
 
-#endif  // EULERSPLAT_CORE_RENDER_CUDA_CUDA_CHECK_H_
+#endif  // EULERSPLAT_CORE_BASE_CUDA_CUDA_CHECK_H_

@@ -1,4 +1,4 @@
-#include "core/profile/schedule_simulation.h"
+#include "core/base/schedule_simulation.h"
 
 #include <algorithm>
 #include <functional>

@@ -1,5 +1,5 @@
-#ifndef EULERSPLAT_CORE_PROFILE_STAGE_PROFILE_H_
-#define EULERSPLAT_CORE_PROFILE_STAGE_PROFILE_H_
+#ifndef EULERSPLAT_CORE_BASE_STAGE_PROFILE_H_
+#define EULERSPLAT_CORE_BASE_STAGE_PROFILE_H_
 
 // Where a training iteration's wall time goes, per stage (the trainers'
 // --profile). A ScopedStage costs one relaxed atomic load when profiling is
@@ -173,4 +173,4 @@ class ScopedStage {
 
 }  // namespace es
 
-#endif  // EULERSPLAT_CORE_PROFILE_STAGE_PROFILE_H_
+#endif  // EULERSPLAT_CORE_BASE_STAGE_PROFILE_H_

@@ -1,5 +1,5 @@
-#ifndef EULERSPLAT_CORE_IO_ATOMIC_FILE_H_
-#define EULERSPLAT_CORE_IO_ATOMIC_FILE_H_
+#ifndef EULERSPLAT_CORE_BASE_ATOMIC_FILE_H_
+#define EULERSPLAT_CORE_BASE_ATOMIC_FILE_H_
 
 #include <fstream>
 #include <functional>
@@ -27,4 +27,4 @@ void ReplaceFile(const std::string& from, const std::string& path);
 
 }  // namespace es
 
-#endif  // EULERSPLAT_CORE_IO_ATOMIC_FILE_H_
+#endif  // EULERSPLAT_CORE_BASE_ATOMIC_FILE_H_

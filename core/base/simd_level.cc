@@ -1,4 +1,4 @@
-#include "core/simd/simd_level.h"
+#include "core/base/simd_level.h"
 
 #include <glog/logging.h>
 

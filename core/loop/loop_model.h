@@ -1,5 +1,5 @@
-#ifndef EULERSPLAT_CORE_MODEL_LOOP_MODEL_H_
-#define EULERSPLAT_CORE_MODEL_LOOP_MODEL_H_
+#ifndef EULERSPLAT_CORE_LOOP_LOOP_MODEL_H_
+#define EULERSPLAT_CORE_LOOP_LOOP_MODEL_H_
 
 #include <optional>
 #include <string>
@@ -50,8 +50,8 @@ struct LoopStructure {
 //   canonical.ply        GaussianSet, standard 3DGS layout + dynamic_logit
 //   loop.txt             "cycle_length L", "num_dynamic K", then K lines
 //                        "<gaussian index> <start time>"
-//   motion_field.bin     core/io/field_io.h, if the model has V
-//   residual_field.bin   core/io/field_io.h, if the model has D
+//   motion_field.bin     core/fields/field_io.h, if the model has V
+//   residual_field.bin   core/fields/field_io.h, if the model has D
 void SaveLoopModel(const LoopModel& model, const std::string& dir);
 // Throws InputError naming the file for anything missing or inconsistent
 // (indices out of range or not ascending, start times outside [0, L)).
@@ -59,4 +59,4 @@ LoopModel LoadLoopModel(const std::string& dir);
 
 }  // namespace es
 
-#endif  // EULERSPLAT_CORE_MODEL_LOOP_MODEL_H_
+#endif  // EULERSPLAT_CORE_LOOP_LOOP_MODEL_H_

@@ -1,5 +1,5 @@
-#ifndef EULERSPLAT_CORE_IO_FIELD_IO_H_
-#define EULERSPLAT_CORE_IO_FIELD_IO_H_
+#ifndef EULERSPLAT_CORE_FIELDS_FIELD_IO_H_
+#define EULERSPLAT_CORE_FIELDS_FIELD_IO_H_
 
 #include <string>
 
@@ -25,4 +25,4 @@ ResidualField LoadResidualField(const std::string& path);
 
 }  // namespace es
 
-#endif  // EULERSPLAT_CORE_IO_FIELD_IO_H_
+#endif  // EULERSPLAT_CORE_FIELDS_FIELD_IO_H_

@@ -1,5 +1,5 @@
-#ifndef EULERSPLAT_CORE_IO_INPUT_ERROR_H_
-#define EULERSPLAT_CORE_IO_INPUT_ERROR_H_
+#ifndef EULERSPLAT_CORE_BASE_INPUT_ERROR_H_
+#define EULERSPLAT_CORE_BASE_INPUT_ERROR_H_
 
 #include <stdexcept>
 #include <string>
@@ -17,4 +17,4 @@ class InputError : public std::runtime_error {
 
 }  // namespace es
 
-#endif  // EULERSPLAT_CORE_IO_INPUT_ERROR_H_
+#endif  // EULERSPLAT_CORE_BASE_INPUT_ERROR_H_

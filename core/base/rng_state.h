@@ -1,5 +1,5 @@
-#ifndef EULERSPLAT_SOLVERS_CHECKPOINT_RNG_STATE_H_
-#define EULERSPLAT_SOLVERS_CHECKPOINT_RNG_STATE_H_
+#ifndef EULERSPLAT_CORE_BASE_RNG_STATE_H_
+#define EULERSPLAT_CORE_BASE_RNG_STATE_H_
 
 #include <random>
 #include <sstream>
@@ -24,4 +24,4 @@ inline bool RestoreRngState(const std::string& state, std::mt19937_64* rng) {
 
 }  // namespace es
 
-#endif  // EULERSPLAT_SOLVERS_CHECKPOINT_RNG_STATE_H_
+#endif  // EULERSPLAT_CORE_BASE_RNG_STATE_H_

@@ -1,6 +1,6 @@
-#include "core/render/cuda/device_buffer.h"
+#include "core/base/cuda/device_buffer.h"
 
-#include "core/render/cuda/cuda_check.h"
+#include "core/base/cuda/cuda_check.h"
 
 namespace es {
 namespace cuda {

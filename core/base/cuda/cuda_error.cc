@@ -1,10 +1,8 @@
-#include "core/render/cuda/cuda_error.h"
+#include "core/base/cuda/cuda_error.h"
 
 #include <cstdio>
-#include <cstdlib>
-#include <cstring>
 
-#include "core/render/cuda/cuda_check.h"
+#include <cuda_runtime_api.h>
 
 namespace es {
 namespace cuda {
@@ -13,25 +11,6 @@ void ThrowCudaError(const char* error_text, const char* call,
                     const char* file, int line) {
   throw CudaError(std::string("CUDA error in ") + file + ":" +
                   std::to_string(line) + ": " + call + ": " + error_text);
-}
-
-bool SyncAfterLaunch() {
-  static const bool sync = [] {
-    const char* v = std::getenv("ES_CUDA_SYNC");
-    return v != nullptr && std::strcmp(v, "1") == 0;
-  }();
-  return sync;
-}
-
-void CheckLaunch(const char* kernel, const char* file, int line) {
-  cudaError_t status = cudaGetLastError();
-  if (status == cudaSuccess && SyncAfterLaunch()) {
-    status = cudaDeviceSynchronize();
-  }
-  if (status != cudaSuccess) {
-    ThrowCudaError(cudaGetErrorString(status),
-                   (std::string("kernel ") + kernel).c_str(), file, line);
-  }
 }
 
 bool CudaDeviceAvailable(std::string* why) {
@@ -59,9 +38,16 @@ bool CudaDeviceAvailable(std::string* why) {
 
 std::string CudaDeviceDescription() {
   int device = 0;
-  ES_CUDA_CHECK(cudaGetDevice(&device));
   cudaDeviceProp prop;
-  ES_CUDA_CHECK(cudaGetDeviceProperties(&prop, device));
+  cudaError_t status = cudaGetDevice(&device);
+  if (status == cudaSuccess) {
+    status = cudaGetDeviceProperties(&prop, device);
+  }
+  if (status != cudaSuccess) {
+    cudaGetLastError();
+    ThrowCudaError(cudaGetErrorString(status), "cudaGetDeviceProperties",
+                   __FILE__, __LINE__);
+  }
   char text[320];
   std::snprintf(text, sizeof(text), "%s (sm_%d%d, %d SMs, %.1f GiB)",
                 prop.name, prop.major, prop.minor, prop.multiProcessorCount,

@@ -1,5 +1,5 @@
-#ifndef EULERSPLAT_CORE_SIMD_SIMD_LEVEL_H_
-#define EULERSPLAT_CORE_SIMD_SIMD_LEVEL_H_
+#ifndef EULERSPLAT_CORE_BASE_SIMD_LEVEL_H_
+#define EULERSPLAT_CORE_BASE_SIMD_LEVEL_H_
 
 // The instruction sets our hot kernels are compiled for (the rasterizer's
 // tile passes and projection, SSIM's blurs): each kernel file is built once
@@ -21,4 +21,4 @@ SimdLevel ResolveSimdLevel(SimdLevel level);
 
 }  // namespace es
 
-#endif  // EULERSPLAT_CORE_SIMD_SIMD_LEVEL_H_
+#endif  // EULERSPLAT_CORE_BASE_SIMD_LEVEL_H_

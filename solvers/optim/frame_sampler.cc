@@ -1,11 +1,11 @@
-#include "solvers/train/frame_sampler.h"
+#include "solvers/optim/frame_sampler.h"
 
 #include <glog/logging.h>
 
 #include <algorithm>
 
-#include "core/io/input_error.h"
-#include "solvers/checkpoint/rng_state.h"
+#include "core/base/input_error.h"
+#include "core/base/rng_state.h"
 
 namespace es {
 

@@ -1,5 +1,5 @@
-#ifndef EULERSPLAT_CORE_IO_SCENE_FLOW_IO_H_
-#define EULERSPLAT_CORE_IO_SCENE_FLOW_IO_H_
+#ifndef EULERSPLAT_CORE_FLOW_SCENE_FLOW_IO_H_
+#define EULERSPLAT_CORE_FLOW_SCENE_FLOW_IO_H_
 
 #include <string>
 #include <vector>
@@ -21,4 +21,4 @@ std::vector<SceneFlowSample> LoadSceneFlowSamples(const std::string& path);
 
 }  // namespace es
 
-#endif  // EULERSPLAT_CORE_IO_SCENE_FLOW_IO_H_
+#endif  // EULERSPLAT_CORE_FLOW_SCENE_FLOW_IO_H_

@@ -1,4 +1,4 @@
-#include "core/io/atomic_file.h"
+#include "core/base/atomic_file.h"
 
 #include <fcntl.h>
 #include <unistd.h>
@@ -7,7 +7,7 @@
 #include <cstdio>
 #include <cstring>
 
-#include "core/io/input_error.h"
+#include "core/base/input_error.h"
 
 namespace es {
 namespace {

@@ -1,5 +1,5 @@
-#ifndef EULERSPLAT_CORE_PROFILE_SCHEDULE_SIMULATION_H_
-#define EULERSPLAT_CORE_PROFILE_SCHEDULE_SIMULATION_H_
+#ifndef EULERSPLAT_CORE_BASE_SCHEDULE_SIMULATION_H_
+#define EULERSPLAT_CORE_BASE_SCHEDULE_SIMULATION_H_
 
 // How a parallel loop's work would split over more threads than the
 // machine has: the loop's per-iteration costs (measured or modelled on one
@@ -26,4 +26,4 @@ double StaticScheduleMakespan(const std::vector<double>& costs, int threads,
 
 }  // namespace es
 
-#endif  // EULERSPLAT_CORE_PROFILE_SCHEDULE_SIMULATION_H_
+#endif  // EULERSPLAT_CORE_BASE_SCHEDULE_SIMULATION_H_

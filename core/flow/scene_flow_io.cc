@@ -1,11 +1,11 @@
-#include "core/io/scene_flow_io.h"
+#include "core/flow/scene_flow_io.h"
 
 #include <cmath>
 #include <cstdint>
 #include <fstream>
 
-#include "core/io/atomic_file.h"
-#include "core/io/input_error.h"
+#include "core/base/atomic_file.h"
+#include "core/base/input_error.h"
 
 namespace es {
 namespace {

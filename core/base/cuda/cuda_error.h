@@ -1,5 +1,5 @@
-#ifndef EULERSPLAT_CORE_RENDER_CUDA_CUDA_ERROR_H_
-#define EULERSPLAT_CORE_RENDER_CUDA_CUDA_ERROR_H_
+#ifndef EULERSPLAT_CORE_BASE_CUDA_CUDA_ERROR_H_
+#define EULERSPLAT_CORE_BASE_CUDA_CUDA_ERROR_H_
 
 // Errors of the CUDA backend, without CUDA types (host code that only
 // calls the backend includes this).
@@ -32,4 +32,4 @@ std::string CudaDeviceDescription();
 }  // namespace cuda
 }  // namespace es
 
-#endif  // EULERSPLAT_CORE_RENDER_CUDA_CUDA_ERROR_H_
+#endif  // EULERSPLAT_CORE_BASE_CUDA_CUDA_ERROR_H_

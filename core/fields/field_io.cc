@@ -1,4 +1,4 @@
-#include "core/io/field_io.h"
+#include "core/fields/field_io.h"
 
 #include <algorithm>
 #include <cmath>
@@ -6,8 +6,8 @@
 #include <fstream>
 #include <vector>
 
-#include "core/io/atomic_file.h"
-#include "core/io/input_error.h"
+#include "core/base/atomic_file.h"
+#include "core/base/input_error.h"
 
 namespace es {
 namespace {
