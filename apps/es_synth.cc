@@ -2,7 +2,7 @@
 // exact COLMAP poses, a held-out split, the true velocity field on a grid
 // and per-frame depth. See docs/SYNTH.md.
 //
-//   es_synth --out DIR [--preset waterfall|stream|fountain|droplets]
+//   es_synth --out DIR [--preset waterfall|stream|fountain|droplets|pathtraced]
 //            [--frames 120] [--width 320 --height 240] [--seed N]
 //            [--stochasticity S]
 
@@ -19,8 +19,10 @@
 #include "synth/writer.h"
 
 DEFINE_string(out, "", "Output scene directory (created).");
-DEFINE_string(preset, "waterfall", "Scene: waterfall, stream, fountain or "
-              "droplets (a spray of small faint droplets).");
+DEFINE_string(preset, "waterfall", "Scene: waterfall, stream, fountain, "
+              "droplets (a spray of small faint droplets) or pathtraced (that "
+              "spray filmed as a path tracer renders it: glints, motion "
+              "blur, sample noise).");
 DEFINE_int32(frames, 120, "Number of frames.");
 DEFINE_int32(width, 320, "Image width in pixels.");
 DEFINE_int32(height, 240, "Image height in pixels.");
@@ -46,8 +48,9 @@ int main(int argc, char** argv) {
   return es::RunApp(
       argc, argv,
       "Generates a synthetic water scene with ground truth.\n"
-      "  es_synth --out DIR [--preset waterfall|stream|fountain|droplets] "
-      "[--frames 120]\n"
+      "  es_synth --out DIR "
+      "[--preset waterfall|stream|fountain|droplets|pathtraced]\n"
+      "           [--frames 120]\n"
       "           [--width 320 --height 240] [--seed N] [--stochasticity S]",
       [] {
         es::RequireFlag("out", FLAGS_out);

@@ -40,7 +40,8 @@ fi
 jobs=$(nproc)
 # ccache, when installed, makes rebuilds after a checkout switch cheap.
 launcher=()
-command -v ccache > /dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
+command -v ccache > /dev/null &&
+  launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_CUDA_COMPILER_LAUNCHER=ccache)
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release "${launcher[@]}" > build.log 2>&1 || { cat build.log; exit 1; }
 echo "[setup] building with $jobs jobs (log: build.log)"
 if ! cmake --build build -j"$jobs" >> build.log 2>&1; then

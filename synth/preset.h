@@ -14,6 +14,15 @@
 
 namespace es {
 
+// What a camera adds to the splats when it films them as a path tracer
+// renders: motion blur and per-pixel sample noise (1 and 0: none, the
+// plain splat look).
+struct SynthCameraEffects {
+  int motion_blur_samples = 1;  // renders averaged per frame
+  double shutter = 0.5;         // open for this fraction of a frame
+  double noise = 0.0;           // per-pixel noise std (colour in [0, 1])
+};
+
 // Everything that makes one kind of synthetic water scene: the field, the
 // particle stream, the scenery around it and the camera move that frames it.
 struct SynthPreset {
@@ -23,6 +32,7 @@ struct SynthPreset {
   WaterLook look;
   SceneryLayout scenery;
   CameraPathSpec camera;
+  SynthCameraEffects effects;
   Eigen::Vector3d background{0.72, 0.80, 0.88};  // sky
   int warmup_frames = 120;  // simulated before frame 0: a developed stream
 };

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
+#include <vector>
 
 #include <glog/logging.h>
 
@@ -18,7 +20,7 @@ namespace {
 
 // Independent random streams derived from the one user seed.
 enum SeedStream : uint64_t { kScenerySeed = 1, kCameraSeed, kWaterSeed,
-                             kSparseSeed, kPresetSeed };
+                             kSparseSeed, kPresetSeed, kNoiseSeed };
 
 void CheckSettings(const SynthSettings& s) {
   auto fail = [](const std::string& what) {
@@ -70,6 +72,44 @@ cv::Mat ToDepth(const RenderResult& r) {
   return out;
 }
 
+// The frame as a shutter open for effects.shutter of it sees the water:
+// the mean of motion_blur_samples renders spread evenly over that time
+// (colour, alpha, depth and the water share alike).
+void RenderMotionBlurred(const GaussianSet& scenery, const WaterSim& water,
+                         const SynthPreset& preset, const Camera& camera,
+                         Rasterizer* rasterizer, RenderResult* result) {
+  const int samples = preset.effects.motion_blur_samples;
+  RenderResult sample;
+  for (int k = 0; k < samples; ++k) {
+    WaterShot shot;
+    shot.eye = camera.Center();
+    shot.time_offset = preset.effects.shutter * ((k + 0.5) / samples - 0.5);
+    RenderSynthFrame(scenery, water.ToGaussians(preset.look, shot), camera,
+                     preset.background, rasterizer, &sample);
+    if (k == 0) {
+      *result = sample;
+      continue;
+    }
+    for (auto [sum, add] : {std::pair{&result->rgb, &sample.rgb},
+                            std::pair{&result->alpha, &sample.alpha},
+                            std::pair{&result->depth, &sample.depth},
+                            std::pair{&result->extra, &sample.extra}}) {
+      for (size_t i = 0; i < sum->size(); ++i) (*sum)[i] += (*add)[i];
+    }
+  }
+  for (std::vector<double>* image :
+       {&result->rgb, &result->alpha, &result->depth, &result->extra}) {
+    for (double& v : *image) v /= samples;
+  }
+}
+
+// A path tracer's finite samples: independent normal noise on every pixel
+// and channel, drawn anew each frame.
+void AddSampleNoise(double std_dev, uint64_t seed, RenderResult* result) {
+  SynthRandom random(seed);
+  for (double& v : result->rgb) v += std_dev * random.Normal();
+}
+
 }  // namespace
 
 void RenderSynthFrame(const GaussianSet& scenery, const GaussianSet& water,
@@ -115,14 +155,25 @@ SynthScene GenerateSynthScene(const SynthSettings& settings,
   RenderResult result;
   for (int f = 0; f < settings.frames; ++f) {
     if (f > 0) water.AdvanceFrames(1);
-    const GaussianSet splats = water.ToGaussians(preset.look);
+    WaterShot shot;
+    shot.eye = scene.cameras[f].Center();
+    const GaussianSet splats = water.ToGaussians(preset.look, shot);
     for (int i = 0; i < splats.size(); ++i)
       scene.water_box.extend(Eigen::Vector3d(splats.means[3 * i],
                                              splats.means[3 * i + 1],
                                              splats.means[3 * i + 2]));
     if (observer) observer(f, splats);
-    RenderSynthFrame(scene.scenery, splats, scene.cameras[f],
-                     preset.background, &rasterizer, &result);
+    if (preset.effects.motion_blur_samples > 1) {
+      RenderMotionBlurred(scene.scenery, water, preset, scene.cameras[f],
+                          &rasterizer, &result);
+    } else {
+      RenderSynthFrame(scene.scenery, splats, scene.cameras[f],
+                       preset.background, &rasterizer, &result);
+    }
+    if (preset.effects.noise > 0.0) {
+      AddSampleNoise(preset.effects.noise,
+                     SynthRandom::Derive(seed, kNoiseSeed + f), &result);
+    }
     scene.images.push_back(ToImage(result));
     scene.masks.push_back(ToMask(result));
     scene.depths.push_back(ToDepth(result));

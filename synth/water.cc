@@ -96,11 +96,37 @@ void WaterSim::Substep() {
   }
 }
 
+// Random streams of the glints' facets, apart from the particles' own.
+constexpr uint64_t kGlintStream = uint64_t{1} << 48;
+
+// The glint particle `index` shows towards `to_eye`: the sun mirrored by
+// a facet that tumbles at its own rate about its own axis, both drawn anew
+// at each birth.
+double WaterSim::Glint(const WaterLook& look, const WaterParticle& p,
+                       int index, const Eigen::Vector3d& to_eye) const {
+  const uint64_t birth = (static_cast<uint64_t>(index) << 20) +
+                         static_cast<uint64_t>(p.generation);
+  SynthRandom r(SynthRandom::Derive(options_.seed, kGlintStream + birth));
+  const Eigen::Vector3d axis =
+      Eigen::Vector3d(r.Normal(), r.Normal(), r.Normal()).normalized();
+  const Eigen::Vector3d facet0 =
+      Eigen::Vector3d(r.Normal(), r.Normal(), r.Normal()).normalized();
+  const double angle = look.glint_spin * r.Uniform(0.5, 1.5) * p.age;
+  Eigen::Vector3d facet = Eigen::AngleAxisd(angle, axis) * facet0;
+  const Eigen::Vector3d sun = look.sun_direction.normalized();
+  if (facet.dot(sun) < 0.0) facet = -facet;  // a droplet has two sides
+  const Eigen::Vector3d mirrored = 2.0 * facet.dot(sun) * facet - sun;
+  const double cosine = mirrored.dot(to_eye.normalized());
+  return cosine > 0.0 ? look.glint * std::pow(cosine, look.glint_exponent)
+                      : 0.0;
+}
+
 void WaterSim::AdvanceFrames(int frames) {
   for (int i = 0; i < frames * options_.substeps; ++i) Substep();
 }
 
-GaussianSet WaterSim::ToGaussians(const WaterLook& look) const {
+GaussianSet WaterSim::ToGaussians(const WaterLook& look,
+                                  const WaterShot& shot) const {
   CHECK(look.min_opacity > 0.0 && look.max_opacity < 1.0);
   GaussianSet g;
   std::vector<int> visible;
@@ -128,7 +154,8 @@ GaussianSet WaterSim::ToGaussians(const WaterLook& look) const {
         speed > 1e-12
             ? Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitX(), v)
             : Eigen::Quaterniond::Identity();
-    for (int a = 0; a < 3; ++a) g.means[3 * k + a] = p.position[a];
+    const Eigen::Vector3d position = p.position + shot.time_offset * v;
+    for (int a = 0; a < 3; ++a) g.means[3 * k + a] = position[a];
     g.log_scales[3 * k] = std::log(along);
     g.log_scales[3 * k + 1] = std::log(across);
     g.log_scales[3 * k + 2] = std::log(across);
@@ -140,8 +167,12 @@ GaussianSet WaterSim::ToGaussians(const WaterLook& look) const {
     const double foam =
         std::min(1.0, 0.3 + 0.7 * speed / look.foam_speed) *
         (0.5 + 0.5 * p.foam);
-    const Eigen::Vector3d color =
+    Eigen::Vector3d color =
         look.deep_color + foam * (look.foam_color - look.deep_color);
+    if (look.glint > 0.0) {
+      color += Eigen::Vector3d::Constant(
+          Glint(look, p, visible[k], shot.eye - position));
+    }
     for (int c = 0; c < 3; ++c) g.sh[3 * k + c] = (color[c] - 0.5) / kShC0;
     g.dynamic_logits[k] = kWaterDynamicLogit;
   }

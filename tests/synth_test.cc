@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "core/io/colmap_io.h"
 #include "core/base/input_error.h"
@@ -308,13 +309,87 @@ TEST(SynthTest, EveryPresetFramesItsWater) {
     const SynthScene scene = GenerateSynthScene(s);
     // A spray of few tiny droplets (at the test's low detail) is thin by
     // design; the others are sheets.
-    const double min_coverage = name == "droplets" ? 0.05 : 0.15;
+    const bool spray = name == "droplets" || name == "pathtraced";
+    const double min_coverage = spray ? 0.05 : 0.15;
     for (double c : scene.coverage) {
       EXPECT_GT(c, min_coverage);
       EXPECT_LT(c, 0.75);
     }
   }
   EXPECT_THROW(MakeSynthPreset("lake", 1.0, 1), InputError);
+}
+
+// The path-traced look's glints: bright only near the sun's mirror
+// direction, so a few droplets flash and which ones depends on the eye.
+TEST(SynthTest, GlintsAreNarrowAndFollowTheEye) {
+  const SynthPreset preset = MakeSynthPreset("pathtraced", 0.05, 3);
+  ASSERT_GT(preset.look.glint, 0.0);
+  WaterSim sim(preset.flow, preset.water);
+  sim.AdvanceFrames(60);
+  WaterLook plain = preset.look;
+  plain.glint = 0.0;
+  WaterShot left, right;
+  left.eye = {-1.0, 1.9, 5.8};
+  right.eye = {1.0, 2.2, 5.5};
+  const GaussianSet base = sim.ToGaussians(plain, left);
+  const GaussianSet a = sim.ToGaussians(preset.look, left);
+  const GaussianSet b = sim.ToGaussians(preset.look, right);
+  ASSERT_EQ(a.size(), base.size());
+  ASSERT_GT(a.size(), 100);
+  int bright_a = 0, bright_b = 0, both = 0;
+  for (int n = 0; n < a.size(); ++n) {
+    const double glint_a = (a.sh[3 * n] - base.sh[3 * n]) * kShC0;
+    const double glint_b = (b.sh[3 * n] - base.sh[3 * n]) * kShC0;
+    ASSERT_GE(glint_a, -1e-12);  // light is only added
+    EXPECT_NEAR(a.sh[3 * n + 1] - base.sh[3 * n + 1],
+                a.sh[3 * n] - base.sh[3 * n], 1e-12);  // white light
+    bright_a += glint_a > 0.3;
+    bright_b += glint_b > 0.3;
+    both += glint_a > 0.3 && glint_b > 0.3;
+  }
+  EXPECT_GT(bright_a, 0);
+  EXPECT_GT(bright_b, 0);
+  EXPECT_LT(bright_a, a.size() / 5);  // a sparkle, not a sheen
+  EXPECT_LT(both, std::min(bright_a, bright_b));
+}
+
+// The path-traced look's sample noise: the same scenery and cameras as
+// the droplets preset, and away from their water a difference of the
+// noise's std alone (8-bit levels; median statistics, as faint droplets
+// below the masks' threshold still differ).
+TEST(SynthTest, PathTracedFramesAddSampleNoiseToTheScenery) {
+  SynthSettings settings = TinySettings("droplets");
+  settings.frames = 2;
+  settings.width = 96;
+  settings.height = 72;
+  const SynthScene plain = GenerateSynthScene(settings);
+  settings.preset = "pathtraced";
+  const SynthScene traced = GenerateSynthScene(settings);
+  ASSERT_EQ(traced.images.size(), 2u);
+  const double noise = 255.0 * traced.preset.effects.noise;
+  for (int f = 0; f < 2; ++f) {
+    cv::Mat water = plain.masks[f] | traced.masks[f];
+    cv::dilate(water, water, cv::Mat::ones(9, 9, CV_8UC1));
+    std::vector<double> differences;
+    for (int i = 0; i < water.rows; ++i) {
+      for (int j = 0; j < water.cols; ++j) {
+        if (water.at<uint8_t>(i, j) != 0) continue;
+        const cv::Vec3b a = traced.images[f].at<cv::Vec3b>(i, j);
+        const cv::Vec3b b = plain.images[f].at<cv::Vec3b>(i, j);
+        for (int c = 0; c < 3; ++c) differences.push_back(double(a[c]) - b[c]);
+      }
+    }
+    ASSERT_GT(differences.size(), 3000u);
+    auto median = [](std::vector<double> v) {
+      std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+      return v[v.size() / 2];
+    };
+    EXPECT_NEAR(median(differences), 0.0, 0.5);
+    std::vector<double> deviations;
+    for (double d : differences) deviations.push_back(std::abs(d));
+    // The median absolute deviation of a normal is 0.6745 of its std.
+    EXPECT_NEAR(median(deviations) / 0.6745, noise, 0.2 * noise);
+  }
 }
 
 TEST(SynthTest, LookAtCentersTheTarget) {

@@ -7,6 +7,7 @@
 #include <glog/logging.h>
 
 #include "core/model/sh.h"
+#include "core/render/raster_constants.h"
 
 namespace es {
 namespace {
