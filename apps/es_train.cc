@@ -177,8 +177,8 @@ DEFINE_double(texture_weight, 0,
               "(sliced Wasserstein distance between the water pixels' "
               "band neighbourhoods, wherever each streak is), with this "
               "weight; 0: off. About 1.7x the joint time at 160x120 (3 is "
-              "the weight docs/RESULTS.md measured). On --device cuda it "
-              "runs on the host.");
+              "the weight docs/results/realism-2026-12-04.md measured). On "
+              "--device cuda it runs on the host.");
 DEFINE_double(loop_texture_weight, 3,
               "> 0: also render each sampled frame as the loop plays it "
               "(every water Gaussian at cycle number 0, as es_animate "
@@ -187,7 +187,8 @@ DEFINE_double(loop_texture_weight, 3,
               "projections); 0: off, and about 1.7x faster joint "
               "iterations. "
               "Training fits each frame at its own cycle numbers; this "
-              "scores the frames the loop shows (docs/RESULTS.md: every "
+              "scores the frames the loop shows "
+              "(docs/results/realism-2026-12-04.md: every "
               "preset's loop closer to the video). Its loss runs on the "
               "host, so on --device cuda it is off unless given.");
 DEFINE_int32(texture_bands, 2,

@@ -154,9 +154,11 @@ struct Preset {
 Preset MakePreset(const std::string& name) {
   if (name == "quick") {
     // 4000 joint iterations: at 600, and still at 2000, the water's PSNR
-    // and texture were rising (docs/RESULTS.md, "Realism": longer joint
-    // training). D at 64^2 x 16, width 128: sharper, livelier water for
-    // 11-36% more joint time ("The quick preset's residual field D").
+    // and texture were rising (docs/results/targets-by-round.md, the 2000-
+    // and 4000-iteration rounds). D at 64^2 x 16, width 128: sharper,
+    // livelier water for 11-36% more joint time
+    // (docs/results/realism-2026-12-03.md, "The quick preset's residual
+    // field D").
     return {600, 300, 4000, 32, 64, 8, 16, 32, 128, 320, 1, 100, 100};
   }
   if (name == "paper") {

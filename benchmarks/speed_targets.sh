@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Measures every speed target of the CPU-speed work (docs/BENCHMARKS.md,
-# "Speed targets") in one go, for a rerun on an idle machine:
+# "Speed targets"; every run so far: docs/benchmarks/speed-targets.md) in
+# one go, for a rerun on an idle machine:
 #   1. rasterizer forward+backward Gaussian-pixel pairs/s (2 threads, float,
 #      each instruction set) at 320x240 / 10k and 1168x880 / 300k;
 #   2. a static (Stage 1) and a joint (Stage 3) iteration at the same

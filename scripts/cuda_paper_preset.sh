@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The whole paper preset on one GPU, for the CUDA backend's end-to-end
-# figure (docs/BENCHMARKS.md): a synthetic 1168x880 waterfall of 300
+# figure (docs/BENCHMARKS.md, "GPU"): a synthetic 1168x880 waterfall of 300
 # frames with exact poses and masks (es_synth), then the driver with
 # --preset paper (10k static + 20k joint iterations, L = 15, full-size
 # fields) and --device cuda. The driver prints each stage's wall time;

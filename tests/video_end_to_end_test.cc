@@ -3,7 +3,7 @@
 // poses, finds the water masks itself, trains and animates. COLMAP is not
 // reliable on frames this small, so the pose step is swapped (--pose_script)
 // for one that copies the synthetic scene's exact poses; es_poses itself is
-// measured in docs/RESULTS.md.
+// measured in docs/results/video.md (today's figures in docs/RESULTS.md).
 
 #include <cmath>
 #include <cstdio>

@@ -17,8 +17,9 @@ namespace es {
 // structure from motion on frames scaled down to sfm_width (the model is
 // scaled back to the frames' size) with global bundle adjustment run once
 // per growth step instead of until it settles (COLMAP's costliest step;
-// measured in docs/RESULTS.md, "Poses"). One focal length: a phone's
-// pixels are square, and a short sweep cannot pin down two.
+// measured in docs/results/video.md, "Poses (es_poses)"). One focal
+// length: a phone's pixels are square, and a short sweep cannot pin down
+// two.
 struct PoseOptions {
   std::string colmap = "colmap";  // binary
   std::string camera_model = "SIMPLE_PINHOLE";  // or PINHOLE, SIMPLE_RADIAL

@@ -23,7 +23,8 @@ struct DensifyOptions {
   // but the extent is the cameras' spread, and a hand-held video's is
   // small next to its depth: 0.1 pruned most of the backdrop at every
   // step after the reset (held-out PSNR near 7 dB until densification
-  // ended; 2.3 dB lower at the end on the fountain; docs/RESULTS.md).
+  // ended; 2.3 dB lower at the end on the fountain;
+  // docs/results/stages-1-2.md).
   double max_world_scale = 0;
   int max_gaussians = 1000000;
 };

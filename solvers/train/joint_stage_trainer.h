@@ -50,7 +50,8 @@ struct JointTrainerOptions {
   double mask_weight = 0.5;        // 0, or frames without masks: off
   // Mean squared D outputs. At 0.001, D grew through long runs and fitted
   // the training frames' stochastic detail (held-out water PSNR fell on
-  // the fountain preset, docs/RESULTS.md).
+  // the fountain preset, docs/results/targets-by-round.md, "4000 joint
+  // iterations and a 10x residual weight").
   double residual_weight = 0.01;
   // Stage 1's rates, except that positions start 10x lower: the splats
   // arrive trained.
