@@ -10,14 +10,14 @@
 # skips what is done.
 #
 #   scripts/realism_presets.sh [--out DIR] [--seeds "0 1 2"]
-#       [--presets "waterfall stream fountain droplets"]
+#       [--presets "waterfall stream fountain droplets pathtraced"]
 #       [--train_flags "es_train flags"] [-- extra eulersplat flags]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 out=out/realism
 seeds="0 1 2"
-presets="waterfall stream fountain droplets"
+presets="waterfall stream fountain droplets pathtraced"
 train_flags=""
 while [[ $# -gt 0 ]]; do
   case "$1" in

@@ -1,0 +1,98 @@
+// Stage 3 starts where Stage 1 ends: with V = 0, D = 0 and no particle
+// split, the joint trainer's model at iteration 0 renders every frame as
+// the static model does. A drop in the water's fidelity at the start of
+// Stage 3 is then the motion's or the losses', never the hand-over's.
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include <opencv2/core.hpp>
+
+#include "core/fields/motion_field.h"
+#include "core/render/image_rasterizer.h"
+#include "core/render/rasterizer.h"
+#include "solvers/eval/loop_evaluation.h"
+#include "solvers/train/joint_trainer.h"
+#include "tests/tiny_loop_scene.h"
+
+namespace es {
+namespace {
+
+using namespace tiny_loop;  // NOLINT: the scene's constants
+
+const std::vector<int> kTrain = {0, 1, 2, 4, 5, 7, 8, 9, 10};
+const std::vector<int> kFrames = {0, 3, 6, 11};
+
+void ZeroField(std::vector<double>* triplane, std::vector<double>* mlp) {
+  std::fill(triplane->begin(), triplane->end(), 0.0);
+  std::fill(mlp->begin(), mlp->end(), 0.0);
+}
+
+// The static model's renders of kFrames, CV_64FC3 RGB.
+std::vector<cv::Mat> StaticRenders(const GaussianSet& gaussians,
+                                   const std::vector<Frame>& frames,
+                                   const RenderOptions& options) {
+  Rasterizer rasterizer;
+  RenderResult result;
+  std::vector<cv::Mat> images;
+  for (int f : kFrames) {
+    rasterizer.Forward(frames[f].camera, SplatView::Of(gaussians), options,
+                       &result);
+    images.push_back(cv::Mat(result.height, result.width, CV_64FC3,
+                             result.rgb.data())
+                         .clone());
+  }
+  return images;
+}
+
+double LargestDifference(const std::vector<cv::Mat>& a,
+                         const std::vector<cv::Mat>& b) {
+  double largest = 0;
+  for (size_t k = 0; k < a.size(); ++k)
+    largest = std::max(largest, cv::norm(a[k], b[k], cv::NORM_INF));
+  return largest;
+}
+
+TEST(JointStartTest, ZeroFieldsRenderTheStaticModel) {
+  const std::vector<Frame> frames = TrueFrames();
+  JointTrainerOptions options = TinyOptions();
+  options.random_start = true;  // start times must not matter without V
+  const GaussianSet stage1 = TrueCanonical();
+  MotionField zero_motion(options.motion);
+  zero_motion.SetBox({-1, -1, 1}, {1, 1, 4});
+  ZeroField(&zero_motion.triplane_params(), &zero_motion.mlp_params());
+  JointTrainer trainer(&frames, kTrain, options, stage1, zero_motion);
+  ASSERT_GT(trainer.model().num_dynamic(), 0);
+  LoopModel start = trainer.model();
+  ASSERT_TRUE(start.residual.has_value());
+  ZeroField(&start.residual->triplane_params(),
+            &start.residual->mlp_params());
+
+  CpuImageRasterizer rasterizer(trainer.render_options());
+  const std::vector<cv::Mat> joint =
+      RenderCompositions(start, frames, kFrames, &rasterizer);
+  const std::vector<cv::Mat> expected =
+      StaticRenders(stage1, frames, trainer.render_options());
+  EXPECT_LT(LargestDifference(joint, expected), 1e-9);
+
+  // The check sees a hand-over that moves the water: V of one frame's
+  // step, or D's own first draw.
+  LoopModel moved = start;
+  std::fill(moved.motion->mlp_params().end() - 3,
+            moved.motion->mlp_params().end(), 0.5);
+  EXPECT_GT(LargestDifference(
+                RenderCompositions(moved, frames, kFrames, &rasterizer),
+                expected),
+            1e-3);
+  EXPECT_GT(LargestDifference(RenderCompositions(trainer.model(), frames,
+                                                 kFrames, &rasterizer),
+                              expected),
+            1e-9);
+}
+
+}  // namespace
+}  // namespace es
