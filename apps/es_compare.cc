@@ -17,13 +17,13 @@
 
 #include "apps/common/app_main.h"
 #include "apps/common/flag_checks.h"
-#include "apps/common/eval_report.h"
 #include "apps/common/realism_flags.h"
 #include "apps/common/scaled_scene.h"
 #include "core/base/input_error.h"
 #include "core/io/json_file.h"
 #include "core/io/output_dir.h"
 #include "core/io/scene.h"
+#include "solvers/eval/eval_report.h"
 #include "solvers/eval/loop_evaluation.h"
 #include "solvers/eval/realism_evaluation.h"
 

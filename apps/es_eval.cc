@@ -4,38 +4,21 @@
 // and distribution distance of the Alg. 2 loop seen by every input camera,
 // in the water, the static region and the whole frame), the loop-seam
 // score of a fixed-view animation, and the per-frame cost of playing it
-// with Alg. 1 vs Alg. 2. Writes OUT/eval.json and prints a table.
+// with Alg. 1 vs Alg. 2. Writes OUT/eval.json and prints a table. The
+// stage is solvers/eval/eval_stage.h.
 //
 //   es_eval --model DIR --scene DIR --out DIR [--device cpu|cuda]
-
-#include <chrono>
-#include <cstdio>
-#include <memory>
-#include <optional>
-#include <string>
-#include <utility>
-#include <vector>
 
 #include <gflags/gflags.h>
 
 #include "apps/common/app_main.h"
 #include "apps/common/device_flag.h"
-#include "apps/common/eval_report.h"
 #include "apps/common/flag_checks.h"
 #include "apps/common/image_rasterizer_on.h"
 #include "apps/common/loop_frames_on.h"
 #include "apps/common/realism_flags.h"
-#include "apps/common/scaled_scene.h"
-#include "core/base/atomic_file.h"
-#include "core/fields/field_io.h"
 #include "core/base/input_error.h"
-#include "core/io/json_file.h"
-#include "core/io/output_dir.h"
-#include "core/io/scene.h"
-#include "core/loop/loop_model.h"
-#include "solvers/eval/loop_evaluation.h"
-#include "solvers/eval/motion_gt.h"
-#include "solvers/eval/realism_evaluation.h"
+#include "solvers/eval/eval_stage.h"
 
 DEFINE_string(model, "", "Trained looping model directory (es_train --out).");
 DEFINE_string(scene, "", "Scene directory the model was trained on.");
@@ -83,23 +66,6 @@ DEFINE_string(device, "cpu",
 
 namespace {
 
-// Everything es_eval measures.
-struct Evaluation {
-  int anchor_frame = 0;
-  es::LoopMetrics held_out;
-  bool has_motion_gt = false;
-  es::MotionGtMetrics motion;
-  std::vector<es::MotionGtPoint> motion_points;  // per water Gaussian
-  // --reference_motion's V at the same points, when measured.
-  std::optional<es::MotionGtMetrics> reference_motion;
-  std::vector<es::MotionGtPoint> reference_points;
-  es::RealismMetrics realism;
-  // --realism_breakdown: (name, figures) per model variant.
-  std::vector<std::pair<std::string, es::RealismMetrics>> breakdown;
-  es::LoopSeamScore seam;
-  es::AnimationTiming timing;
-};
-
 void CheckFlags() {
   es::RequireFlag("model", FLAGS_model);
   es::RequireFlag("scene", FLAGS_scene);
@@ -116,241 +82,22 @@ void CheckFlags() {
   }
 }
 
-int AnchorFrame(const es::Scene& scene) {
-  const int anchor =
-      FLAGS_anchor_frame >= 0 ? FLAGS_anchor_frame : scene.test[0];
-  if (anchor >= static_cast<int>(scene.frames.size())) {
-    throw es::InputError("--anchor_frame " + std::to_string(anchor) +
-                         " is past the scene's last frame");
-  }
-  return anchor;
-}
-
-// Prints "[eval k/4] what" with the seconds since `start`: the steps differ
-// too much in cost for an ETA to mean anything.
-void Step(int k, const char* what,
-          std::chrono::steady_clock::time_point start) {
-  std::printf("[eval %d/4] %s (%.1f s so far)\n", k, what,
-              std::chrono::duration<double>(
-                  std::chrono::steady_clock::now() - start)
-                  .count());
-  std::fflush(stdout);
-}
-
-Evaluation Evaluate(const es::LoopModel& model,
-                    const std::optional<es::MotionField>& reference_motion,
-                    const es::Scene& scene, const es::RenderOptions& options,
-                    const es::RealismOptions& realism,
-                    es::ComputeDevice device) {
-  const auto start = std::chrono::steady_clock::now();
-  Evaluation e;
-  e.anchor_frame = AnchorFrame(scene);
-  const es::Camera& anchor = scene.frames[e.anchor_frame].camera;
-  // The loop of a model (which must outlive it) on the chosen device.
-  const auto loop = [&](const es::LoopModel& m) {
-    return es::LoopFramesOn(device, &m, options);
-  };
-  const std::unique_ptr<es::ImageRasterizer> rasterizer =
-      es::ImageRasterizerOn(device, options);
-  Step(1, "held-out frames and motion", start);
-  e.held_out = es::EvaluateLoopModel(model, scene.frames, scene.test,
-                                     rasterizer.get());
-  e.has_motion_gt = es::HasMotionGt(FLAGS_scene) && model.motion;
-  if (e.has_motion_gt) {
-    std::vector<Eigen::Vector3d> points;
-    for (int i : model.dynamic_index) {
-      points.emplace_back(&model.gaussians.means[3 * i]);
-    }
-    const es::VelocityFunction truth = es::LoadMotionGt(FLAGS_scene);
-    e.motion_points = es::MotionGtPoints(*model.motion, points, truth);
-    e.motion = es::SummarizeMotionGt(e.motion_points);
-    if (reference_motion) {
-      e.reference_points = es::MotionGtPoints(*reference_motion, points, truth);
-      e.reference_motion = es::SummarizeMotionGt(e.reference_points);
-    }
-  }
-  Step(2, ("realism over " + std::to_string(scene.frames.size()) +
-           " input frames").c_str(),
-       start);
-  const std::vector<cv::Mat> rendered =
-      es::RenderAtInputCameras(loop(model).get(), scene.frames);
-  e.realism = es::EvaluateRealism(rendered, scene.frames, realism);
-  if (FLAGS_compare_frames > 0) {
-    es::WriteComparisonFrames(rendered, scene.frames, FLAGS_compare_frames,
-                              FLAGS_out + "/compare");
-  }
-  if (FLAGS_realism_breakdown) {
-    e.breakdown.emplace_back(
-        "training",
-        es::EvaluateRealism(
-            es::RenderTrainingComposition(model, scene.frames,
-                                          rasterizer.get()),
-            scene.frames, realism));
-    const auto add_loop = [&](const char* name, const es::LoopModel& m) {
-      e.breakdown.emplace_back(
-          name, es::EvaluateRealism(
-                    es::RenderAtInputCameras(loop(m).get(), scene.frames),
-                    scene.frames, realism));
-    };
-    es::LoopModel variant = model;
-    variant.residual.reset();
-    add_loop("loop_without_residual", variant);
-    variant.motion.reset();
-    add_loop("canonical", variant);
-  }
-  Step(3, "loop seam", start);
-  e.seam = es::EvaluateLoopSeam(loop(model).get(), model.cycle_length,
-                                anchor, FLAGS_seam_cycles);
-  Step(4,
-       device == es::ComputeDevice::kCuda
-           ? "Alg. 1 vs Alg. 2 timing (on the CPU)"
-           : "Alg. 1 vs Alg. 2 timing",
-       start);
-  const int timing_frames =
-      FLAGS_timing_frames > 0 ? FLAGS_timing_frames : 2 * model.cycle_length;
-  e.timing = es::TimeAnimation(model, anchor, timing_frames, options);
-  return e;
-}
-
-nlohmann::ordered_json EvalJson(const es::LoopModel& model,
-                                const Evaluation& e) {
-  nlohmann::ordered_json json = {
-      {"model", FLAGS_model},
-      {"scene", FLAGS_scene},
-      {"device", FLAGS_device},
-      {"gaussians", model.gaussians.size()},
-      {"dynamic_gaussians", model.num_dynamic()},
-      {"cycle_length", model.cycle_length},
-      {"held_out", es::HeldOutJson(e.held_out)},
-      {"motion_gt", nullptr},
-      {"realism", es::RealismJson(e.realism)},
-      {"loop_seam",
-       {{"anchor_frame", e.anchor_frame},
-        {"cycles", FLAGS_seam_cycles},
-        {"score", e.seam.score},
-        {"boundary_change", e.seam.boundary_change},
-        {"within_change", e.seam.within_change}}},
-      {"render_time_ms",
-       {{"frames", e.timing.frames},
-        {"alg1_advect", e.timing.alg1_advect_ms},
-        {"alg2_advect", e.timing.alg2_advect_ms},
-        {"render", e.timing.render_ms},
-        {"alg1_frame", e.timing.alg1_frame_ms()},
-        {"alg2_frame", e.timing.alg2_frame_ms()},
-        {"alg1_alg2_max_position_difference",
-         e.timing.max_position_difference}}}};
-  if (!e.breakdown.empty()) {
-    nlohmann::ordered_json breakdown;
-    for (const auto& [name, r] : e.breakdown) {
-      breakdown[name] = es::RealismJson(r);
-    }
-    json["realism_breakdown"] = breakdown;
-  }
-  if (e.has_motion_gt) {
-    json["motion_gt"] = {{"points", e.motion.num_points},
-                         {"epe", e.motion.epe},
-                         {"mean_speed", e.motion.mean_speed},
-                         {"rel_epe", e.motion.rel_epe},
-                         {"speed_ratio", e.motion.speed_ratio}};
-    if (e.reference_motion) {
-      json["motion_gt"]["reference"] = {
-          {"field", FLAGS_reference_motion},
-          {"epe", e.reference_motion->epe},
-          {"rel_epe", e.reference_motion->rel_epe},
-          {"speed_ratio", e.reference_motion->speed_ratio}};
-    }
-  }
-  return json;
-}
-
-void PrintSummary(const es::LoopModel& model, const es::Scene& scene,
-                  const Evaluation& e) {
-  std::printf("%s: %d Gaussians (%d dynamic), L = %d\n",
-              FLAGS_model.c_str(), model.gaussians.size(),
-              model.num_dynamic(), model.cycle_length);
-  es::PrintHeldOutRows(e.held_out, scene.has_masks);
-  if (e.has_motion_gt) {
-    std::printf("  motion vs truth       EPE %.4g (%.1f%% of mean speed "
-                "%.4g, speed ratio %.2f) at %d points\n",
-                e.motion.epe, 100 * e.motion.rel_epe, e.motion.mean_speed,
-                e.motion.speed_ratio, e.motion.num_points);
-    if (e.reference_motion) {
-      std::printf("  reference V there     EPE %.4g (%.1f%%, speed ratio "
-                  "%.2f): %s\n",
-                  e.reference_motion->epe,
-                  100 * e.reference_motion->rel_epe,
-                  e.reference_motion->speed_ratio,
-                  FLAGS_reference_motion.c_str());
-    }
-  } else {
-    std::printf("  motion vs truth       n/a (%s)\n",
-                model.motion ? "no gt/ in the scene" : "model has no V");
-  }
-  std::printf("  realism vs the input (ratios: 1 = like the input; "
-              "distance: 0 = same statistics)\n");
-  es::PrintRealismRow("  water", e.realism.water);
-  es::PrintRealismRow("  static (control)", e.realism.static_region);
-  es::PrintRealismRow("  whole frame", e.realism.frame);
-  for (const auto& [name, r] : e.breakdown) {
-    es::PrintRealismRow(("  water, " + name).c_str(), r.water);
-  }
-  std::printf("  loop seam             %.3f (boundary %.4g / within %.4g; "
-              "~1 = seamless)\n",
-              e.seam.score, e.seam.boundary_change, e.seam.within_change);
-  std::printf("  ms per frame          Alg. 1 %.2f  Alg. 2 %.2f  (advect "
-              "%.3f vs %.3f, render %.2f)\n",
-              e.timing.alg1_frame_ms(), e.timing.alg2_frame_ms(),
-              e.timing.alg1_advect_ms, e.timing.alg2_advect_ms,
-              e.timing.render_ms);
-}
-
-int Run() {
-  CheckFlags();
-  const es::RealismOptions realism = es::RealismOptionsFromFlags();
-  std::string device_name;
-  const es::ComputeDevice device =
-      es::ParseDeviceFlag(FLAGS_device, &device_name);
-  es::PrepareOutputDirectory(FLAGS_out, "out");
-  es::RenderOptions options;
-  if (FLAGS_white_background) options.background.setOnes();
-  const es::Scene scene = es::LoadScaledScene(FLAGS_scene, FLAGS_image_scale);
-  const es::LoopModel model = es::LoadLoopModel(FLAGS_model);
-  std::optional<es::MotionField> reference_motion;
-  if (!FLAGS_reference_motion.empty()) {
-    reference_motion = es::LoadMotionField(FLAGS_reference_motion);
-  }
-  if (scene.test.empty()) {
-    throw es::InputError(FLAGS_scene + ": no held-out frames to evaluate "
-                         "(see split.txt)");
-  }
-  if (device == es::ComputeDevice::kCuda) {
-    std::printf("rendering on %s: the loop (Alg. 2) and the rasterizer; "
-                "on the CPU: Alg. 1's compositions, the motion error, the "
-                "Alg. 1 vs Alg. 2 timing and every metric\n",
-                device_name.c_str());
-  }
-  const Evaluation e =
-      Evaluate(model, reference_motion, scene, options, realism, device);
-  const std::string path = FLAGS_out + "/eval.json";
-  es::WriteJsonFile(path, EvalJson(model, e));
-  PrintSummary(model, scene, e);
-  std::printf("wrote %s\n", path.c_str());
-  const auto write_points = [](const std::string& name,
-                               const std::vector<es::MotionGtPoint>& points,
-                               const char* what) {
-    const std::string points_path = FLAGS_out + "/" + name;
-    es::WriteTextFileAtomically(points_path, es::MotionGtCsv(points));
-    std::printf("wrote %s (%s)\n", points_path.c_str(), what);
-  };
-  if (e.has_motion_gt) {
-    write_points("motion_gt.csv", e.motion_points,
-                 "V and the true velocity at each water Gaussian");
-  }
-  if (e.reference_motion) {
-    write_points("motion_gt_reference.csv", e.reference_points,
-                 "--reference_motion's V at the same points");
-  }
-  return 0;
+es::EvalStageOptions OptionsFromFlags() {
+  es::EvalStageOptions o;
+  o.model_dir = FLAGS_model;
+  o.scene_dir = FLAGS_scene;
+  o.out_dir = FLAGS_out;
+  o.scene.image_scale = FLAGS_image_scale;
+  if (FLAGS_white_background) o.render.background.setOnes();
+  o.seam_cycles = FLAGS_seam_cycles;
+  o.anchor_frame = FLAGS_anchor_frame;
+  o.timing_frames = FLAGS_timing_frames;
+  o.compare_frames = FLAGS_compare_frames;
+  o.realism_breakdown = FLAGS_realism_breakdown;
+  o.reference_motion = FLAGS_reference_motion;
+  o.realism = es::RealismOptionsFromFlags();
+  o.device = FLAGS_device;
+  return o;
 }
 
 }  // namespace
@@ -367,5 +114,13 @@ int main(int argc, char** argv) {
                     "Gaussian; with --reference_motion also "
                     "OUT/motion_gt_reference.csv, that V at the same "
                     "points).",
-                    Run);
+                    [] {
+                      CheckFlags();
+                      es::EvalStageOptions o = OptionsFromFlags();
+                      const es::ComputeDevice device = es::ParseDeviceFlag(
+                          FLAGS_device, &o.device_description);
+                      es::RunEvalStage(o, es::LoopFramesOn(device),
+                                       es::ImageRasterizerOn(device));
+                      return 0;
+                    });
 }

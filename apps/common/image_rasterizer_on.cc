@@ -14,7 +14,13 @@ std::unique_ptr<ImageRasterizer> ImageRasterizerOn(
 #else
   (void)device;  // ParseDeviceFlag refuses cuda in such a build
 #endif
-  return std::make_unique<CpuImageRasterizer>(options);
+  return MakeCpuImageRasterizer(options);
+}
+
+ImageRasterizerFactory ImageRasterizerOn(ComputeDevice device) {
+  return [device](const RenderOptions& options) {
+    return ImageRasterizerOn(device, options);
+  };
 }
 
 }  // namespace es

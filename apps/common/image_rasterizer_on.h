@@ -8,12 +8,14 @@
 #include <memory>
 
 #include "apps/common/device_flag.h"
-#include "core/render/image_rasterizer.h"
+#include "core/render/image_rasterizer_factory.h"
 
 namespace es {
 
 std::unique_ptr<ImageRasterizer> ImageRasterizerOn(
     ComputeDevice device, const RenderOptions& options);
+// The same as a factory, for the stages that make their own.
+ImageRasterizerFactory ImageRasterizerOn(ComputeDevice device);
 
 }  // namespace es
 

@@ -15,7 +15,13 @@ std::unique_ptr<LoopFrames> LoopFramesOn(ComputeDevice device,
 #else
   (void)device;  // ParseDeviceFlag refuses cuda in such a build
 #endif
-  return std::make_unique<CpuLoopFrames>(model, options);
+  return MakeCpuLoopFrames(model, options);
+}
+
+LoopFramesFactory LoopFramesOn(ComputeDevice device) {
+  return [device](const LoopModel* model, const RenderOptions& options) {
+    return LoopFramesOn(device, model, options);
+  };
 }
 
 }  // namespace es

@@ -7,7 +7,7 @@
 #include <memory>
 
 #include "apps/common/device_flag.h"
-#include "core/loop/loop_frames.h"
+#include "core/loop/loop_frames_factory.h"
 
 namespace es {
 
@@ -15,6 +15,8 @@ namespace es {
 std::unique_ptr<LoopFrames> LoopFramesOn(ComputeDevice device,
                                          const LoopModel* model,
                                          const RenderOptions& options);
+// The same as a factory, for the stages that make their own.
+LoopFramesFactory LoopFramesOn(ComputeDevice device);
 
 }  // namespace es
 

@@ -1,9 +1,12 @@
-#ifndef EULERSPLAT_APPS_COMMON_EVAL_REPORT_H_
-#define EULERSPLAT_APPS_COMMON_EVAL_REPORT_H_
+#ifndef EULERSPLAT_SOLVERS_EVAL_EVAL_REPORT_H_
+#define EULERSPLAT_SOLVERS_EVAL_EVAL_REPORT_H_
 
 #include <nlohmann/json.hpp>
 
+#include "core/io/scene.h"
+#include "core/loop/loop_model.h"
 #include "core/metrics/realism.h"
+#include "solvers/eval/eval_options.h"
 #include "solvers/eval/loop_evaluation.h"
 
 namespace es {
@@ -19,6 +22,14 @@ nlohmann::ordered_json RealismJson(const RealismMetrics& metrics);
 // One table row: "  <name> detail .. motion .. distance 2D .. 3D ..".
 void PrintRealismRow(const char* name, const RealismRegion& region);
 
+// es_eval's eval.json: the model, what was measured and how.
+nlohmann::ordered_json EvalJson(const EvalStageOptions& options,
+                                const LoopModel& model,
+                                const EvalStageResult& result);
+// es_eval's table of the same figures.
+void PrintEvalSummary(const EvalStageOptions& options, const LoopModel& model,
+                      const Scene& scene, const EvalStageResult& result);
+
 }  // namespace es
 
-#endif  // EULERSPLAT_APPS_COMMON_EVAL_REPORT_H_
+#endif  // EULERSPLAT_SOLVERS_EVAL_EVAL_REPORT_H_
