@@ -17,8 +17,8 @@
 #include <gflags/gflags.h>
 
 #include "apps/common/app_main.h"
-#include "apps/common/colmap_poses.h"
-#include "apps/common/pose_accuracy.h"
+#include "solvers/poses/colmap_poses.h"
+#include "solvers/poses/pose_accuracy.h"
 #include "core/base/input_error.h"
 #include "core/io/json_file.h"
 

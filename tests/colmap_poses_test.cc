@@ -2,7 +2,7 @@
 // project to the same place (scaled) before and after rescaling, and the
 // mean reprojection error weights points by their track length.
 
-#include "apps/common/colmap_poses.h"
+#include "solvers/poses/colmap_poses.h"
 
 #include <algorithm>
 #include <utility>

@@ -3,7 +3,7 @@
 // when the camera path is a straight line), and a known extra error is
 // measured as such.
 
-#include "apps/common/pose_accuracy.h"
+#include "solvers/poses/pose_accuracy.h"
 
 #include <cmath>
 #include <string>

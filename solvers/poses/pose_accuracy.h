@@ -1,5 +1,5 @@
-#ifndef EULERSPLAT_APPS_COMMON_POSE_ACCURACY_H_
-#define EULERSPLAT_APPS_COMMON_POSE_ACCURACY_H_
+#ifndef EULERSPLAT_SOLVERS_POSES_POSE_ACCURACY_H_
+#define EULERSPLAT_SOLVERS_POSES_POSE_ACCURACY_H_
 
 #include "core/io/colmap_io.h"
 
@@ -25,4 +25,4 @@ PoseAccuracy ComparePoses(const ColmapModel& estimate,
 
 }  // namespace es
 
-#endif  // EULERSPLAT_APPS_COMMON_POSE_ACCURACY_H_
+#endif  // EULERSPLAT_SOLVERS_POSES_POSE_ACCURACY_H_

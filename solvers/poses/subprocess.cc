@@ -1,4 +1,4 @@
-#include "apps/common/subprocess.h"
+#include "solvers/poses/subprocess.h"
 
 #include <fcntl.h>
 #include <spawn.h>

@@ -1,5 +1,5 @@
-#ifndef EULERSPLAT_APPS_COMMON_COLMAP_POSES_H_
-#define EULERSPLAT_APPS_COMMON_COLMAP_POSES_H_
+#ifndef EULERSPLAT_SOLVERS_POSES_COLMAP_POSES_H_
+#define EULERSPLAT_SOLVERS_POSES_COLMAP_POSES_H_
 
 #include <functional>
 #include <string>
@@ -78,4 +78,4 @@ nlohmann::ordered_json PoseReportJson(const PoseReport& report);
 
 }  // namespace es
 
-#endif  // EULERSPLAT_APPS_COMMON_COLMAP_POSES_H_
+#endif  // EULERSPLAT_SOLVERS_POSES_COLMAP_POSES_H_

@@ -1,5 +1,5 @@
-#ifndef EULERSPLAT_APPS_COMMON_SUBPROCESS_H_
-#define EULERSPLAT_APPS_COMMON_SUBPROCESS_H_
+#ifndef EULERSPLAT_SOLVERS_POSES_SUBPROCESS_H_
+#define EULERSPLAT_SOLVERS_POSES_SUBPROCESS_H_
 
 #include <string>
 #include <vector>
@@ -18,4 +18,4 @@ std::string TailOfFile(const std::string& path, int lines);
 
 }  // namespace es
 
-#endif  // EULERSPLAT_APPS_COMMON_SUBPROCESS_H_
+#endif  // EULERSPLAT_SOLVERS_POSES_SUBPROCESS_H_

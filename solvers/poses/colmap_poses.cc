@@ -1,4 +1,4 @@
-#include "apps/common/colmap_poses.h"
+#include "solvers/poses/colmap_poses.h"
 
 #include <stdlib.h>  // mkdtemp
 #include <sys/resource.h>  // getrusage
@@ -12,7 +12,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "apps/common/subprocess.h"
+#include "solvers/poses/subprocess.h"
 #include "core/base/input_error.h"
 
 namespace es {

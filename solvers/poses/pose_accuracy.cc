@@ -1,4 +1,4 @@
-#include "apps/common/pose_accuracy.h"
+#include "solvers/poses/pose_accuracy.h"
 
 #include <algorithm>
 #include <cmath>
