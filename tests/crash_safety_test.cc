@@ -22,7 +22,7 @@
 
 #include <gtest/gtest.h>
 
-#include "apps/common/run_lock.h"
+#include "solvers/pipeline/run_lock.h"
 #include "core/fields/motion_field.h"
 #include "core/base/atomic_file.h"
 #include "core/fields/field_io.h"

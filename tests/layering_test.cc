@@ -24,7 +24,7 @@ const std::vector<std::string> kLayers = {
     "core/render",     "core/fields",     "core/flow",   "core/loop",
     "core/masks",      "core/viz",        "costs",       "solvers/optim",
     "solvers/checkpoint", "solvers/eval", "solvers/train", "solvers/poses",
-    "synth",           "apps/common",     "apps"};
+    "solvers/pipeline", "synth",         "apps/common", "apps"};
 
 // The layer a source path belongs to: the longest listed folder it lies in.
 // -1 for paths outside every layer (tests, the build tree).

@@ -1,4 +1,4 @@
-#include "apps/common/run_lock.h"
+#include "solvers/pipeline/run_lock.h"
 
 #include <fcntl.h>
 #include <sys/file.h>

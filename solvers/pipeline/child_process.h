@@ -1,5 +1,5 @@
-#ifndef EULERSPLAT_APPS_COMMON_CHILD_PROCESS_H_
-#define EULERSPLAT_APPS_COMMON_CHILD_PROCESS_H_
+#ifndef EULERSPLAT_SOLVERS_PIPELINE_CHILD_PROCESS_H_
+#define EULERSPLAT_SOLVERS_PIPELINE_CHILD_PROCESS_H_
 
 #include <string>
 #include <vector>
@@ -16,4 +16,4 @@ int RunChildProcess(const std::string& path,
 
 }  // namespace es
 
-#endif  // EULERSPLAT_APPS_COMMON_CHILD_PROCESS_H_
+#endif  // EULERSPLAT_SOLVERS_PIPELINE_CHILD_PROCESS_H_

@@ -1,4 +1,4 @@
-#include "apps/common/child_process.h"
+#include "solvers/pipeline/child_process.h"
 
 #include <signal.h>
 #include <sys/prctl.h>

@@ -1,4 +1,4 @@
-#include "apps/common/scene_inputs.h"
+#include "solvers/pipeline/scene_inputs.h"
 
 #include <cstdio>
 #include <fstream>

@@ -1,5 +1,5 @@
-#ifndef EULERSPLAT_APPS_COMMON_SCENE_INPUTS_H_
-#define EULERSPLAT_APPS_COMMON_SCENE_INPUTS_H_
+#ifndef EULERSPLAT_SOLVERS_PIPELINE_SCENE_INPUTS_H_
+#define EULERSPLAT_SOLVERS_PIPELINE_SCENE_INPUTS_H_
 
 #include <filesystem>
 #include <functional>
@@ -59,4 +59,4 @@ PreparedScene PrepareMasks(const InputRequest& request,
 
 }  // namespace es
 
-#endif  // EULERSPLAT_APPS_COMMON_SCENE_INPUTS_H_
+#endif  // EULERSPLAT_SOLVERS_PIPELINE_SCENE_INPUTS_H_

@@ -1,0 +1,20 @@
+#ifndef EULERSPLAT_APPS_COMMON_DRIVER_FLAGS_H_
+#define EULERSPLAT_APPS_COMMON_DRIVER_FLAGS_H_
+
+// The all-in-one driver's flags (--scene, --video, --out, --preset, the
+// iteration overrides, --device, ...). Defined here, they exist in the
+// binary that calls DriverOptionsFromFlags only: eulersplat.
+
+#include "solvers/pipeline/pipeline_options.h"
+
+namespace es {
+
+// The pipeline's options the flags give, checked before any work: throws
+// InputError naming the flag for a value out of range, and for --device
+// cuda where no GPU can be used. Prints which stages run on the GPU when
+// --device is not cpu.
+PipelineOptions DriverOptionsFromFlags();
+
+}  // namespace es
+
+#endif  // EULERSPLAT_APPS_COMMON_DRIVER_FLAGS_H_

@@ -1,0 +1,59 @@
+#ifndef EULERSPLAT_SOLVERS_PIPELINE_STAGE_PROCESS_H_
+#define EULERSPLAT_SOLVERS_PIPELINE_STAGE_PROCESS_H_
+
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace es {
+
+// The stage binaries that take --device: the driver passes its own on to
+// every run of them; the other stages run on the CPU. A stage that gains a
+// device path joins here. A constant array, so flag help built from it
+// during static initialisation sees it filled.
+inline constexpr const char* kDeviceStages[] = {
+    "es_static", "es_flowinit", "es_train", "es_animate", "es_eval"};
+
+// "es_static, es_flowinit, ..." (kDeviceStages, for messages).
+std::string DeviceStageNames();
+
+// True if `binary` takes --device (kDeviceStages) and `args` do not set it
+// already (a stage that must run on the CPU says --device cpu).
+bool PassesDevice(const std::string& binary,
+                  const std::vector<std::string>& args);
+
+// Runs the stage binaries, each a process of its own, and prints each
+// command line first ("$ ..."), so every stage can be rerun alone with the
+// very same flags.
+class StageProcessRunner {
+ public:
+  // Starts a process and returns its exit status (RunChildProcess).
+  using Launch = std::function<int(const std::string& path,
+                                   const std::vector<std::string>& args)>;
+
+  // `device` goes on as --device to the stages that take it. A binary
+  // named without a '/' is looked up in `binary_dir`.
+  StageProcessRunner(std::string device, std::filesystem::path binary_dir,
+                     Launch launch);
+  // The binaries next to the running one, started by RunChildProcess.
+  explicit StageProcessRunner(std::string device);
+
+  // Runs `binary` with `args` (plus --device where it takes it) and
+  // returns its exit status.
+  int Run(const std::string& binary, std::vector<std::string> args) const;
+
+  // Run, throwing InputError naming `stage` ("[static]") and the status
+  // when the binary fails.
+  void RunOrThrow(const std::string& stage, const std::string& binary,
+                  const std::vector<std::string>& args) const;
+
+ private:
+  std::string device_;
+  std::filesystem::path binary_dir_;
+  Launch launch_;
+};
+
+}  // namespace es
+
+#endif  // EULERSPLAT_SOLVERS_PIPELINE_STAGE_PROCESS_H_
