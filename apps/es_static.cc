@@ -16,6 +16,7 @@
 #include "apps/common/app_main.h"
 #include "apps/common/device_flag.h"
 #include "apps/common/flag_checks.h"
+#include "apps/common/splat_rate_flags.h"
 #include "solvers/train/static_stage.h"
 
 DEFINE_string(scene, "", "Scene directory (images/, masks/, sparse/0/).");
@@ -111,14 +112,8 @@ int main(int argc, char** argv) {
         t.seed = FLAGS_seed;
         t.max_sh_degree = FLAGS_sh_degree;
         t.sh_degree_interval = FLAGS_sh_degree_interval;
-        t.splat_lr.means_initial = FLAGS_lr_position;
-        t.splat_lr.means_final = FLAGS_lr_position_final;
-        t.splat_lr.log_scales = FLAGS_lr_scale;
-        t.splat_lr.quats = FLAGS_lr_rotation;
-        t.splat_lr.opacity = FLAGS_lr_opacity;
-        t.splat_lr.sh_dc = FLAGS_lr_sh_dc;
-        t.splat_lr.sh_rest = FLAGS_lr_sh_rest;
-        t.splat_lr.dynamic = FLAGS_lr_dynamic;
+        t.splat_lr = es::SplatRatesFromFlags(
+            {"lr_position", "lr_position_final", "lr_scale", "lr_rotation"});
         t.ssim_weight = FLAGS_ssim_weight;
         t.mask_weight = FLAGS_mask_weight;
         t.densify = FLAGS_densify;
