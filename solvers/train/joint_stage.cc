@@ -344,10 +344,12 @@ JointStageResult RunJointStage(const JointStageOptions& o,
   SaveLoopModel(model, o.out_dir);
   r.test = EvaluateLoopModel(model, scene.frames, scene.test,
                              trainer.render_options());
-  WriteMetrics(InDir(o.out_dir, "metrics.json"), r, model,
-               o.trainer.random_start);
   RecordFinalMetrics(r.test, r.iterations, seconds_before + r.seconds,
                      outcome.final_row, &history);
+  // Last: with loop.txt it tells the driver (eulersplat) that the
+  // stage is done, so nothing may fail after it.
+  WriteMetrics(InDir(o.out_dir, "metrics.json"), r, model,
+               o.trainer.random_start);
   return r;
 }
 

@@ -55,8 +55,10 @@ struct JointStageResult {
 // out_dir/joint_checkpoint.bin if asked and present; checkpoints every
 // checkpoint_interval), prunes the Gaussians no frame shows, evaluates on
 // the held-out frames and writes the model (loop.txt, canonical.ply,
-// fields), out_dir/metrics.json and out_dir/history.csv. out_dir is
-// checked for writing first. Throws InputError for bad inputs (naming them) and for
+// fields), out_dir/history.csv and, last, out_dir/metrics.json: the
+// driver takes loop.txt and metrics.json together as the stage being done,
+// so a failure before the end leaves no metrics.json. out_dir is checked
+// for writing first. Throws InputError for bad inputs (naming them) and for
 // a cycle longer than the video. `make_trainer` picks the device.
 JointStageResult RunJointStage(
     const JointStageOptions& options,
