@@ -17,6 +17,7 @@
 #include "core/render/rasterizer.h"
 #include "solvers/eval/loop_evaluation.h"
 #include "solvers/train/joint_trainer.h"
+#include "solvers/train/joint_training_steps.h"
 #include "tests/tiny_loop_scene.h"
 
 namespace es {
@@ -92,6 +93,42 @@ TEST(JointStartTest, ZeroFieldsRenderTheStaticModel) {
                                                  kFrames, &rasterizer),
                               expected),
             1e-9);
+}
+
+TEST(JointStartTest, WaterLossRampRisesOverTheWarmUp) {
+  JointTrainerOptions o = TinyOptions();
+  EXPECT_EQ(WaterLossRamp(o, 0), 1.0);  // no warm-up: full weight
+  o.iterations = 200;
+  o.water_loss_warmup = 0.25;
+  EXPECT_EQ(WaterLossRamp(o, 0), 0.0);
+  EXPECT_DOUBLE_EQ(WaterLossRamp(o, 25), 0.5);
+  EXPECT_EQ(WaterLossRamp(o, 50), 1.0);
+  EXPECT_EQ(WaterLossRamp(o, 199), 1.0);
+}
+
+// At the first step of a warm-up the water losses are measured but weigh
+// nothing: the loss is the full-weight trainer's less exactly their
+// weighted terms.
+TEST(JointStartTest, WarmUpStartsWithoutTheWaterLosses) {
+  const std::vector<Frame> frames = TrueFrames();
+  JointTrainerOptions full = TinyOptions();
+  full.iterations = 40;
+  full.water_energy.motion_weight = 1.0;
+  full.water_energy.detail_weight = 2.0;
+  full.loop_texture_weight = 3.0;
+  JointTrainerOptions warm = full;
+  warm.water_loss_warmup = 0.5;
+  JointTrainer a(&frames, kTrain, full, TrueCanonical(), std::nullopt);
+  JointTrainer b(&frames, kTrain, warm, TrueCanonical(), std::nullopt);
+  const JointIterationStats sa = a.Step();
+  const JointIterationStats sb = b.Step();
+  ASSERT_EQ(sa.frame, sb.frame);
+  ASSERT_GE(sa.pair_frame, 0);
+  const double water = 1.0 * sa.energy.motion + 2.0 * sa.energy.detail +
+                       3.0 * sa.loop_texture;
+  ASSERT_GT(water, 1e-6);
+  EXPECT_NEAR(sb.loss, sa.loss - water, 1e-9 * sa.loss);
+  EXPECT_DOUBLE_EQ(sb.energy.motion, sa.energy.motion);  // still measured
 }
 
 }  // namespace

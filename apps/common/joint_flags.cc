@@ -167,6 +167,13 @@ DEFINE_double(loop_texture_weight, 3,
               "(docs/results/realism-2026-12-04.md: every "
               "preset's loop closer to the video). Its loss runs on the "
               "host, so on --device cuda it is off unless given.");
+DEFINE_double(water_loss_warmup, 0,
+              "> 0: the water losses (energy, texture, the loop's texture) "
+              "ramp in linearly from 0 over this fraction of the "
+              "iterations, so Stage 3 first fits the frames with the water "
+              "moving and then trades some fidelity for the input's detail "
+              "and motion (docs/results/stage3-start.md); 0: at full "
+              "weight from the first step.");
 DEFINE_int32(texture_bands, 2,
              "Bands of the texture term's difference-of-Gaussians "
              "pyramid, finest first, each twice the scale of the last.");
@@ -214,6 +221,7 @@ void CheckFlags() {
   RequireInRange("detail_energy_octaves", FLAGS_detail_energy_octaves, 1, 8);
   RequireNonNegative("texture_weight", FLAGS_texture_weight);
   RequireNonNegative("loop_texture_weight", FLAGS_loop_texture_weight);
+  RequireInRange("water_loss_warmup", FLAGS_water_loss_warmup, 0, 1);
   RequireInRange("texture_bands", FLAGS_texture_bands, 1, 6);
   RequireInRange("texture_projections", FLAGS_texture_projections, 1, 1024);
   RequireInRange("flow_prior_final_factor", FLAGS_flow_prior_final_factor, 0,
@@ -263,6 +271,7 @@ JointTrainerOptions TrainerOptionsFromFlags() {
   o.water_energy.detail_octaves = FLAGS_detail_energy_octaves;
   o.water_texture.weight = FLAGS_texture_weight;
   o.loop_texture_weight = FLAGS_loop_texture_weight;
+  o.water_loss_warmup = FLAGS_water_loss_warmup;
   o.water_texture.bands = FLAGS_texture_bands;
   o.water_texture.projections = FLAGS_texture_projections;
   o.motion.triplane.resolution = FLAGS_motion_resolution;

@@ -15,6 +15,7 @@
 #include "core/render/rasterizer.h"
 #include "solvers/eval/loop_evaluation.h"
 #include "solvers/eval/motion_gt.h"
+#include "solvers/eval/training_water_psnr.h"
 
 namespace es {
 
@@ -57,6 +58,9 @@ struct EvalStageResult {
   std::vector<std::pair<std::string, RealismMetrics>> breakdown;
   LoopSeamScore seam;
   AnimationTiming timing;
+  // Stage 1's and Stage 3's first and last water PSNR, as training
+  // recorded them.
+  TrainingWaterPsnr training;
 };
 
 }  // namespace es

@@ -59,6 +59,7 @@ nlohmann::ordered_json EvalJson(const EvalStageOptions& o,
       {"dynamic_gaussians", model.num_dynamic()},
       {"cycle_length", model.cycle_length},
       {"held_out", HeldOutJson(e.held_out)},
+      {"training_water_psnr", TrainingWaterPsnrJson(e.training)},
       {"motion_gt", nullptr},
       {"realism", RealismJson(e.realism)},
       {"loop_seam",
@@ -106,6 +107,7 @@ void PrintEvalSummary(const EvalStageOptions& o, const LoopModel& model,
               o.model_dir.c_str(), model.gaussians.size(),
               model.num_dynamic(), model.cycle_length);
   PrintHeldOutRows(e.held_out, scene.has_masks);
+  PrintTrainingWaterPsnr(e.training);
   if (e.has_motion_gt) {
     std::printf("  motion vs truth       EPE %.4g (%.1f%% of mean speed "
                 "%.4g, speed ratio %.2f) at %d points\n",

@@ -132,8 +132,9 @@ EvalStageResult RunEvalStage(const EvalStageOptions& o,
                 "Alg. 1 vs Alg. 2 timing and every metric\n",
                 o.device_description.c_str());
   }
-  const EvalStageResult e = EvaluateLoopStage(model, reference, scene, o,
-                                              make_frames, make_rasterizer);
+  EvalStageResult e = EvaluateLoopStage(model, reference, scene, o,
+                                        make_frames, make_rasterizer);
+  e.training = ReadTrainingWaterPsnr(o.model_dir);
   const std::string path = o.out_dir + "/eval.json";
   WriteJsonFile(path, EvalJson(o, model, e));
   PrintEvalSummary(o, model, scene, e);

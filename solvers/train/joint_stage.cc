@@ -18,7 +18,10 @@
 #include "core/io/output_dir.h"
 #include "core/io/ply_io.h"
 #include "core/loop/loop_model.h"
+#include "core/render/rasterizer.h"
 #include "solvers/checkpoint/joint_checkpoint.h"
+#include "solvers/eval/loop_evaluation.h"
+#include "solvers/train/joint_training_steps.h"
 #include "solvers/train/flow_prior.h"
 #include "solvers/train/training_history.h"
 
@@ -64,7 +67,9 @@ void WriteMetrics(const std::string& path, const JointStageResult& r,
                        {"flow_init", r.flow_init},
                        {"residual_field", model.residual.has_value()},
                        {"random_start", random_start},
-                       {"final_loss", r.final_loss}});
+                       {"final_loss", r.final_loss},
+                       {"stage1_psnr_test", r.stage1.psnr},
+                       {"stage1_psnr_test_water", r.stage1.psnr_water}});
 }
 
 // V pretrained by Stage 2 (<init>/motion_field.bin) when there is one and
@@ -138,6 +143,36 @@ void SplitWater(const JointStageOptions& o, const Scene& scene,
 const std::vector<std::string> kHistoryColumns = {
     "loss",      "photometric", "mask",      "residual",
     "gaussians", "dynamic",     "psnr_test", "psnr_test_water"};
+
+// Stage 1's model on the held-out frames, measured as the looping model
+// is (the same renders, the same figures): what Stage 3 starts from.
+LoopMetrics EvaluateStaticModel(const GaussianSet& gaussians,
+                                const Scene& scene,
+                                const RenderOptions& options) {
+  Rasterizer rasterizer;
+  RenderResult result;
+  std::vector<cv::Mat> images;
+  for (int f : scene.test) {
+    rasterizer.Forward(scene.frames[f].camera, SplatView::Of(gaussians),
+                       options, &result);
+    images.push_back(
+        cv::Mat(result.height, result.width, CV_64FC3, result.rgb.data())
+            .clone());
+  }
+  return CompareWithFrames(images, scene.frames, scene.test);
+}
+
+// The history's first row: the looping model before any step, beside
+// Stage 1's figures, so that a drop at the start of Stage 3 shows.
+void RecordStart(const LoopMetrics& stage1, const LoopMetrics& start,
+                 TrainingHistory* history) {
+  std::printf("iter 0: held-out PSNR %.2f dB, water %.2f dB (Stage 1's "
+              "model: %.2f dB, water %.2f dB)\n",
+              start.psnr, start.psnr_water, stage1.psnr, stage1.psnr_water);
+  history->Add(0, 0.0,
+               {NAN, NAN, NAN, NAN, NAN, NAN, start.psnr, start.psnr_water});
+  history->Write();
+}
 
 // What Train leaves for the end of the run.
 struct TrainingOutcome {
@@ -305,6 +340,9 @@ JointStageResult RunJointStage(const JointStageOptions& o,
   std::printf("loaded %s: %d Gaussians, SH degree %d\n", static_ply.c_str(),
               initial.size(), initial.sh_degree);
   JointStageResult r;
+  if (o.eval_interval > 0 && !scene.test.empty()) {
+    r.stage1 = EvaluateStaticModel(initial, scene, JointRenderOptions(o.trainer));
+  }
   std::optional<MotionField> motion = PretrainedMotion(o, &r.flow_init);
   SplitWater(o, scene, &initial);
 
@@ -329,6 +367,13 @@ JointStageResult RunJointStage(const JointStageOptions& o,
   }
   TrainingHistory history(InDir(o.out_dir, "history.csv"), kHistoryColumns);
   const double seconds_before = history.Resume(trainer.iteration());
+  if (trainer.iteration() == 0 && o.eval_interval > 0 &&
+      !scene.test.empty()) {
+    RecordStart(r.stage1,
+                EvaluateLoopModel(trainer.model(), scene.frames, scene.test,
+                                  trainer.render_options()),
+                &history);
+  }
   const TrainingOutcome outcome =
       Train(o, scene, checkpoint_path, seconds_before, &history, &trainer);
   r.seconds = outcome.seconds;

@@ -24,8 +24,9 @@ struct JointStageOptions {
   bool resume = false;          // continue from out_dir/joint_checkpoint.bin
   int checkpoint_interval = 1000;  // iterations; 0: never
   int log_interval = 100;          // progress line + history row; 0: neither
-  // Held-out PSNR into out_dir/history.csv every this many iterations (and
-  // always at the end); 0: only at the end.
+  // Held-out PSNR into out_dir/history.csv at iteration 0 (Stage 1's model
+  // printed beside it), every this many iterations and always at the end;
+  // 0: only at the end.
   int eval_interval = 1000;
   bool flow_init = true;  // false: V from scratch even if Stage 2 wrote one
   // Hold V to Stage 2's own V at the samples' points instead of to the
@@ -47,6 +48,9 @@ struct JointStageResult {
   int num_gaussians = 0, num_dynamic = 0;  // of the final (pruned) model
   bool flow_init = false;  // V started from Stage 2's
   double final_loss = NAN;  // mean loss of the last logged interval (or NaN)
+  // Stage 1's model on the held-out frames as the start of Stage 3 is
+  // measured (NaN without evaluation: eval_interval 0).
+  LoopMetrics stage1{0, NAN, NAN, NAN, NAN};
 };
 
 // Stage 3: loads the scene and init_dir's static model (and Stage 2's V and

@@ -88,6 +88,13 @@ struct JointTrainerOptions {
   // loop shows them all at 0, whose texture no other loss sees. One more
   // render and backward pass per iteration.
   double loop_texture_weight = 0;
+  // > 0: the water losses (energy, texture, the loop's texture) ramp in
+  // linearly from 0 over this fraction of the iterations. Stage 3 first
+  // fits the frames with the water moving, at the static model's
+  // fidelity, and then trades some of it for the input's detail and
+  // motion; from the start they cost the water ~2 dB that it does not
+  // win back on path-traced spray (docs/results/stage3-start.md).
+  double water_loss_warmup = 0;
   // Shapes of fields made from scratch (a given V keeps its own). D's
   // cycle_length is set to cycle_length and its max_cycles to cover every
   // frame of the video.

@@ -247,7 +247,8 @@ double JointTrainer::PairLossGradient(const Frame& frame, int partner,
   const double energy = energy_->Evaluate(
       first.render().rgb.data(), second.render().rgb.data(), a.image,
       b.image, energy_masks_ ? a.mask : cv::Mat(),
-      energy_masks_ ? b.mask : cv::Mat(), 2.0, energy_grad_a_.data(),
+      energy_masks_ ? b.mask : cv::Mat(),
+      2.0 * WaterLossRamp(options_, iteration_), energy_grad_a_.data(),
       energy_grad_b_.data(), &out->energy);
   const double texture = TextureLossGradient(
       first.render().rgb.data(), second.render().rgb.data(), a, b, out);
@@ -285,12 +286,15 @@ double JointTrainer::TextureLossGradient(const double* render_a,
   // sum, so the term is the two frames' mean. The draws follow the
   // iteration, so a resumed run sees the same directions.
   const uint64_t draw = 2 * static_cast<uint64_t>(iteration_);
+  const double ramp = WaterLossRamp(options_, iteration_);
   const double sum =
       texture_->Evaluate(render_a, a.image, energy_masks_ ? a.mask : cv::Mat(),
-                         1.0, draw, energy_grad_a_.data()) +
+                         ramp, draw, energy_grad_a_.data()) +
       texture_->Evaluate(render_b, b.image, energy_masks_ ? b.mask : cv::Mat(),
-                         1.0, draw + 1, energy_grad_b_.data());
-  out->texture = 0.5 * sum / options_.water_texture.weight;
+                         ramp, draw + 1, energy_grad_b_.data());
+  // The term itself, unramped (0 at iteration 0, where the ramp is).
+  out->texture =
+      ramp > 0 ? 0.5 * sum / (ramp * options_.water_texture.weight) : 0.0;
   return sum;
 }
 
@@ -300,11 +304,13 @@ double JointTrainer::LoopTextureGradient(const Frame& frame,
   std::vector<double*> params = JointBlocks(&model_);
   loop_cost_->RenderForGradient(params.data());
   loop_grad_.assign(loop_cost_->render().rgb.size(), 0.0);
+  const double ramp = WaterLossRamp(options_, iteration_);
   const double loss = loop_texture_->Evaluate(
       loop_cost_->render().rgb.data(), frame.image,
-      energy_masks_ ? frame.mask : cv::Mat(), 1.0,
+      energy_masks_ ? frame.mask : cv::Mat(), ramp,
       LoopTextureDraw(iteration_), loop_grad_.data());
-  out->loop_texture = loss / options_.loop_texture_weight;
+  out->loop_texture =
+      ramp > 0 ? loss / (ramp * options_.loop_texture_weight) : 0.0;
   std::vector<double*> gradients = SplatRenderCost::Blocks(&grad_);
   for (std::vector<double>& g : field_grad_) gradients.push_back(g.data());
   const std::vector<char*> chunks = TriplaneChunkFlags();

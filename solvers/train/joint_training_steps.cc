@@ -65,6 +65,12 @@ bool WaterLossOn(const JointTrainerOptions& o) {
   return PairLossOn(o) || LoopTextureOn(o);
 }
 
+double WaterLossRamp(const JointTrainerOptions& o, int64_t iteration) {
+  const double ramp_iterations = o.water_loss_warmup * o.iterations;
+  if (!(ramp_iterations > 0)) return 1.0;
+  return std::min(1.0, static_cast<double>(iteration) / ramp_iterations);
+}
+
 WaterTextureOptions LoopTextureOptions(const JointTrainerOptions& o) {
   WaterTextureOptions texture = o.water_texture;
   texture.weight = o.loop_texture_weight;

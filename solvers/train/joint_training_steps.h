@@ -36,6 +36,10 @@ bool PairLossOn(const JointTrainerOptions& o);
 bool LoopTextureOn(const JointTrainerOptions& o);
 // Any loss on the water's statistics is on (those read the water masks).
 bool WaterLossOn(const JointTrainerOptions& o);
+// The factor on the water losses at `iteration` (from 0): rises linearly
+// from 0 to 1 over water_loss_warmup of the iterations, 1 after (and
+// always 1 without a warm-up).
+double WaterLossRamp(const JointTrainerOptions& o, int64_t iteration);
 // The loop texture term's WaterTextureLoss: water_texture's bands and
 // projections at loop_texture_weight.
 WaterTextureOptions LoopTextureOptions(const JointTrainerOptions& o);

@@ -207,7 +207,8 @@ double DeviceJointTrainer::PairLossGradient(int frame_index, int partner,
       first.render().rgb, second.render().rgb, images_.image(a),
       images_.image(b), energy_masks_ ? images_.mask(a) : nullptr,
       energy_masks_ ? images_.mask(b) : nullptr, camera.width, camera.height,
-      2.0, energy_grad_a_.data(), energy_grad_b_.data(), &out->energy);
+      2.0 * WaterLossRamp(options_, iteration_), energy_grad_a_.data(),
+      energy_grad_b_.data(), &out->energy);
   const double texture = TextureLossGradient(
       first.render().rgb, second.render().rgb, a, b, out);
   cost_.BackwardWithImageGradient(
@@ -234,12 +235,15 @@ double DeviceJointTrainer::TextureLossGradient(const float* render_a,
   if (!texture_) return 0;
   // As JointTrainer's: each frame at full weight, the draws by iteration.
   const uint64_t draw = 2 * static_cast<uint64_t>(iteration_);
+  const double ramp = WaterLossRamp(options_, iteration_);
   const double sum =
-      HostTextureGradient(&*texture_, render_a, (*frames_)[a], draw,
+      HostTextureGradient(&*texture_, render_a, (*frames_)[a], ramp, draw,
                           energy_grad_a_.data()) +
-      HostTextureGradient(&*texture_, render_b, (*frames_)[b], draw + 1,
+      HostTextureGradient(&*texture_, render_b, (*frames_)[b], ramp, draw + 1,
                           energy_grad_b_.data());
-  out->texture = 0.5 * sum / options_.water_texture.weight;
+  // The term itself, unramped (0 at iteration 0, where the ramp is).
+  out->texture =
+      ramp > 0 ? 0.5 * sum / (ramp * options_.water_texture.weight) : 0.0;
   return sum;
 }
 
@@ -253,10 +257,12 @@ double DeviceJointTrainer::LoopTextureGradient(int frame_index,
   loop_grad_.Resize(3 * static_cast<size_t>(frame.camera.width) *
                     frame.camera.height);
   loop_grad_.Zero();
+  const double ramp = WaterLossRamp(options_, iteration_);
   const double loss =
       HostTextureGradient(&*loop_texture_, loop_cost_->render().rgb, frame,
-                          LoopTextureDraw(iteration_), loop_grad_.data());
-  out->loop_texture = loss / options_.loop_texture_weight;
+                          ramp, LoopTextureDraw(iteration_), loop_grad_.data());
+  out->loop_texture =
+      ramp > 0 ? loss / (ramp * options_.loop_texture_weight) : 0.0;
   std::vector<double*> gradients = GradientBlocks(&grad_);
   loop_cost_->BackwardWithImageGradient(params.data(), loop_grad_.data(),
                                         gradients.data(), /*accumulate=*/true);
@@ -266,7 +272,7 @@ double DeviceJointTrainer::LoopTextureGradient(int frame_index,
 double DeviceJointTrainer::HostTextureGradient(WaterTextureLoss* loss,
                                                const float* render,
                                                const Frame& frame,
-                                               uint64_t draw,
+                                               double scale, uint64_t draw,
                                                float* device_grad) {
   const size_t values =
       3 * static_cast<size_t>(frame.camera.width) * frame.camera.height;
@@ -276,7 +282,7 @@ double DeviceJointTrainer::HostTextureGradient(WaterTextureLoss* loss,
   host_grad_.assign(values, 0.0);
   const double value =
       loss->Evaluate(host_render_.data(), frame.image,
-                     energy_masks_ ? frame.mask : cv::Mat(), 1.0, draw,
+                     energy_masks_ ? frame.mask : cv::Mat(), scale, draw,
                      host_grad_.data());
   // Up once, then added on the device.
   host_values_.assign(host_grad_.begin(), host_grad_.end());

@@ -106,8 +106,9 @@ class DeviceJointTrainer : public JointStageTrainer {
   // `loss` of the device render of `frame` (draw: its directions) on the
   // host; its gradient goes up once and is added to `device_grad` (H W 3
   // floats). Returns the loss.
+  // `scale` times the loss and its gradient (the water losses' ramp).
   double HostTextureGradient(WaterTextureLoss* loss, const float* render,
-                             const Frame& frame, uint64_t draw,
+                             const Frame& frame, double scale, uint64_t draw,
                              float* device_grad);
   WaterDensifyResult DensifyWaterNow();
   // Whether every value of `splats` and of the field blocks' `grad` (or
