@@ -95,6 +95,37 @@ TEST(JointStartTest, ZeroFieldsRenderTheStaticModel) {
             1e-9);
 }
 
+// With the motion warm-up the trainer's own model at iteration 0 (V
+// pretrained and moving, D zeroed) renders Stage 1's model, and V's
+// steps grow to their full length by the end of the warm-up.
+TEST(JointStartTest, MotionWarmUpStartsFromTheStaticModel) {
+  const std::vector<Frame> frames = TrueFrames();
+  JointTrainerOptions options = TinyOptions();
+  options.random_start = true;
+  options.iterations = 20;
+  options.motion_warmup = 0.5;
+  const GaussianSet stage1 = TrueCanonical();
+  MotionField motion(options.motion);
+  motion.SetBox({-1, -1, 1}, {1, 1, 4});
+  std::fill(motion.mlp_params().end() - 3, motion.mlp_params().end(), 0.5);
+  JointTrainer trainer(&frames, kTrain, options, stage1, motion);
+  CpuImageRasterizer rasterizer(trainer.render_options());
+  const std::vector<cv::Mat> expected =
+      StaticRenders(stage1, frames, trainer.render_options());
+  LoopModel start = trainer.model();
+  ZeroField(&start.residual->triplane_params(),
+            &start.residual->mlp_params());
+  EXPECT_LT(LargestDifference(
+                RenderCompositions(start, frames, kFrames, &rasterizer),
+                expected),
+            1e-9);
+  for (int i = 0; i < 5; ++i) trainer.Step();
+  EXPECT_DOUBLE_EQ(trainer.model().motion->displacement_factor(), 0.5);
+  for (int i = 0; i < 15; ++i) trainer.Step();
+  EXPECT_EQ(trainer.model().motion->displacement_factor(), 1.0);
+  EXPECT_EQ(trainer.FinalModel().motion->displacement_factor(), 1.0);
+}
+
 TEST(JointStartTest, WaterLossRampRisesOverTheWarmUp) {
   JointTrainerOptions o = TinyOptions();
   EXPECT_EQ(WaterLossRamp(o, 0), 1.0);  // no warm-up: full weight

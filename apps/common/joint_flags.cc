@@ -174,6 +174,12 @@ DEFINE_double(water_loss_warmup, 0,
               "moving and then trades some fidelity for the input's detail "
               "and motion (docs/results/stage3-start.md); 0: at full "
               "weight from the first step.");
+DEFINE_double(motion_warmup, 0,
+              "> 0: V's displacement (each Euler step) ramps in linearly "
+              "from 0 over this fraction of the iterations, so Stage 3 "
+              "starts from Stage 1's model exactly instead of carrying its "
+              "time-averaged water downstream from the first step "
+              "(docs/results/stage3-start.md); 0: full steps from the start.");
 DEFINE_int32(texture_bands, 2,
              "Bands of the texture term's difference-of-Gaussians "
              "pyramid, finest first, each twice the scale of the last.");
@@ -222,6 +228,7 @@ void CheckFlags() {
   RequireNonNegative("texture_weight", FLAGS_texture_weight);
   RequireNonNegative("loop_texture_weight", FLAGS_loop_texture_weight);
   RequireInRange("water_loss_warmup", FLAGS_water_loss_warmup, 0, 1);
+  RequireInRange("motion_warmup", FLAGS_motion_warmup, 0, 1);
   RequireInRange("texture_bands", FLAGS_texture_bands, 1, 6);
   RequireInRange("texture_projections", FLAGS_texture_projections, 1, 1024);
   RequireInRange("flow_prior_final_factor", FLAGS_flow_prior_final_factor, 0,
@@ -272,6 +279,7 @@ JointTrainerOptions TrainerOptionsFromFlags() {
   o.water_texture.weight = FLAGS_texture_weight;
   o.loop_texture_weight = FLAGS_loop_texture_weight;
   o.water_loss_warmup = FLAGS_water_loss_warmup;
+  o.motion_warmup = FLAGS_motion_warmup;
   o.water_texture.bands = FLAGS_texture_bands;
   o.water_texture.projections = FLAGS_texture_projections;
   o.motion.triplane.resolution = FLAGS_motion_resolution;

@@ -35,7 +35,7 @@ double MotionField::box_diagonal() const {
 }
 
 double MotionField::output_scale() const {
-  return options_.velocity_scale * box_diagonal();
+  return options_.velocity_scale * box_diagonal() * displacement_factor_;
 }
 
 FieldParams MotionField::params() const {

@@ -70,7 +70,13 @@ class MotionField {
   const Triplane& triplane() const { return triplane_; }
   const Mlp& mlp() const { return mlp_; }
   double box_diagonal() const;
+  // velocity_scale * box diagonal * the displacement factor.
   double output_scale() const;
+  // Scales V's output, and so each Euler step: Stage 3's motion warm-up
+  // starts the water at factor 0, where the loop is Stage 1's model, and
+  // raises it to 1. Not saved with the field: a loaded field moves at 1.
+  void SetDisplacementFactor(double factor) { displacement_factor_ = factor; }
+  double displacement_factor() const { return displacement_factor_; }
 
   std::vector<double>& triplane_params() { return triplane_params_; }
   std::vector<double>& mlp_params() { return mlp_params_; }
@@ -90,6 +96,7 @@ class MotionField {
   Triplane triplane_;
   Mlp mlp_;
   std::vector<double> triplane_params_, mlp_params_;
+  double displacement_factor_ = 1.0;
 };
 
 }  // namespace es

@@ -95,6 +95,11 @@ struct JointTrainerOptions {
   // motion; from the start they cost the water ~2 dB that it does not
   // win back on path-traced spray (docs/results/stage3-start.md).
   double water_loss_warmup = 0;
+  // > 0: V's displacement (each Euler step) ramps in linearly from 0 over
+  // this fraction of the iterations. At 0 every frame renders Stage 1's
+  // model; Alg. 1 otherwise carries the water Stage 1 fitted as a time
+  // average downstream from the first step (docs/results/stage3-start.md).
+  double motion_warmup = 0;
   // Shapes of fields made from scratch (a given V keeps its own). D's
   // cycle_length is set to cycle_length and its max_cycles to cover every
   // frame of the video.

@@ -67,11 +67,15 @@ JointTrainer::JointTrainer(const std::vector<Frame>* frames,
                        JointLossTerms(options_, use_masks_),
                        render_options(), nullptr, options_.euler);
   }
+  ApplyMotionRamp(options_, iteration_, &model_);
 }
 
 void JointTrainer::SetSceneFlowPrior(std::vector<SceneFlowSample> samples) {
   CHECK(model_.motion) << "a scene-flow prior needs the motion field";
-  flow_prior_.emplace(&*model_.motion, std::move(samples),
+  // The prior scores V itself, not its warmed-up displacement.
+  prior_field_.emplace(*model_.motion);
+  prior_field_->SetDisplacementFactor(1.0);
+  flow_prior_.emplace(&*prior_field_, std::move(samples),
                       options_.flow_prior);
 }
 
@@ -169,6 +173,7 @@ JointIterationStats JointTrainer::Step() {
       field_adam_[b].ClearGradient(field_grad_[b].data());
     out.skipped = true;
     ++iteration_;
+    ApplyMotionRamp(options_, iteration_, &model_);
     return out;
   }
 
@@ -193,6 +198,7 @@ JointIterationStats JointTrainer::Step() {
     fields_checked_ = true;
   }
   ++iteration_;
+  ApplyMotionRamp(options_, iteration_, &model_);
   guard_.CheckParameters(iteration_, params_finite);
   if (WaterDensifyDue(options_, iteration_, model_.num_dynamic()))
     out.densified = DensifyWaterNow();
@@ -370,6 +376,7 @@ void JointTrainer::Restore(const JointCheckpoint& c,
                            const std::string& source) {
   UnpackJointCheckpoint(c, source, &model_);
   iteration_ = c.iteration;
+  ApplyMotionRamp(options_, iteration_, &model_);
   adam_.Restore(c.adam);
   UpdateScaleBounds();
   for (size_t b = 0; b < field_adam_.size(); ++b) {

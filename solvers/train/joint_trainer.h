@@ -105,6 +105,7 @@ class JointTrainer : public JointStageTrainer {
   std::mt19937_64 rng_;
   Rasterizer rasterizer_;
   std::optional<JointRenderCost> cost_;
+  std::optional<MotionField> prior_field_;  // V at full displacement
   std::optional<SceneFlowPrior> flow_prior_;
   // The energy term: each training frame's neighbour (a frame index; -1:
   // none), a second cost (its own rasterizer) and its gradient buffers.

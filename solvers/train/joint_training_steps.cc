@@ -21,6 +21,13 @@ void AppendBox(const Triplane& t, std::vector<double>* boxes) {
   for (int i = 0; i < 3; ++i) boxes->push_back(t.box_max()[i]);
 }
 
+// 0 at iteration 0, rising linearly to 1 at `fraction` of the iterations.
+double Ramp(double fraction, int iterations, int64_t iteration) {
+  const double ramp_iterations = fraction * iterations;
+  if (!(ramp_iterations > 0)) return 1.0;
+  return std::min(1.0, static_cast<double>(iteration) / ramp_iterations);
+}
+
 }  // namespace
 
 int CyclesCovering(int frames, int cycle_length) {
@@ -66,9 +73,18 @@ bool WaterLossOn(const JointTrainerOptions& o) {
 }
 
 double WaterLossRamp(const JointTrainerOptions& o, int64_t iteration) {
-  const double ramp_iterations = o.water_loss_warmup * o.iterations;
-  if (!(ramp_iterations > 0)) return 1.0;
-  return std::min(1.0, static_cast<double>(iteration) / ramp_iterations);
+  return Ramp(o.water_loss_warmup, o.iterations, iteration);
+}
+
+double MotionRamp(const JointTrainerOptions& o, int64_t iteration) {
+  return Ramp(o.motion_warmup, o.iterations, iteration);
+}
+
+void ApplyMotionRamp(const JointTrainerOptions& o, int64_t iteration,
+                     LoopModel* model) {
+  if (model->motion) {
+    model->motion->SetDisplacementFactor(MotionRamp(o, iteration));
+  }
 }
 
 WaterTextureOptions LoopTextureOptions(const JointTrainerOptions& o) {

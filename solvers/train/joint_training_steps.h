@@ -40,6 +40,13 @@ bool WaterLossOn(const JointTrainerOptions& o);
 // from 0 to 1 over water_loss_warmup of the iterations, 1 after (and
 // always 1 without a warm-up).
 double WaterLossRamp(const JointTrainerOptions& o, int64_t iteration);
+// The same for V's displacement over motion_warmup of the iterations.
+double MotionRamp(const JointTrainerOptions& o, int64_t iteration);
+// Sets the model's V to move at MotionRamp(o, iteration); both trainers
+// call it whenever their iteration changes, so model() always shows the
+// motion the next step trains.
+void ApplyMotionRamp(const JointTrainerOptions& o, int64_t iteration,
+                     LoopModel* model);
 // The loop texture term's WaterTextureLoss: water_texture's bands and
 // projections at loop_texture_weight.
 WaterTextureOptions LoopTextureOptions(const JointTrainerOptions& o);

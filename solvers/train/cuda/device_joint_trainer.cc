@@ -63,12 +63,16 @@ DeviceJointTrainer::DeviceJointTrainer(const std::vector<Frame>* frames,
     energy_.emplace(options_.water_energy);
     if (WaterTextureOn(options_)) texture_.emplace(options_.water_texture);
   }
+  ApplyMotionRamp(options_, iteration_, &model_);
 }
 
 void DeviceJointTrainer::SetSceneFlowPrior(
     std::vector<SceneFlowSample> samples) {
   CHECK(model_.motion) << "a scene-flow prior needs the motion field";
-  prior_field_.emplace(*model_.motion);
+  // The prior scores V itself, not its warmed-up displacement.
+  MotionField unramped = *model_.motion;
+  unramped.SetDisplacementFactor(1.0);
+  prior_field_.emplace(unramped);
   flow_prior_.emplace(&*prior_field_, std::move(samples),
                       options_.flow_prior);
 }
@@ -133,6 +137,7 @@ JointIterationStats DeviceJointTrainer::Step() {
     for (FieldBlock& f : fields_) f.grad.Zero();
     out.skipped = true;
     ++iteration_;
+    ApplyMotionRamp(options_, iteration_, &model_);
     return out;
   }
 
@@ -158,6 +163,7 @@ JointIterationStats DeviceJointTrainer::Step() {
   }
   host_current_ = false;
   ++iteration_;
+  ApplyMotionRamp(options_, iteration_, &model_);
   guard_.CheckParameters(iteration_, AllFinite(&g_, /*gradients=*/false));
   if (WaterDensifyDue(options_, iteration_, model_.num_dynamic()))
     out.densified = DensifyWaterNow();
@@ -413,6 +419,7 @@ void DeviceJointTrainer::Restore(const JointCheckpoint& c,
                                  const std::string& source) {
   UnpackJointCheckpoint(c, source, &model_);
   iteration_ = c.iteration;
+  ApplyMotionRamp(options_, iteration_, &model_);
   GaussianAdam adam;
   adam.Restore(c.adam);
   UploadSplats(adam);
@@ -428,7 +435,10 @@ void DeviceJointTrainer::Restore(const JointCheckpoint& c,
   if (flow_prior_) {
     // V's box may have changed: the prior's field is rebuilt in place
     // (flow_prior_ keeps pointing at it; same type, no const members).
-    prior_field_.emplace(*model_.motion);
+    // The prior scores V itself, not its warmed-up displacement.
+  MotionField unramped = *model_.motion;
+  unramped.SetDisplacementFactor(1.0);
+  prior_field_.emplace(unramped);
   }
 }
 
