@@ -17,6 +17,7 @@
 
 #include "apps/common/app_main.h"
 #include "core/base/input_error.h"
+#include "core/io/output_dir.h"
 #include "core/io/ply_io.h"
 #include "core/io/scene.h"
 #include "core/loop/loop_frame.h"
@@ -56,6 +57,9 @@ int Run() {
     if (!(FLAGS_image_scale > 0 && FLAGS_image_scale <= 1))
       throw es::InputError("--image_scale must be in (0, 1]");
   }
+  // Before loading anything: the model and the scene take a while to read.
+  if (!FLAGS_ply.empty()) es::PrepareOutputFile(FLAGS_ply, "ply");
+  if (!FLAGS_web.empty()) es::PrepareOutputDirectory(FLAGS_web, "web");
   const es::LoopModel model = es::LoadLoopModel(FLAGS_model);
   std::printf("model: %d Gaussians, %d water, loop of L = %d frames\n",
               model.gaussians.size(), model.num_dynamic(),
