@@ -4,8 +4,10 @@
 //                and SH offsets), a state the loop really passes through;
 //   --web DIR    a self-contained web page that plays the loop forever
 //                with orbit controls (the compact loop file, format in
-//                core/loop/loop_file.h, and the Spark splat viewer that
-//                scripts/setup.sh installs from npm, copied next to it).
+//                core/loop/loop_file.h, a poster of loop frame 0 that the
+//                page shows until the player has drawn, and the Spark
+//                splat viewer that scripts/setup.sh installs from npm,
+//                copied next to it).
 //
 //   es_export --model DIR [--ply PATH --frame T]
 //             [--web DIR --scene DIR [--image_scale S] [--fps 24]]

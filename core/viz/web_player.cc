@@ -8,6 +8,8 @@
 #include "core/base/input_error.h"
 #include "core/io/json_file.h"
 #include "core/loop/loop_file.h"
+#include "core/loop/loop_renderer.h"
+#include "core/viz/render_png.h"
 
 namespace es {
 namespace {
@@ -15,6 +17,7 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr char kLoopFileName[] = "scene.esloop";
+constexpr char kPosterName[] = "poster.png";
 
 // What the page imports, from web/node_modules, and where it goes under
 // lib/ (the import map in index.html names these paths).
@@ -105,6 +108,13 @@ int64_t ExportWebPlayer(const LoopModel& model,
   const int64_t bytes =
       WriteLoopFile(model, loop, (out / kLoopFileName).string());
   WriteJsonFile((out / "view.json").string(), ViewJson(model, cameras));
+  // What the page shows until the player has drawn: loop frame 0 from the
+  // start camera, as es_animate renders it.
+  RenderOptions render;
+  render.background = options.background;
+  LoopRenderer player(&model, render);
+  player.Start(0);
+  WriteRgbPng(player.Render(cameras[0]), (out / kPosterName).string());
   return bytes;
 }
 
