@@ -4,8 +4,10 @@
 //                and SH offsets), a state the loop really passes through;
 //   --web DIR    a self-contained web page that plays the loop forever
 //                with orbit controls (the compact loop file, format in
-//                core/loop/loop_file.h, and the Spark splat viewer that
-//                scripts/setup.sh installs from npm, copied next to it).
+//                core/loop/loop_file.h, a poster of loop frame 0 that the
+//                page shows until the player has drawn, and the Spark
+//                splat viewer that scripts/setup.sh installs from npm,
+//                copied next to it).
 //
 //   es_export --model DIR [--ply PATH --frame T]
 //             [--web DIR --scene DIR [--image_scale S] [--fps 24]]
@@ -17,6 +19,7 @@
 
 #include "apps/common/app_main.h"
 #include "core/base/input_error.h"
+#include "core/io/output_dir.h"
 #include "core/io/ply_io.h"
 #include "core/io/scene.h"
 #include "core/loop/loop_frame.h"
@@ -56,6 +59,9 @@ int Run() {
     if (!(FLAGS_image_scale > 0 && FLAGS_image_scale <= 1))
       throw es::InputError("--image_scale must be in (0, 1]");
   }
+  // Before loading anything: the model and the scene take a while to read.
+  if (!FLAGS_ply.empty()) es::PrepareOutputFile(FLAGS_ply, "ply");
+  if (!FLAGS_web.empty()) es::PrepareOutputDirectory(FLAGS_web, "web");
   const es::LoopModel model = es::LoadLoopModel(FLAGS_model);
   std::printf("model: %d Gaussians, %d water, loop of L = %d frames\n",
               model.gaussians.size(), model.num_dynamic(),

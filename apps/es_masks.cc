@@ -22,6 +22,7 @@
 #include "core/base/atomic_file.h"
 #include "core/io/frame_loading.h"
 #include "core/io/image_file.h"
+#include "core/io/json_file.h"
 #include "core/base/input_error.h"
 #include "core/io/ply_io.h"
 #include "core/io/scene.h"
@@ -153,17 +154,16 @@ int Main() {
   es::WriteImageAtomically(sheet, es::WaterMaskSheet(scene, result, 8));
   const double iou =
       FLAGS_truth.empty() ? -1 : MeanIou(scene, result, FLAGS_truth);
-  char json[512];
-  std::snprintf(json, sizeof(json),
-                "{\n  \"frames\": %zu,\n  \"has_water\": %s,\n"
-                "  \"water_fraction\": %.5f,\n  \"threshold\": %.3f,\n"
-                "  \"mean_iou\": %s\n}\n",
-                scene.frames.size(), result.has_water ? "true" : "false",
-                result.water_fraction, result.threshold,
-                iou < 0 ? "null" : std::to_string(iou).c_str());
+  nlohmann::ordered_json json;
+  json["frames"] = scene.frames.size();
+  json["has_water"] = result.has_water;
+  json["water_fraction"] = result.water_fraction;
+  json["threshold"] = result.threshold;
+  json["mean_iou"] =
+      iou < 0 ? nlohmann::ordered_json() : nlohmann::ordered_json(iou);
   // The report last: its presence means the masks are complete.
   if (result.has_water) WriteMasks(scene, result, FLAGS_out);
-  es::WriteTextFileAtomically(report, json);
+  es::WriteJsonFile(report, json);
 
   std::printf("[masks] water covers %.1f%% of the frames (threshold %.2f x "
               "the static level)%s\n",

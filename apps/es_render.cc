@@ -10,6 +10,7 @@
 #include "apps/common/parse_color.h"
 #include "core/io/colmap_io.h"
 #include "core/base/input_error.h"
+#include "core/io/output_dir.h"
 #include "core/io/pinhole_camera.h"
 #include "core/io/ply_io.h"
 #include "core/render/rasterizer.h"
@@ -39,9 +40,9 @@ int Run() {
   }
   const Eigen::Vector3d background =
       es::ParseColor(FLAGS_background, "background");
+  es::PrepareOutputDirectory(FLAGS_out_dir, "out_dir");
   const es::GaussianSet gaussians = es::ReadPly(FLAGS_ply);
   const es::ColmapModel model = es::ReadColmapModel(FLAGS_sparse);
-  std::filesystem::create_directories(FLAGS_out_dir);
 
   es::Rasterizer rasterizer;
   es::RenderResult result;

@@ -15,6 +15,7 @@
 
 #include "apps/common/app_main.h"
 #include "apps/common/flag_checks.h"
+#include "core/io/output_dir.h"
 #include "synth/scene.h"
 #include "synth/writer.h"
 
@@ -68,6 +69,8 @@ int main(int argc, char** argv) {
         s.substeps = FLAGS_substeps;
         s.grid_resolution = FLAGS_grid_resolution;
         s.num_points = FLAGS_num_points;
+        // Before generating: a scene takes seconds to minutes to make.
+        es::PrepareOutputDirectory(FLAGS_out, "out");
         const auto start = std::chrono::steady_clock::now();
         const es::SynthScene scene = es::GenerateSynthScene(s);
         es::WriteSynthScene(scene, FLAGS_out);

@@ -6,13 +6,15 @@
 # against wall time into DOCS/bench_presets_<metric>.png (es_plot).
 #
 #   scripts/bench_presets.sh [--scene DIR] [--out DIR] [--docs DIR]
-#                            [--presets "quick paper"] [--budgets "100 300"]
+#                            [--presets "quick paper"]
+#                            [--budgets "50 100 200 300"] [--plot_only]
 #
 # Defaults: the default scene (out/default_scene, made by
 # scripts/run_default.sh), runs in out/bench_presets, figures and tables in
-# docs/benchmarks. The default run is short (four runs of at most 300
-# iterations per stage); raise --budgets for the real curve. Re-running
-# skips finished runs.
+# docs/benchmarks. The default run is short (eight runs of at most 300
+# iterations per stage, four points per curve); raise --budgets for the
+# real curve. Re-running skips finished runs. --plot_only redraws the
+# figures from the tables already in DOCS, without running anything.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -20,7 +22,8 @@ scene=out/default_scene
 out=out/bench_presets
 docs=docs/benchmarks
 presets="quick paper"
-budgets="100 300"
+budgets="50 100 200 300"
+plot_only=0
 while [[ $# -gt 0 ]]; do
   case "$1" in
     --scene) scene=$2; shift 2 ;;
@@ -28,7 +31,8 @@ while [[ $# -gt 0 ]]; do
     --docs) docs=$2; shift 2 ;;
     --presets) presets=$2; shift 2 ;;
     --budgets) budgets=$2; shift 2 ;;
-    -h|--help) sed -n '2,15p' "$0"; exit 0 ;;
+    --plot_only) plot_only=1; shift ;;
+    -h|--help) sed -n '2,17p' "$0"; exit 0 ;;
     *) echo "bench_presets.sh: unknown argument '$1' (see --help)" >&2
        exit 2 ;;
   esac
@@ -38,45 +42,55 @@ for b in $budgets; do
     echo "bench_presets.sh: --budgets: '$b' is not a positive integer" >&2
     exit 2; }
 done
-if [[ ! -d "$scene/sparse/0" ]]; then
+if ((!plot_only)) && [[ ! -d "$scene/sparse/0" ]]; then
   echo "bench_presets.sh: $scene has no sparse/0; run scripts/run_default.sh" \
        "first or give --scene" >&2
   exit 1
 fi
-for tool in eulersplat es_plot; do
+tools="eulersplat es_plot"
+((plot_only)) && tools=es_plot
+for tool in $tools; do
   [[ -x build/bin/$tool ]] || {
     echo "bench_presets.sh: build/bin/$tool missing; run scripts/setup.sh" >&2
     exit 1; }
 done
-mkdir -p "$out" "$docs"
-
-set -- $presets
-num_runs=$(( $# * $(wc -w <<< "$budgets") ))
-k=0
-for preset in $presets; do
-  for budget in $budgets; do
-    k=$((k + 1))
-    run="$out/${preset}_$budget"
-    if [[ -f "$run/wall_seconds" && -f "$run/eval/eval.json" ]]; then
-      echo "[bench $k/$num_runs] $preset, budget $budget: done before"
-      continue
-    fi
-    echo "[bench $k/$num_runs] $preset, budget $budget -> $run"
-    rm -rf "$run"
-    start=$(date +%s.%N)
-    build/bin/eulersplat --scene "$scene" --out "$run" --preset "$preset" \
-      --static_iterations "$budget" --joint_iterations "$budget" \
-      --flow_iterations $(( (budget + 1) / 2 )) --noanimate \
-      > "$run.log" 2>&1 || { tail -20 "$run.log" >&2; exit 1; }
-    python3 -c "import sys; print(float(sys.argv[2]) - float(sys.argv[1]))" \
-      "$start" "$(date +%s.%N)" > "$run/wall_seconds"
+if ((plot_only)); then
+  for preset in $presets; do
+    [[ -f "$docs/bench_presets_$preset.csv" ]] || {
+      echo "bench_presets.sh: --plot_only: $docs/bench_presets_$preset.csv" \
+           "missing; run without --plot_only first" >&2
+      exit 1; }
   done
-done
+else
+  mkdir -p "$out" "$docs"
 
-# One table per preset: budget, wall seconds, then every number in
-# eval.json (nested keys joined with '.'), so metrics added later are
-# picked up; a run without a key leaves the cell empty.
-python3 - "$out" "$docs" $presets -- $budgets <<'PY'
+  set -- $presets
+  num_runs=$(( $# * $(wc -w <<< "$budgets") ))
+  k=0
+  for preset in $presets; do
+    for budget in $budgets; do
+      k=$((k + 1))
+      run="$out/${preset}_$budget"
+      if [[ -f "$run/wall_seconds" && -f "$run/eval/eval.json" ]]; then
+        echo "[bench $k/$num_runs] $preset, budget $budget: done before"
+        continue
+      fi
+      echo "[bench $k/$num_runs] $preset, budget $budget -> $run"
+      rm -rf "$run"
+      start=$(date +%s.%N)
+      build/bin/eulersplat --scene "$scene" --out "$run" --preset "$preset" \
+        --static_iterations "$budget" --joint_iterations "$budget" \
+        --flow_iterations $(( (budget + 1) / 2 )) --noanimate \
+        > "$run.log" 2>&1 || { tail -20 "$run.log" >&2; exit 1; }
+      python3 -c "import sys; print(float(sys.argv[2]) - float(sys.argv[1]))" \
+        "$start" "$(date +%s.%N)" > "$run/wall_seconds"
+    done
+  done
+
+  # One table per preset: budget, wall seconds, then every number in
+  # eval.json (nested keys joined with '.'), so metrics added later are
+  # picked up; a run without a key leaves the cell empty.
+  python3 - "$out" "$docs" $presets -- $budgets <<'PY'
 import json, pathlib, sys
 out, docs = pathlib.Path(sys.argv[1]), pathlib.Path(sys.argv[2])
 split = sys.argv.index("--")
@@ -105,6 +119,7 @@ for preset in presets:
             f.write(",".join("" if r.get(c) is None else repr(r[c])
                              for c in columns) + "\n")
 PY
+fi
 
 # Water PSNR, PSNR and every realism figure (any eval.json key under
 # "realism"), each against wall time, one curve per preset.
@@ -116,6 +131,43 @@ done
 metrics="held_out.psnr_water held_out.psnr loop_seam.score"
 metrics+=" $(head -qn1 $docs/bench_presets_*.csv | tr ',' '\n' \
   | grep '^realism\.' | sort -u | tr '\n' ' ' || true)"
+
+# What a reader needs on each figure: the metric in words (name, for the
+# title), its axis label with the unit, and which way is better.
+describe() {
+  local metric=$1 region what
+  better=""
+  case "$metric" in
+    held_out.psnr) name="Held-out PSNR"; label="PSNR (dB)"
+      better="higher is better" ;;
+    held_out.psnr_water) name="Held-out PSNR in the water"
+      label="PSNR in the water (dB)"; better="higher is better" ;;
+    held_out.ssim) name="Held-out SSIM"; label="SSIM (0 to 1)"
+      better="higher is better" ;;
+    held_out.ssim_water) name="Held-out SSIM in the water"
+      label="SSIM in the water (0 to 1)"; better="higher is better" ;;
+    loop_seam.score) name="Loop seam"
+      label="change across the seam / within the loop"
+      better="1 = seamless, higher = a jump" ;;
+    realism.*)
+      region=${metric#realism.}; region=${region%%.*}
+      what=${metric##*.}
+      case "$what" in
+        *_ratio) name="Realism: $region ${what%_ratio}"
+          label="ratio to the input video"; better="1 = like the input" ;;
+        distance_*) name="Realism: $region patch distance"
+          label="distance to the input (${what#distance_})"
+          better="lower is better" ;;
+        *) name=$metric; label=$metric ;;
+      esac ;;
+    *) name=$metric; label=$metric ;;
+  esac
+}
+
+# The budgets the tables hold (one point per run), for the x label.
+points=$(for preset in $presets; do
+  tail -n+2 "$docs/bench_presets_$preset.csv"; done \
+  | cut -d, -f1 | sort -nu | paste -sd, - | sed 's/,/, /g')
 for metric in $metrics; do
   # A metric some preset's table lacks is skipped, not an error.
   missing=0
@@ -127,9 +179,11 @@ for metric in $metrics; do
     echo "[bench] $metric: not in every table, skipped"
     continue
   fi
+  describe "$metric"
   build/bin/es_plot --csv "$tables" --labels "$labels" --x wall_seconds \
-    --y "$metric" --x_label "wall time of the whole run (s)" \
-    --title "$metric vs wall time ($scene; budgets: $budgets)" \
+    --y "$metric" --y_label "$label" \
+    --x_label "wall time of the whole run (s); one point per budget: $points iterations" \
+    --title "$name against run time${better:+ ($better)}" \
     --out "$docs/bench_presets_${metric//./_}.png"
 done
 echo "[bench] tables and figures in $docs"

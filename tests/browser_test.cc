@@ -162,5 +162,63 @@ TEST_F(BrowserTest, PagePlaysTheLoopAsEsAnimateRendersIt) {
   EXPECT_LT(same_time, 0.1 * other_time);
 }
 
+// A plain headless screenshot (no puppeteer, no waiting for the player):
+// the page used to show only "loading…"; it shows the poster es_export
+// drew, at the camera's image size when the window has it. Opened as a
+// file, where the player never starts: what a slow machine or a browser
+// without WebGL shows.
+class PlainScreenshotTest : public TempDirTest {};
+
+TEST_F(PlainScreenshotTest, PageShowsThePosterBeforeThePlayerRuns) {
+  if (!std::filesystem::exists(kChromium))
+    GTEST_SKIP() << kChromium << " is not installed";
+  if (!HaveWebModule("@sparkjsdev/spark/dist/spark.module.js"))
+    GTEST_SKIP() << "npm packages not installed (scripts/setup.sh)";
+  const LoopModel model = WaterLoopModel();
+  // Headless Chromium's windows are at least 500 pixels wide: the camera
+  // at 4x its size, 768 x 512, so the window shows the poster at 1:1.
+  Camera camera = WaterLoopCamera();
+  camera.width *= 4;
+  camera.height *= 4;
+  camera.fx *= 4;
+  camera.fy *= 4;
+  camera.cx *= 4;
+  camera.cy *= 4;
+  WebPlayerOptions options;
+  options.page_dir = std::string(ES_SOURCE_DIR) + "/web/player";
+  options.modules_dir = WebModulePath("");
+  ExportWebPlayer(model, {camera}, options, Path("page"));
+
+  const std::string shot = Path("shot.png");
+  const std::string command =
+      std::string(kChromium) +
+      " --headless=new --no-sandbox --disable-gpu --hide-scrollbars"
+      " --user-data-dir=" + Quoted(Path("profile")) +
+      " --window-size=" + std::to_string(camera.width) + "," +
+      std::to_string(camera.height) + " --screenshot=" + Quoted(shot) +
+      " " + Quoted("file://" + Path("page") + "/index.html");
+  ASSERT_EQ(RunLogged(command, Path("chromium.txt")), 0)
+      << command << "\n" << ReadWholeFile(Path("chromium.txt"));
+  const Image page = cv::imread(shot, cv::IMREAD_COLOR);
+  const Image poster = cv::imread(Path("page/poster.png"), cv::IMREAD_COLOR);
+  ASSERT_EQ(page.size(), poster.size());
+  if (const char* keep = std::getenv("ES_BROWSER_TEST_KEEP"))
+    cv::imwrite(std::string(keep) + "/plain_screenshot.png", page);
+  // Below the info lines (top left), the screenshot is the poster, and
+  // the poster is the scene, not a blank page.
+  const int top = 48;
+  const std::vector<bool> below = [&] {
+    std::vector<bool> m(page.rows * page.cols, false);
+    for (int p = top * page.cols; p < page.rows * page.cols; ++p) m[p] = true;
+    return m;
+  }();
+  const Image black(page.size(), CV_8UC3, cv::Scalar(0, 0, 0));
+  const double psnr = Psnr(Mse(page, poster, below));
+  std::printf("plain screenshot vs poster: %.2f dB; poster vs black %.2f dB\n",
+              psnr, Psnr(Mse(poster, black, below)));
+  EXPECT_GT(psnr, 40.0);
+  EXPECT_LT(Psnr(Mse(poster, black, below)), 20.0);
+}
+
 }  // namespace
 }  // namespace es

@@ -367,6 +367,34 @@ TEST_F(CliTest, UnwritableOutputIsRefusedBeforeTraining) {
                 "--out=" + out + ": cannot create the directory");
 }
 
+// The tools that write one thing check where before any work: es_synth
+// before generating (a 3000-frame scene would take minutes), es_render and
+// es_export before reading their inputs (here missing, so reading first
+// would fail on those instead).
+TEST_F(CliTest, UnwritableOutputIsRefusedBeforeAnyWork) {
+  const fs::path file = root_ / "plain_file";
+  std::ofstream(file) << "not a directory";
+  const std::string out = (file / "out").string();
+  ExpectRefused("es_synth", "--out " + out + " --frames 3000",
+                "--out=" + out + ": cannot create the directory");
+  const std::string missing = (root_ / "missing").string();
+  ExpectRefused("es_render",
+                "--ply " + missing + ".ply --sparse " + missing +
+                    " --out_dir " + out,
+                "--out_dir=" + out + ": cannot create the directory");
+  const std::string ply = out + "/frame.ply";
+  ExpectRefused("es_export", "--model " + missing + " --ply " + ply,
+                "--ply=" + ply + ": cannot create its directory " + out);
+  ExpectRefused("es_export",
+                "--model " + missing + " --web " + out + " --scene " +
+                    scene_.string(),
+                "--web=" + out + ": cannot create the directory");
+  // A --ply that names a directory is refused, not overwritten.
+  ExpectRefused("es_export", "--model " + missing + " --ply " + root_.string(),
+                "--ply=" + root_.string() + ": is a directory");
+  EXPECT_FALSE(fs::exists(out));
+}
+
 // Every script answers --help with its usage, exit 0 and no side effects:
 // run from a copy of scripts/ in an empty folder, anything it built or
 // wrote would show up there.

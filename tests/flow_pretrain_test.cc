@@ -3,12 +3,14 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <string>
 
 #include <gtest/gtest.h>
 
 #include "core/base/input_error.h"
 #include "solvers/eval/motion_gt.h"
 #include "solvers/train/divergence_guard.h"
+#include "solvers/train/flow_pretrain_steps.h"
 
 namespace es {
 namespace {
@@ -69,6 +71,45 @@ TEST(FlowPretrainTest, DivergenceThrowsInsteadOfReturningANanField) {
   options.batch_size = 16;
   options.max_nonfinite_steps = 5;
   EXPECT_THROW(PretrainMotionField(bad, options, &field), TrainingDiverged);
+}
+
+// D (issue 46): es_flowinit --lr_mlp 1e30 ended with fit_rmse 5.7e60 and
+// exit 0. The first step's runaway MLP now stops the fit, naming the flag;
+// so does a fit whose RMSE grew a thousandfold, whatever the solver.
+TEST(FlowPretrainTest, RunawayFitStopsNamingTheLearningRate) {
+  const std::vector<SceneFlowSample> samples = SamplesOf(300, 1);
+  MotionField field = SmallField(4, 2, 4);
+  FlowPretrainOptions options;
+  options.iterations = 20;
+  options.batch_size = 64;
+  options.lr_mlp = 1e30;
+  try {
+    PretrainMotionField(samples, options, &field);
+    ADD_FAILURE() << "no TrainingDiverged";
+  } catch (const TrainingDiverged& e) {
+    EXPECT_NE(std::string(e.what()).find("--lr_mlp 1e+30"), std::string::npos)
+        << e.what();
+  }
+
+  FlowPretrainReport report;
+  report.initial_rmse = 0.02;
+  report.target_rms = 0.03;
+  report.fit_rmse = 0.01;
+  CheckPretrainedField(true, report, FlowPretrainOptions());
+  report.fit_rmse = 29.9;  // under 1000 x 0.03
+  CheckPretrainedField(true, report, FlowPretrainOptions());
+  report.fit_rmse = 5.7e60;
+  try {
+    CheckPretrainedField(true, report, FlowPretrainOptions());
+    ADD_FAILURE() << "no TrainingDiverged";
+  } catch (const TrainingDiverged& e) {
+    const std::string what = e.what();
+    for (const char* part : {"5.7e+60", "--lr_triplane 0.01", "--lr_mlp 0.001"})
+      EXPECT_NE(what.find(part), std::string::npos) << part << ": " << what;
+  }
+  FlowPretrainOptions lbfgs;
+  lbfgs.solver = PretrainSolver::kLbfgs;
+  EXPECT_THROW(CheckPretrainedField(true, report, lbfgs), TrainingDiverged);
 }
 
 TEST(FlowPretrainTest, AdamFitsASmoothFieldAndGeneralizes) {

@@ -1,6 +1,7 @@
 // es_export's outputs without a browser: the frame PLY is a state the
 // animation really shows, and the loop file holds exactly the animation.
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -8,6 +9,7 @@
 #include <vector>
 
 #include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
 #include <gtest/gtest.h>
 
 #include "core/base/input_error.h"
@@ -141,7 +143,7 @@ TEST_F(WebExportTest, PageFolderIsCompleteOrNamesWhatIsMissing) {
   options.modules_dir = WebModulePath("");
   ExportWebPlayer(model, {WaterLoopCamera()}, options, Path("page"));
   for (const char* file :
-       {"index.html", "player.js", "view.json", "scene.esloop",
+       {"index.html", "player.js", "view.json", "scene.esloop", "poster.png",
         "lib/spark/spark.module.js", "lib/three/build/three.module.js",
         "lib/three/build/three.core.js",
         "lib/three/examples/jsm/controls/OrbitControls.js"})
@@ -151,6 +153,56 @@ TEST_F(WebExportTest, PageFolderIsCompleteOrNamesWhatIsMissing) {
                            ReadWholeFile(Path("page/player.js"));
   EXPECT_EQ(html.find("http://"), std::string::npos);
   EXPECT_EQ(html.find("https://"), std::string::npos);
+}
+
+// A page that has not run its player yet (a screenshot taken early, a slow
+// machine, no WebGL) shows the poster: the page's first element is an
+// image of poster.png, and poster.png is loop frame 0 from the start
+// camera exactly as es_animate renders it, on the model's background.
+TEST_F(WebExportTest, PosterIsLoopFrameZeroFromTheStartCamera) {
+  if (!HaveWebModule("@sparkjsdev/spark/dist/spark.module.js"))
+    GTEST_SKIP() << "npm packages not installed (scripts/setup.sh)";
+  const LoopModel model = WaterLoopModel();
+  Camera other = WaterLoopCamera();
+  other.width = 64;  // a second camera the poster must not use
+  WebPlayerOptions options;
+  options.page_dir = std::string(ES_SOURCE_DIR) + "/web/player";
+  options.modules_dir = WebModulePath("");
+  options.background = Eigen::Vector3d(1, 1, 1);
+  ExportWebPlayer(model, {WaterLoopCamera(), other}, options, Path("page"));
+
+  const std::string html = ReadWholeFile(Path("page/index.html"));
+  const size_t body = html.find("<body>");
+  ASSERT_NE(body, std::string::npos);
+  EXPECT_EQ(html.find("<", body + 6),
+            html.find("<img id=\"poster\" src=\"poster.png\"", body))
+      << html.substr(body);
+  // The player takes it away once it has drawn.
+  EXPECT_NE(ReadWholeFile(Path("page/player.js"))
+                .find("getElementById(\"poster\")?.remove()"),
+            std::string::npos);
+
+  const cv::Mat poster = cv::imread(Path("page/poster.png"), cv::IMREAD_COLOR);
+  ASSERT_FALSE(poster.empty());
+  RenderOptions render;
+  render.background = options.background;
+  LoopRenderer player(&model, render);
+  player.Start(0);
+  const RenderResult& r = player.Render(WaterLoopCamera());
+  ASSERT_EQ(poster.cols, r.width);
+  ASSERT_EQ(poster.rows, r.height);
+  for (int i = 0; i < r.height; ++i)
+    for (int j = 0; j < r.width; ++j)
+      for (int c = 0; c < 3; ++c) {
+        const double v = r.rgb[3 * (i * r.width + j) + c];
+        ASSERT_EQ(poster.at<cv::Vec3b>(i, j)[2 - c],
+                  std::lround(std::clamp(v, 0.0, 1.0) * 255))
+            << "pixel " << i << "," << j;
+      }
+  // The scene fills much of the view: not a blank page.
+  const long covered = std::count_if(r.alpha.begin(), r.alpha.end(),
+                                     [](double a) { return a > 0.5; });
+  EXPECT_GT(covered, r.width * r.height / 4);
 }
 
 }  // namespace

@@ -10,6 +10,12 @@ namespace es {
 // training. Throws InputError naming `flag` (without dashes) and `dir`.
 void PrepareOutputDirectory(const std::string& dir, const std::string& flag);
 
+// The same for the folder of the file `path` (the current one if it names
+// none), and refuses a path that is an existing directory: a tool that
+// writes one file checks it before loading or computing anything. Throws
+// InputError naming `flag` and `path`.
+void PrepareOutputFile(const std::string& path, const std::string& flag);
+
 }  // namespace es
 
 #endif  // EULERSPLAT_CORE_IO_OUTPUT_DIR_H_

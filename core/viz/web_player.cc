@@ -2,14 +2,14 @@
 
 #include <algorithm>
 #include <filesystem>
-#include <iomanip>
-#include <sstream>
 
 #include <glog/logging.h>
 
-#include "core/base/atomic_file.h"
 #include "core/base/input_error.h"
+#include "core/io/json_file.h"
 #include "core/loop/loop_file.h"
+#include "core/loop/loop_renderer.h"
+#include "core/viz/render_png.h"
 
 namespace es {
 namespace {
@@ -17,6 +17,7 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr char kLoopFileName[] = "scene.esloop";
+constexpr char kPosterName[] = "poster.png";
 
 // What the page imports, from web/node_modules, and where it goes under
 // lib/ (the import map in index.html names these paths).
@@ -63,27 +64,27 @@ double TargetDistance(const LoopModel& model, const Camera& camera) {
   return depths[depths.size() / 2];
 }
 
-std::string ViewJson(const LoopModel& model,
-                     const std::vector<Camera>& cameras) {
-  std::ostringstream json;
-  json << std::setprecision(9);
-  json << "{\n  \"loop\": \"" << kLoopFileName << "\",\n"
-       << "  \"target_distance\": " << TargetDistance(model, cameras[0])
-       << ",\n  \"cameras\": [\n";
-  for (size_t i = 0; i < cameras.size(); ++i) {
-    const Camera& c = cameras[i];
+nlohmann::ordered_json ViewJson(const LoopModel& model,
+                                const std::vector<Camera>& cameras) {
+  nlohmann::ordered_json list = nlohmann::ordered_json::array();
+  for (const Camera& c : cameras) {
     const Eigen::Matrix3d r = c.R();
-    json << "    {\"width\": " << c.width << ", \"height\": " << c.height
-         << ", \"fx\": " << c.fx << ", \"fy\": " << c.fy
-         << ", \"cx\": " << c.cx << ", \"cy\": " << c.cy
-         << ", \"rotation\": [";
-    for (int k = 0; k < 9; ++k) json << (k ? ", " : "") << r(k / 3, k % 3);
-    json << "], \"translation\": [" << c.t_cw.x() << ", " << c.t_cw.y()
-         << ", " << c.t_cw.z() << "]}" << (i + 1 < cameras.size() ? "," : "")
-         << "\n";
+    nlohmann::ordered_json rotation = nlohmann::ordered_json::array();
+    for (int k = 0; k < 9; ++k) rotation.push_back(r(k / 3, k % 3));
+    list.push_back({{"width", c.width},
+                    {"height", c.height},
+                    {"fx", c.fx},
+                    {"fy", c.fy},
+                    {"cx", c.cx},
+                    {"cy", c.cy},
+                    {"rotation", rotation},
+                    {"translation", {c.t_cw.x(), c.t_cw.y(), c.t_cw.z()}}});
   }
-  json << "  ]\n}\n";
-  return json.str();
+  nlohmann::ordered_json view;
+  view["loop"] = kLoopFileName;
+  view["target_distance"] = TargetDistance(model, cameras[0]);
+  view["cameras"] = list;
+  return view;
 }
 
 }  // namespace
@@ -106,8 +107,14 @@ int64_t ExportWebPlayer(const LoopModel& model,
   loop.background = options.background;
   const int64_t bytes =
       WriteLoopFile(model, loop, (out / kLoopFileName).string());
-  WriteTextFileAtomically((out / "view.json").string(),
-                          ViewJson(model, cameras));
+  WriteJsonFile((out / "view.json").string(), ViewJson(model, cameras));
+  // What the page shows until the player has drawn: loop frame 0 from the
+  // start camera, as es_animate renders it.
+  RenderOptions render;
+  render.background = options.background;
+  LoopRenderer player(&model, render);
+  player.Start(0);
+  WriteRgbPng(player.Render(cameras[0]), (out / kPosterName).string());
   return bytes;
 }
 

@@ -29,6 +29,11 @@ struct WebPlayerOptions {
 //   dir/scene.esloop            the loop file (core/loop/loop_file.h)
 //   dir/view.json               cameras (COLMAP convention) and where the
 //                               orbit target lies in front of the first
+//   dir/poster.png              loop frame 0 from the first camera (our
+//                               rasterizer, as es_animate draws it): the
+//                               page shows it until the player has drawn
+//                               a frame, so a screenshot taken early (or a
+//                               browser without WebGL) shows the scene
 //   dir/lib/                    the viewer's modules and their licenses
 // The page fetches only these files; browsers need it served over HTTP
 // (python3 -m http.server). `cameras` must not be empty; the first one is

@@ -29,9 +29,11 @@ std::vector<int> RandomSubset(int n, int k, std::mt19937* rng) {
   return all;
 }
 
+// `loss_scale`: PretrainLossScale.
 int FitWithAdam(const std::vector<SceneFlowSample>& samples,
                 const FlowPretrainOptions& options,
-                const PretrainStopwatch& clock, MotionField* field) {
+                const PretrainStopwatch& clock, double loss_scale,
+                MotionField* field) {
   const int n_tri = field->triplane().num_params();
   const int n_mlp = field->mlp().num_params();
   std::vector<double> g_tri(n_tri), m_tri(n_tri, 0.0), v_tri(n_tri, 0.0);
@@ -41,7 +43,10 @@ int FitWithAdam(const std::vector<SceneFlowSample>& samples,
   PretrainBatches batches(options.seed, static_cast<int>(samples.size()),
                           options.batch_size);
   const AdamOptions adam = PretrainAdamOptions(options);
-  DivergenceGuard guard("V pretraining", options.max_nonfinite_steps);
+  DivergenceGuard guard("V pretraining", options.max_nonfinite_steps,
+                        "no field was written");
+  const std::vector<GuardedBlock> blocks =
+      PretrainGuardedBlocks(options, *field);
   for (int it = 1; it <= options.iterations; ++it) {
     ScopedStage timer(Stage::kIteration);
     batch.Assign(samples, batches.Next());
@@ -56,13 +61,15 @@ int FitWithAdam(const std::vector<SceneFlowSample>& samples,
     if (!guard.Accept(it, std::isfinite(loss) && AllFinite(g_tri) &&
                               AllFinite(g_mlp)))
       continue;
+    guard.CheckLoss(it, loss, loss_scale, blocks);
     const double decay = PretrainLrDecay(options, it);
     AdamUpdate(adam, it, options.lr_triplane * decay, n_tri, g_tri.data(),
                m_tri.data(), v_tri.data(), field->triplane_params().data());
     AdamUpdate(adam, it, options.lr_mlp * decay, n_mlp, g_mlp.data(),
                m_mlp.data(), v_mlp.data(), field->mlp_params().data());
-    guard.CheckParameters(it, AllFinite(field->triplane_params()) &&
-                                  AllFinite(field->mlp_params()));
+    guard.CheckBlocks(it, blocks,
+                      {MaxMagnitude(field->triplane_params()),
+                       MaxMagnitude(field->mlp_params())});
     ReportPretrainProgress(options, it, options.iterations, clock.seconds(),
                            loss);
   }
@@ -228,7 +235,8 @@ FlowPretrainReport PretrainMotionField(
   const PretrainStopwatch clock;
   switch (options.solver) {
     case PretrainSolver::kAdam:
-      report.iterations = FitWithAdam(samples, fit, clock, field);
+      report.iterations = FitWithAdam(samples, fit, clock,
+                                      PretrainLossScale(report), field);
       break;
     case PretrainSolver::kLbfgs:
       report.iterations = FitWithLbfgs(samples, fit, clock, field);
@@ -240,8 +248,9 @@ FlowPretrainReport PretrainMotionField(
   report.seconds = clock.seconds();
   report.fit_rmse = FitRmse(*field, samples);
   CheckPretrainedField(AllFinite(field->triplane_params()) &&
-                       AllFinite(field->mlp_params()) &&
-                       std::isfinite(report.fit_rmse));
+                           AllFinite(field->mlp_params()) &&
+                           std::isfinite(report.fit_rmse),
+                       report, options);
   return report;
 }
 

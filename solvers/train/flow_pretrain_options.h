@@ -36,6 +36,9 @@ struct FlowPretrainOptions {
   // MotionFieldOptions), so they do not depend on the scene's units.
   double lr_triplane = 1e-2;
   double lr_mlp = 1e-3;
+  // What sets those two, for a divergence message (es_flowinit's flags).
+  std::string lr_triplane_flag = "--lr_triplane";
+  std::string lr_mlp_flag = "--lr_mlp";
   double final_lr_factor = 0.1;
   double adam_eps = 1e-15;
   // Total variation on the planes (Triplane::TotalVariation), Adam and
@@ -50,8 +53,10 @@ struct FlowPretrainOptions {
   int64_t lm_max_jacobian_values = 50000000;
   uint32_t seed = 0;
   // Adam: this many non-finite steps in a row stop the fit
-  // (DivergenceGuard); every solver throws TrainingDiverged rather than
-  // return a non-finite field.
+  // (DivergenceGuard), as do a block growing kRunawayGrowth times its
+  // initial scale and a loss growing kLossGrowth times its; every solver
+  // throws TrainingDiverged rather than return a non-finite field or one
+  // whose fit RMSE grew by orders of magnitude.
   int max_nonfinite_steps = 10;
   // Called every log_every iterations (and at the end) with the iteration,
   // the seconds so far and the RMSE on the current batch / subset.

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 #include <glog/logging.h>
 
@@ -61,11 +62,48 @@ void ReportPretrainProgress(const FlowPretrainOptions& options,
   }
 }
 
-void CheckPretrainedField(bool finite) {
+std::vector<GuardedBlock> PretrainGuardedBlocks(
+    const FlowPretrainOptions& options, const MotionField& field) {
+  // Triplane features start around 0 or 1 and MLP weights below 1.
+  const FieldParams p = field.params();
+  return {{"V's triplane", "the triplane learning rate",
+           options.lr_triplane_flag, options.lr_triplane,
+           RunawayBound(p.triplane, field.triplane().num_params(), 1.0)},
+          {"V's MLP", "the MLP learning rate", options.lr_mlp_flag,
+           options.lr_mlp,
+           RunawayBound(p.mlp, field.mlp().num_params(), 1.0)}};
+}
+
+double PretrainLossScale(const FlowPretrainReport& report) {
+  const double rmse = std::max(report.initial_rmse, report.target_rms);
+  return 0.5 * rmse * rmse;
+}
+
+void CheckPretrainedField(bool finite, const FlowPretrainReport& report,
+                          const FlowPretrainOptions& options) {
   if (!finite)
     throw TrainingDiverged(
         "V pretraining diverged: the fitted motion field is not finite "
         "(learning rates too high?); no field was written");
+  const double scale = std::max(report.initial_rmse, report.target_rms);
+  const double limit = std::sqrt(kLossGrowth) * scale;
+  if (!(report.fit_rmse > limit)) return;
+  const std::string cure =
+      options.solver == PretrainSolver::kAdam
+          ? "the learning rates are too high (" + options.lr_triplane_flag +
+                " " + FormatMagnitude(options.lr_triplane) + ", " +
+                options.lr_mlp_flag + " " + FormatMagnitude(options.lr_mlp) +
+                "): lower them"
+          : "the " + PretrainSolverName(options.solver) +
+                " solver ran away: use the adam solver";
+  throw TrainingDiverged(
+      "V pretraining diverged: the fit RMSE grew from " +
+      FormatMagnitude(report.initial_rmse) + " to " +
+      FormatMagnitude(report.fit_rmse) + " (limit " + FormatMagnitude(limit) +
+      ", " + FormatMagnitude(std::sqrt(kLossGrowth)) +
+      " times the larger of that start and the targets' RMS " +
+      FormatMagnitude(report.target_rms) + "); " + cure +
+      "; no field was written");
 }
 
 }  // namespace es

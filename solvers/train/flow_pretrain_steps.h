@@ -12,8 +12,10 @@
 #include <random>
 #include <vector>
 
+#include "core/fields/motion_field.h"
 #include "core/flow/flow_lifting.h"
 #include "solvers/optim/adam.h"
+#include "solvers/train/divergence_guard.h"
 #include "solvers/train/flow_pretrain_options.h"
 
 namespace es {
@@ -64,10 +66,20 @@ void ReportPretrainProgress(const FlowPretrainOptions& options,
                             int iteration, int iterations, double seconds,
                             double loss);
 
+// V's two blocks (triplane, MLP) as Adam's DivergenceGuard watches them,
+// bounded by their values in `field`, the field the fit starts from.
+std::vector<GuardedBlock> PretrainGuardedBlocks(
+    const FlowPretrainOptions& options, const MotionField& field);
+// The scale of Adam's loss (mean 0.5 |r|^2) for DivergenceGuard::CheckLoss:
+// that of the larger of the starting RMSE and the targets' RMS.
+double PretrainLossScale(const FlowPretrainReport& report);
+
 // Throws TrainingDiverged unless the fitted field's parameters and its
-// fit RMSE are finite: whatever the solver, a non-finite field is never
-// handed on to be written.
-void CheckPretrainedField(bool finite);
+// fit RMSE are finite, and unless that RMSE is within sqrt(kLossGrowth)
+// times the larger of the starting RMSE and the targets' RMS: whatever the
+// solver, a non-finite or runaway field is never handed on to be written.
+void CheckPretrainedField(bool finite, const FlowPretrainReport& report,
+                          const FlowPretrainOptions& options);
 
 }  // namespace es
 

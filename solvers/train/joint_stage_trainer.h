@@ -34,6 +34,18 @@ inline WaterEnergyOptions NoWaterEnergy() {
   return o;
 }
 
+// The flags that set Stage 3's learning rates, as a divergence message
+// names them (es_train's).
+struct JointLearningRateFlags {
+  SplatLearningRateFlags splat{"--lr_means",         "--lr_log_scales",
+                               "--lr_quats",         "--lr_opacity",
+                               "--lr_sh_dc/--lr_sh_rest", "--lr_dynamic"};
+  std::string motion_triplane = "--lr_motion_triplane";
+  std::string motion_mlp = "--lr_motion_mlp";
+  std::string residual_triplane = "--lr_residual_triplane";
+  std::string residual_mlp = "--lr_residual_mlp";
+};
+
 // Stage 3 knobs. Splat learning rates follow 3DGS (position rate times the
 // scene extent, decaying log-linearly); field rates decay log-linearly to
 // field_lr_final_factor times their start over the run.
@@ -61,6 +73,7 @@ struct JointTrainerOptions {
   double lr_residual_triplane = 5e-3;
   double lr_residual_mlp = 1e-3;
   double field_lr_final_factor = 0.1;
+  JointLearningRateFlags lr_flags;
   // > 0: water Gaussians are kept at most this large on screen (std dev in
   // pixels at their distance from the training cameras), so they stay
   // particles instead of growing back into smooth sheets.
@@ -107,7 +120,9 @@ struct JointTrainerOptions {
   ResidualFieldOptions residual;
   EulerOptions euler;
   Eigen::Vector3d background = Eigen::Vector3d::Zero();
-  // This many non-finite steps in a row stop the run (DivergenceGuard).
+  // This many non-finite steps in a row stop the run (DivergenceGuard), as
+  // does any block (splats, fields) growing kRunawayGrowth times its
+  // initial scale.
   int max_nonfinite_steps = 10;
 };
 

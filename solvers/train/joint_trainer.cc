@@ -37,6 +37,7 @@ JointTrainer::JointTrainer(const std::vector<Frame>* frames,
                             std::move(initial), std::move(motion), &rng_);
   UpdateScaleBounds();
   initial_dynamic_ = model_.num_dynamic();
+  guarded_ = GuardedJointBlocks(options_, model_, extent_);
   adam_.Reset(model_.gaussians);
   for (std::vector<double>* block : FieldParamBlocks(&model_)) {
     field_adam_.emplace_back(static_cast<int>(block->size()));
@@ -185,21 +186,18 @@ JointIterationStats JointTrainer::Step() {
   const std::vector<double> lr =
       FieldLearningRates(options_, iteration_, model_);
   std::vector<std::vector<double>*> blocks = FieldParamBlocks(&model_);
-  bool params_finite = AllFinite(model_.gaussians);
   for (size_t b = 0; b < blocks.size(); ++b) {
-    params_finite = field_adam_[b].Step(field_step_, lr[b],
-                                        field_grad_[b].data(),
-                                        blocks[b]->data()) &&
-                    params_finite;
+    field_adam_[b].Step(field_step_, lr[b], field_grad_[b].data(),
+                        blocks[b]->data());
   }
-  if (!fields_checked_) {
-    for (const std::vector<double>* block : blocks)
-      params_finite = params_finite && AllFinite(*block);
-    fields_checked_ = true;
-  }
+  // Every value, not only those the step changed: a block's largest
+  // magnitude is what tells a runaway learning rate.
+  std::vector<double> magnitudes = SplatMagnitudes(model_.gaussians);
+  for (const std::vector<double>* block : blocks)
+    magnitudes.push_back(MaxMagnitude(*block));
   ++iteration_;
   ApplyMotionRamp(options_, iteration_, &model_);
-  guard_.CheckParameters(iteration_, params_finite);
+  guard_.CheckBlocks(iteration_, guarded_, magnitudes);
   if (WaterDensifyDue(options_, iteration_, model_.num_dynamic()))
     out.densified = DensifyWaterNow();
   return out;
@@ -383,7 +381,6 @@ void JointTrainer::Restore(const JointCheckpoint& c,
     field_adam_[b].Restore(c.field_m[b], c.field_v[b]);
     std::fill(field_grad_[b].begin(), field_grad_[b].end(), 0.0);
   }
-  fields_checked_ = false;
   field_step_ = c.field_step;
   RestoreSamplerAndRng(c, source, &sampler_, &rng_);
   grad_ = GaussianSet();

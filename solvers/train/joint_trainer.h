@@ -97,9 +97,6 @@ class JointTrainer : public JointStageTrainer {
   // all zero between steps (SparseAdam hands it back cleared), and Adam.
   std::vector<std::vector<double>> field_grad_;
   std::vector<SparseAdam> field_adam_;
-  // Whether the field parameters were checked finite as a whole since
-  // construction or Restore; later steps check only the values they change.
-  bool fields_checked_ = false;
   int64_t field_step_ = 0;
   FrameSampler sampler_;
   std::mt19937_64 rng_;
@@ -124,6 +121,8 @@ class JointTrainer : public JointStageTrainer {
   std::vector<double> loop_grad_;
   int64_t iteration_ = 0;
   DivergenceGuard guard_;
+  // Splats then fields (GuardedJointBlocks), bounded at construction.
+  std::vector<GuardedBlock> guarded_;
 };
 
 // JointTrainerFactory's CPU maker.

@@ -209,6 +209,36 @@ std::vector<std::vector<double>*> FieldParamBlocks(LoopModel* model) {
   return blocks;
 }
 
+std::vector<GuardedBlock> GuardedJointBlocks(const JointTrainerOptions& o,
+                                             const LoopModel& model,
+                                             double extent) {
+  const JointLearningRateFlags& flags = o.lr_flags;
+  std::vector<GuardedBlock> blocks =
+      GuardedSplatBlocks(model.gaussians, extent, o.splat_lr, flags.splat);
+  // Field values are of order one (MLP weights, triplane features around
+  // 0 or 1).
+  auto add = [&blocks](const std::string& field, const std::string& flag,
+                       double rate, const double* values, int n) {
+    blocks.push_back({field, field + " learning rate", flag, rate,
+                      RunawayBound(values, n, 1.0)});
+  };
+  if (model.motion) {
+    const MotionField& v = *model.motion;
+    add("V's triplane", flags.motion_triplane, o.lr_motion_triplane,
+        v.params().triplane, v.triplane().num_params());
+    add("V's MLP", flags.motion_mlp, o.lr_motion_mlp, v.params().mlp,
+        v.mlp().num_params());
+  }
+  if (model.residual) {
+    const ResidualField& d = *model.residual;
+    add("D's triplane", flags.residual_triplane, o.lr_residual_triplane,
+        d.params().triplane, d.triplane().num_params());
+    add("D's MLP", flags.residual_mlp, o.lr_residual_mlp, d.params().mlp,
+        d.mlp().num_params());
+  }
+  return blocks;
+}
+
 bool WaterDensifyDue(const JointTrainerOptions& o, int64_t iteration,
                      int num_dynamic) {
   const WaterDensifyOptions& d = o.water_densify;

@@ -42,4 +42,31 @@ GaussianLearningRates ScheduledSplatRates(
   return lr;
 }
 
+std::vector<GuardedBlock> GuardedSplatBlocks(
+    const GaussianSet& initial, double extent,
+    const SplatLearningRateOptions& rates,
+    const SplatLearningRateFlags& flags) {
+  return {
+      {"the Gaussians' means", "the position learning rate", flags.means,
+       rates.means_initial, RunawayBound(initial.means, extent)},
+      {"the Gaussians' log-scales", "the log-scale learning rate",
+       flags.log_scales, rates.log_scales,
+       RunawayBound(initial.log_scales, 1)},
+      {"the Gaussians' rotations", "the rotation learning rate", flags.quats,
+       rates.quats, RunawayBound(initial.quats, 1)},
+      {"the Gaussians' opacity logits", "the opacity learning rate",
+       flags.opacity, rates.opacity, RunawayBound(initial.opacity_logits, 1)},
+      {"the Gaussians' SH colours", "an SH learning rate", flags.sh,
+       std::max(rates.sh_dc, rates.sh_rest), RunawayBound(initial.sh, 1)},
+      {"the Gaussians' dynamic logits", "the dynamic-logit learning rate",
+       flags.dynamic, rates.dynamic, RunawayBound(initial.dynamic_logits, 1)},
+  };
+}
+
+std::vector<double> SplatMagnitudes(const GaussianSet& g) {
+  return {MaxMagnitude(g.means),          MaxMagnitude(g.log_scales),
+          MaxMagnitude(g.quats),          MaxMagnitude(g.opacity_logits),
+          MaxMagnitude(g.sh),             MaxMagnitude(g.dynamic_logits)};
+}
+
 }  // namespace es

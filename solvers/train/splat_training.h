@@ -2,10 +2,13 @@
 #define EULERSPLAT_SOLVERS_TRAIN_SPLAT_TRAINING_H_
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "core/io/scene.h"
+#include "core/model/gaussians.h"
 #include "solvers/optim/adam.h"
+#include "solvers/train/divergence_guard.h"
 
 namespace es {
 
@@ -39,6 +42,28 @@ struct SplatLearningRateOptions {
 GaussianLearningRates ScheduledSplatRates(
     const SplatLearningRateOptions& options, double extent,
     int64_t iteration, int iterations, bool learn_dynamic);
+
+// The flags that set those rates, as a divergence message names them.
+// es_static's spelling; es_train's options set its own.
+struct SplatLearningRateFlags {
+  std::string means = "--lr_position";
+  std::string log_scales = "--lr_scale";
+  std::string quats = "--lr_rotation";
+  std::string opacity = "--lr_opacity";
+  std::string sh = "--lr_sh_dc/--lr_sh_rest";
+  std::string dynamic = "--lr_dynamic";
+};
+
+// The six splat blocks (GaussianSet order: means, log-scales, quaternions,
+// opacity logits, SH, dynamic logits) as DivergenceGuard watches them,
+// bounded by `initial`'s values: the means at least by the scene extent,
+// the others at least by 1.
+std::vector<GuardedBlock> GuardedSplatBlocks(
+    const GaussianSet& initial, double extent,
+    const SplatLearningRateOptions& rates,
+    const SplatLearningRateFlags& flags);
+// MaxMagnitude of each of g's six blocks, in that order.
+std::vector<double> SplatMagnitudes(const GaussianSet& g);
 
 }  // namespace es
 

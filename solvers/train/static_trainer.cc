@@ -70,6 +70,8 @@ StaticTrainer::StaticTrainer(const std::vector<Frame>* frames,
       guard_("Stage 1 training", options.max_nonfinite_steps) {
   g_.CheckConsistent();
   CHECK_LE(g_.sh_degree, options_.max_sh_degree);
+  guarded_ = GuardedSplatBlocks(g_, extent_, options_.splat_lr,
+                                options_.lr_flags);
   adam_.Reset(g_);
   stats_.Reset(g_.size());
 }
@@ -117,7 +119,7 @@ IterationStats StaticTrainer::Step() {
                                  options_.iterations, use_masks_),
              grad_, &g_);
   ++iteration_;
-  guard_.CheckParameters(iteration_, AllFinite(g_));
+  guard_.CheckBlocks(iteration_, guarded_, SplatMagnitudes(g_));
 
   const DensifyOptions& d = options_.densify_options;
   if (densifying && DensifyDue(options_, iteration_)) {

@@ -27,12 +27,15 @@ struct StaticTrainerOptions {
   int max_sh_degree = 3;
   int sh_degree_interval = 1000;  // raise the SH degree this often
   SplatLearningRateOptions splat_lr;
+  // What sets those rates, for a divergence message (es_static's flags).
+  SplatLearningRateFlags lr_flags;
   double ssim_weight = 0.2;
   double mask_weight = 0.5;  // BCE on the dynamic channel; 0 turns it off
   bool densify = true;
   DensifyOptions densify_options;
   Eigen::Vector3d background = Eigen::Vector3d::Zero();
-  // This many non-finite steps in a row stop the run (DivergenceGuard).
+  // This many non-finite steps in a row stop the run (DivergenceGuard), as
+  // does any splat block growing kRunawayGrowth times its initial scale.
   int max_nonfinite_steps = 10;
 };
 
@@ -99,6 +102,7 @@ class StaticTrainer : public StaticStageTrainer {
   std::vector<double> mean2d_grads_;  // of the last view, reused
   int64_t iteration_ = 0;
   DivergenceGuard guard_;
+  std::vector<GuardedBlock> guarded_;  // the splat blocks, from `initial`
 };
 
 }  // namespace es

@@ -145,6 +145,32 @@ TEST(CudaFlowPretrainTest, NonFiniteLossesStopBothFits) {
   EXPECT_TRUE(rmse.empty()) << "a skipped step reported progress";
 }
 
+// --lr_mlp 1e30 (fit RMSE 5.7e60, exit 0 before) stops both fits at the
+// first step, naming the flag.
+TEST(CudaFlowPretrainTest, RunawayLearningRateStopsBothFits) {
+  ES_REQUIRE_GPU("V pretraining");
+  const std::vector<SceneFlowSample> samples = Samples(40, 2);
+  std::vector<double> rmse;
+  FlowPretrainOptions o = TinyFit(&rmse);
+  o.lr_mlp = 1e30;
+  MotionField cpu_field = SmallMotionField(3);
+  MotionField device_field = SmallMotionField(3);
+  for (int device = 0; device < 2; ++device) {
+    try {
+      if (device)
+        PretrainMotionFieldOnDevice(samples, o, &device_field);
+      else
+        PretrainMotionField(samples, o, &cpu_field);
+      ADD_FAILURE() << (device ? "device" : "cpu") << ": no TrainingDiverged";
+    } catch (const TrainingDiverged& e) {
+      EXPECT_NE(std::string(e.what()).find("--lr_mlp 1e+30"),
+                std::string::npos)
+          << e.what();
+    }
+  }
+  EXPECT_TRUE(rmse.empty()) << "a stopped step reported progress";
+}
+
 }  // namespace
 }  // namespace cuda
 }  // namespace es

@@ -246,6 +246,29 @@ TEST(CudaJointTrainerTest, AblationWithoutVMatchesTheCpuTrainer) {
   ExpectModelsClose(cpu, device, 3, o, CameraExtent(frames, kTrain));
 }
 
+// A runaway field learning rate (--lr_motion_mlp 1e30) stops both
+// trainers at the first step, naming the flag.
+TEST(CudaJointTrainerTest, RunawayLearningRateStopsAsOnTheCpu) {
+  ES_REQUIRE_GPU("device Stage 3 divergence guard");
+  const std::vector<Frame> frames = TrueFrames();
+  JointTrainerOptions o = FullOptions();
+  o.lr_motion_mlp = 1e30;
+  JointTrainer cpu(&frames, kTrain, o, TrueCanonical(), std::nullopt);
+  DeviceJointTrainer device(&frames, kTrain, o, TrueCanonical(),
+                            std::nullopt);
+  for (JointStageTrainer* trainer :
+       std::vector<JointStageTrainer*>{&cpu, &device}) {
+    try {
+      trainer->Step();
+      ADD_FAILURE() << "no TrainingDiverged";
+    } catch (const TrainingDiverged& e) {
+      EXPECT_NE(std::string(e.what()).find("--lr_motion_mlp 1e+30"),
+                std::string::npos)
+          << e.what();
+    }
+  }
+}
+
 TEST(CudaJointTrainerTest, CheckpointsResumeOnTheOtherTrainer) {
   ES_REQUIRE_GPU("device Stage 3 trainer checkpoints");
   const std::vector<Frame> frames = TrueFrames();

@@ -332,6 +332,52 @@ TEST(CudaStaticTrainerTest, NonFiniteStepsAreSkippedAsOnTheCpu) {
   EXPECT_TRUE(AllFinite(device.gaussians()));
 }
 
+// The device's block magnitudes (one reduction kernel per array) are the
+// CPU's, a NaN or an infinity anywhere reading as infinity.
+TEST(CudaStaticTrainerTest, MaxMagnitudesMatchTheCpu) {
+  ES_REQUIRE_GPU("device block magnitudes");
+  const TinyScene scene;
+  const GaussianSet initial = scene.Initial();
+  GaussianSet g = initial;
+  // Beyond one block of 256 threads: the per-block maxima must combine.
+  while (g.size() < 700) g.AppendFrom(initial, g.size() % initial.size());
+  g.means[3 * 650 + 1] = -7.5e29;
+  g.sh[g.sh.size() - 1] = 123.0;
+  DeviceGaussians device;
+  device.Upload(g);
+  EXPECT_EQ(device.MaxMagnitudes(), SplatMagnitudes(g));
+  for (double bad : {std::nan(""), HUGE_VAL, -HUGE_VAL}) {
+    GaussianSet b = g;
+    b.opacity_logits[333] = bad;
+    device.Upload(b);
+    const std::vector<double> m = device.MaxMagnitudes();
+    EXPECT_EQ(m, SplatMagnitudes(b)) << bad;
+    EXPECT_EQ(m[3], HUGE_VAL) << bad;
+  }
+}
+
+// A runaway learning rate (--lr_position 1e30) stops both trainers at the
+// first step, naming the flag.
+TEST(CudaStaticTrainerTest, RunawayLearningRateStopsAsOnTheCpu) {
+  ES_REQUIRE_GPU("device divergence guard");
+  const TinyScene scene;
+  StaticTrainerOptions o = Options();
+  o.splat_lr.means_initial = o.splat_lr.means_final = 1e30;
+  StaticTrainer cpu(&scene.frames, scene.train, o, scene.Initial());
+  DeviceStaticTrainer device(&scene.frames, scene.train, o, scene.Initial());
+  for (StaticStageTrainer* trainer :
+       std::vector<StaticStageTrainer*>{&cpu, &device}) {
+    try {
+      trainer->Step();
+      ADD_FAILURE() << "no TrainingDiverged";
+    } catch (const TrainingDiverged& e) {
+      EXPECT_NE(std::string(e.what()).find("--lr_position 1e+30"),
+                std::string::npos)
+          << e.what();
+    }
+  }
+}
+
 // A checkpoint of the device trainer, through a file, resumes on the CPU,
 // and one of the CPU resumes on the device: both continue as the trainer
 // that saved it does.

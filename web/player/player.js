@@ -185,6 +185,8 @@ async function main() {
     controls.update();
     keepProjection();
     renderer.render(scene, camera);
+    // The page showed es_export's poster until now.
+    document.getElementById("poster")?.remove();
     info.textContent = `loop frame ${frame + 1} / ${loop.numFrames}` +
         (paused ? " (paused)" : "") +
         " · drag to orbit, scroll to zoom, space to pause";

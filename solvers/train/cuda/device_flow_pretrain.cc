@@ -48,12 +48,29 @@ bool AllFinite(const DeviceFieldBlocks& blocks, DeviceBuffer<int>* flag) {
   return value == 0;
 }
 
+// MaxMagnitude of both blocks: two integers come back.
+std::vector<double> MaxMagnitudes(const DeviceFieldBlocks& blocks,
+                                  DeviceBuffer<unsigned long long>* bits) {
+  bits->Resize(2);
+  bits->Zero();
+  RaiseMaxMagnitudeBits(static_cast<long long>(blocks.triplane.size()),
+                        blocks.triplane.data(), bits->data());
+  RaiseMaxMagnitudeBits(static_cast<long long>(blocks.mlp.size()),
+                        blocks.mlp.data(), bits->data() + 1);
+  std::vector<double> magnitudes;
+  for (unsigned long long b : bits->Download())
+    magnitudes.push_back(MagnitudeOfBits(b));
+  return magnitudes;
+}
+
 // FitWithAdam (flow_pretrain.cc) with x, the gradients and moments on the
-// device.
+// device; `blocks` and `loss_scale` as PretrainGuardedBlocks and
+// PretrainLossScale give them.
 int FitWithAdam(const DeviceMotionField& field,
                 const FlowPretrainOptions& options,
-                const PretrainStopwatch& clock, DeviceSceneFlowLoss* loss,
-                DeviceFieldBlocks* x) {
+                const PretrainStopwatch& clock,
+                const std::vector<GuardedBlock>& blocks, double loss_scale,
+                DeviceSceneFlowLoss* loss, DeviceFieldBlocks* x) {
   const int n_tri = field.triplane().num_params();
   const int n_mlp = field.mlp().num_params();
   DeviceFieldBlocks g, m, v;
@@ -62,10 +79,12 @@ int FitWithAdam(const DeviceMotionField& field,
   v.Zeros(n_tri, n_mlp);
   DeviceBuffer<double> tv_scratch;
   DeviceBuffer<int> flag;
+  DeviceBuffer<unsigned long long> magnitude_bits;
   PretrainBatches batches(options.seed, loss->num_samples(),
                           options.batch_size);
   const AdamOptions adam = PretrainAdamOptions(options);
-  DivergenceGuard guard("V pretraining", options.max_nonfinite_steps);
+  DivergenceGuard guard("V pretraining", options.max_nonfinite_steps,
+                        "no field was written");
   for (int it = 1; it <= options.iterations; ++it) {
     ScopedStage timer(Stage::kIteration);
     g.triplane.Zero();
@@ -78,13 +97,14 @@ int FitWithAdam(const DeviceMotionField& field,
     }
     if (!guard.Accept(it, std::isfinite(value) && AllFinite(g, &flag)))
       continue;
+    guard.CheckLoss(it, value, loss_scale, blocks);
     const double decay = PretrainLrDecay(options, it);
     DeviceAdamUpdate(adam, it, options.lr_triplane * decay, n_tri,
                      g.triplane.data(), m.triplane.data(), v.triplane.data(),
                      x->triplane.data());
     DeviceAdamUpdate(adam, it, options.lr_mlp * decay, n_mlp, g.mlp.data(),
                      m.mlp.data(), v.mlp.data(), x->mlp.data());
-    guard.CheckParameters(it, AllFinite(*x, &flag));
+    guard.CheckBlocks(it, blocks, MaxMagnitudes(*x, &magnitude_bits));
     ReportPretrainProgress(options, it, options.iterations, clock.seconds(),
                            value);
   }
@@ -112,14 +132,16 @@ FlowPretrainReport PretrainMotionFieldOnDevice(
   x.Upload(field->params(), n_tri, n_mlp);
   report.initial_rmse = DeviceFitRmse(x.params(), &loss);
   const PretrainStopwatch clock;
-  report.iterations = FitWithAdam(device_field, fit, clock, &loss, &x);
+  report.iterations =
+      FitWithAdam(device_field, fit, clock, PretrainGuardedBlocks(fit, *field),
+                  PretrainLossScale(report), &loss, &x);
   report.seconds = clock.seconds();
   report.fit_rmse = DeviceFitRmse(x.params(), &loss);
   DeviceBuffer<int> flag;
   const bool finite = AllFinite(x, &flag) && std::isfinite(report.fit_rmse);
   x.triplane.Download(field->triplane_params().data());
   x.mlp.Download(field->mlp_params().data());
-  CheckPretrainedField(finite);
+  CheckPretrainedField(finite, report, options);
   return report;
 }
 

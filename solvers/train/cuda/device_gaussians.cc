@@ -72,6 +72,24 @@ void DeviceGaussians::MarkNonFinite(int* flag) {
     FlagNonFinite(a->size(), a->data(), flag);
 }
 
+std::vector<double> DeviceGaussians::MaxMagnitudes() {
+  magnitude_bits_.Resize(6);
+  magnitude_bits_.Zero();
+  RaiseMaxMagnitudes(magnitude_bits_.data());
+  std::vector<double> magnitudes;
+  for (unsigned long long bits : magnitude_bits_.Download())
+    magnitudes.push_back(MagnitudeOfBits(bits));
+  return magnitudes;
+}
+
+void DeviceGaussians::RaiseMaxMagnitudes(unsigned long long* bits) {
+  const std::vector<DeviceBuffer<double>*> arrays = Arrays();
+  for (size_t k = 0; k < arrays.size(); ++k) {
+    RaiseMaxMagnitudeBits(static_cast<long long>(arrays[k]->size()),
+                          arrays[k]->data(), bits + k);
+  }
+}
+
 std::vector<DeviceBuffer<double>*> DeviceGaussians::Arrays() {
   return {&means_,          &log_scales_, &quats_,
           &opacity_logits_, &sh_,         &dynamic_logits_};

@@ -35,6 +35,12 @@ class DeviceGaussians {
   // otherwise; nothing comes back, so a caller can check more arrays with
   // the same flag and download it once.
   void MarkNonFinite(int* flag);
+  // MaxMagnitude of each of the six arrays (GaussianSet order), +infinity
+  // for one that is not finite: six integers come back to the host.
+  std::vector<double> MaxMagnitudes();
+  // Raises bits[0, 6) (device) as RaiseMaxMagnitudeBits does, one per
+  // array; nothing comes back.
+  void RaiseMaxMagnitudes(unsigned long long* bits);
 
  private:
   std::vector<DeviceBuffer<double>*> Arrays();
@@ -43,6 +49,7 @@ class DeviceGaussians {
   DeviceBuffer<double> means_, log_scales_, quats_, opacity_logits_, sh_,
       dynamic_logits_;
   DeviceBuffer<int> flag_;
+  DeviceBuffer<unsigned long long> magnitude_bits_;
 };
 
 }  // namespace cuda

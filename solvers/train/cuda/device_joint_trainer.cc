@@ -40,6 +40,7 @@ DeviceJointTrainer::DeviceJointTrainer(const std::vector<Frame>* frames,
   model_ = InitialLoopModel(options_, static_cast<int>(frames_->size()),
                             std::move(initial), std::move(motion), &rng_);
   initial_dynamic_ = model_.num_dynamic();
+  guarded_ = GuardedJointBlocks(options_, model_, extent_);
   fields_.resize(FieldParamBlocks(&model_).size());
   GaussianAdam adam;
   adam.Reset(model_.gaussians);
@@ -132,7 +133,7 @@ JointIterationStats DeviceJointTrainer::Step() {
     out.loss += out.flow_prior;
   }
   const bool finite =
-      std::isfinite(out.loss) && AllFinite(&grad_, /*gradients=*/true);
+      std::isfinite(out.loss) && GradientsFinite();
   if (!guard_.Accept(iteration_ + 1, finite)) {
     for (FieldBlock& f : fields_) f.grad.Zero();
     out.skipped = true;
@@ -164,7 +165,7 @@ JointIterationStats DeviceJointTrainer::Step() {
   host_current_ = false;
   ++iteration_;
   ApplyMotionRamp(options_, iteration_, &model_);
-  guard_.CheckParameters(iteration_, AllFinite(&g_, /*gradients=*/false));
+  guard_.CheckBlocks(iteration_, guarded_, MaxMagnitudes());
   if (WaterDensifyDue(options_, iteration_, model_.num_dynamic()))
     out.densified = DensifyWaterNow();
   return out;
@@ -355,18 +356,33 @@ WaterDensifyResult DeviceJointTrainer::DensifyWaterNow() {
   return result;
 }
 
-bool DeviceJointTrainer::AllFinite(DeviceGaussians* splats, bool gradients) {
+bool DeviceJointTrainer::GradientsFinite() {
   flag_.Resize(1);
   flag_.Zero();
-  splats->MarkNonFinite(flag_.data());
+  grad_.MarkNonFinite(flag_.data());
   for (FieldBlock& f : fields_) {
-    const DeviceBuffer<double>& values = gradients ? f.grad : f.x;
-    FlagNonFinite(static_cast<long long>(values.size()), values.data(),
+    FlagNonFinite(static_cast<long long>(f.grad.size()), f.grad.data(),
                   flag_.data());
   }
   int flag = 0;
   flag_.Download(&flag);
   return flag == 0;
+}
+
+std::vector<double> DeviceJointTrainer::MaxMagnitudes() {
+  constexpr size_t kSplatBlocks = 6;
+  magnitude_bits_.Resize(kSplatBlocks + fields_.size());
+  magnitude_bits_.Zero();
+  g_.RaiseMaxMagnitudes(magnitude_bits_.data());
+  for (size_t b = 0; b < fields_.size(); ++b) {
+    RaiseMaxMagnitudeBits(static_cast<long long>(fields_[b].x.size()),
+                          fields_[b].x.data(),
+                          magnitude_bits_.data() + kSplatBlocks + b);
+  }
+  std::vector<double> magnitudes;
+  for (unsigned long long bits : magnitude_bits_.Download())
+    magnitudes.push_back(MagnitudeOfBits(bits));
+  return magnitudes;
 }
 
 const LoopModel& DeviceJointTrainer::model() const {

@@ -111,9 +111,12 @@ class DeviceJointTrainer : public JointStageTrainer {
                              const Frame& frame, double scale, uint64_t draw,
                              float* device_grad);
   WaterDensifyResult DensifyWaterNow();
-  // Whether every value of `splats` and of the field blocks' `grad` (or
-  // `x`) is finite: one flag for all, one int back to the host.
-  bool AllFinite(DeviceGaussians* splats, bool gradients);
+  // Whether every value of the splats' and the fields' gradients is
+  // finite: one flag for all, one int back to the host.
+  bool GradientsFinite();
+  // MaxMagnitude of each block GuardedJointBlocks lists (splats, then the
+  // fields' values): one download.
+  std::vector<double> MaxMagnitudes();
   LoopStructure Structure() const;
 
   const std::vector<Frame>* frames_;
@@ -138,6 +141,7 @@ class DeviceJointTrainer : public JointStageTrainer {
   DeviceBuffer<int> dynamic_index_;        // for the scale bound
   DeviceBuffer<double> max_log_scale_;     // per dynamic Gaussian
   DeviceBuffer<int> flag_;
+  DeviceBuffer<unsigned long long> magnitude_bits_;
   DeviceRasterizer rasterizer_, pair_rasterizer_;
   DeviceJointRenderCost cost_, pair_cost_;
   std::optional<DeviceMotionField> prior_field_;
@@ -157,6 +161,8 @@ class DeviceJointTrainer : public JointStageTrainer {
   DeviceBuffer<float> texture_grad_;
   int64_t iteration_ = 0;
   DivergenceGuard guard_;
+  // Splats then fields (GuardedJointBlocks), bounded at construction.
+  std::vector<GuardedBlock> guarded_;
 };
 
 // The device trainer behind an interface, for callers that choose the

@@ -30,6 +30,8 @@ DeviceStaticTrainer::DeviceStaticTrainer(const std::vector<Frame>* frames,
       guard_("Stage 1 training", options.max_nonfinite_steps) {
   initial.CheckConsistent();
   CHECK_LE(initial.sh_degree, options_.max_sh_degree);
+  guarded_ = GuardedSplatBlocks(initial, extent_, options_.splat_lr,
+                                options_.lr_flags);
   HostState start;
   start.g = std::move(initial);
   start.adam.Reset(start.g);
@@ -81,7 +83,7 @@ IterationStats DeviceStaticTrainer::Step() {
              grad_.Blocks(), g_.Blocks());
   host_g_current_ = false;
   ++iteration_;
-  guard_.CheckParameters(iteration_, g_.AllFinite());
+  guard_.CheckBlocks(iteration_, guarded_, g_.MaxMagnitudes());
 
   const bool densify = densifying && DensifyDue(options_, iteration_);
   const bool reset = densifying && OpacityResetDue(options_, iteration_);

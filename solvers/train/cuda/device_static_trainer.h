@@ -84,6 +84,7 @@ class DeviceStaticTrainer : public StaticStageTrainer {
   DeviceSplatRenderCost cost_;
   int64_t iteration_ = 0;
   DivergenceGuard guard_;
+  std::vector<GuardedBlock> guarded_;  // the splat blocks, from `initial`
   mutable GaussianSet host_g_;       // gaussians()'s copy
   mutable bool host_g_current_ = false;
 };

@@ -3,6 +3,10 @@
 // of the divergence guard, the water's scale bound and gradient
 // averaging.
 
+#include <cmath>
+#include <cstring>
+#include <limits>
+
 #include "core/base/cuda/cuda_check.h"
 #include "solvers/train/cuda/training_kernels.h"
 
@@ -34,6 +38,30 @@ __global__ void NonFiniteKernel(long long n, const double* x, int* flag) {
                       threadIdx.x;
   // x - x is 0 for finite x and NaN for NaN and infinities.
   if (i < n && !(x[i] - x[i] == 0.0)) atomicMax(flag, 1);
+}
+
+// A grid-stride maximum per thread, a tree in shared memory per block and
+// one atomicMax per block.
+__global__ void MaxMagnitudeBitsKernel(long long n, const double* x,
+                                       unsigned long long* max_bits) {
+  __shared__ unsigned long long best[kThreads];
+  unsigned long long mine = 0;
+  const long long stride = static_cast<long long>(gridDim.x) * blockDim.x;
+  for (long long i = static_cast<long long>(blockIdx.x) * blockDim.x +
+                     threadIdx.x;
+       i < n; i += stride) {
+    const unsigned long long bits =
+        static_cast<unsigned long long>(__double_as_longlong(fabs(x[i])));
+    mine = bits > mine ? bits : mine;
+  }
+  best[threadIdx.x] = mine;
+  __syncthreads();
+  for (int s = blockDim.x / 2; s > 0; s >>= 1) {
+    if (threadIdx.x < s && best[threadIdx.x + s] > best[threadIdx.x])
+      best[threadIdx.x] = best[threadIdx.x + s];
+    __syncthreads();
+  }
+  if (threadIdx.x == 0) atomicMax(max_bits, best[0]);
 }
 
 __global__ void ClampLogScalesKernel(int m, const int* dynamic,
@@ -74,6 +102,20 @@ void FlagNonFinite(long long n, const double* x, int* flag) {
   if (n == 0) return;
   NonFiniteKernel<<<Blocks(n), kThreads>>>(n, x, flag);
   ES_CUDA_CHECK_LAUNCH("NonFiniteKernel");
+}
+
+void RaiseMaxMagnitudeBits(long long n, const double* x,
+                           unsigned long long* max_bits) {
+  if (n == 0) return;
+  const int blocks = Blocks(n) < 1024 ? Blocks(n) : 1024;
+  MaxMagnitudeBitsKernel<<<blocks, kThreads>>>(n, x, max_bits);
+  ES_CUDA_CHECK_LAUNCH("MaxMagnitudeBitsKernel");
+}
+
+double MagnitudeOfBits(unsigned long long bits) {
+  double value;
+  std::memcpy(&value, &bits, sizeof(value));
+  return std::isnan(value) ? std::numeric_limits<double>::infinity() : value;
 }
 
 void ClampLogScales(int m, const int* dynamic, const double* max_log_scale,

@@ -19,6 +19,17 @@ void AddViewStats(int count, double half_w, double half_h, const int* radii,
 // it otherwise.
 void FlagNonFinite(long long n, const double* x, int* flag);
 
+// Raises *max_bits (device) to the bits of the largest |x[i]|, i < n, if
+// those are larger: the bits of non-negative doubles order as the values
+// do, with NaN above infinity, so a block's largest magnitude (and whether
+// it is finite) comes back as one integer. Zero *max_bits first;
+// MagnitudeOfBits reads it.
+void RaiseMaxMagnitudeBits(long long n, const double* x,
+                           unsigned long long* max_bits);
+// The magnitude RaiseMaxMagnitudeBits left, +infinity for NaN (as
+// MaxMagnitude, solvers/train/divergence_guard.h).
+double MagnitudeOfBits(unsigned long long bits);
+
 // ClampScales (solvers/train/water_particles.h): for the m Gaussians
 // dynamic[k], each of their three log-scales at most max_log_scale[k].
 void ClampLogScales(int m, const int* dynamic, const double* max_log_scale,

@@ -40,6 +40,9 @@ using std::max;
 using std::min;
 
 inline unsigned __float_as_uint(float f) { return std::bit_cast<unsigned>(f); }
+inline long long __double_as_longlong(double d) {
+  return std::bit_cast<long long>(d);
+}
 
 namespace es {
 namespace emulation {
@@ -136,9 +139,10 @@ T atomicAdd(T* address, T value) {
   return old;
 }
 
-inline int atomicMax(int* address, int value) {
+template <typename T>
+T atomicMax(T* address, T value) {
   std::lock_guard<std::mutex> lock(es::emulation::atomics);
-  const int old = *address;
+  const T old = *address;
   *address = std::max(old, value);
   return old;
 }
