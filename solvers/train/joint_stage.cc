@@ -18,9 +18,9 @@
 #include "core/io/output_dir.h"
 #include "core/io/ply_io.h"
 #include "core/loop/loop_model.h"
-#include "core/render/rasterizer.h"
 #include "solvers/checkpoint/joint_checkpoint.h"
 #include "solvers/eval/loop_evaluation.h"
+#include "solvers/eval/static_eval.h"
 #include "solvers/train/joint_training_steps.h"
 #include "solvers/train/flow_prior.h"
 #include "solvers/train/training_history.h"
@@ -143,24 +143,6 @@ void SplitWater(const JointStageOptions& o, const Scene& scene,
 const std::vector<std::string> kHistoryColumns = {
     "loss",      "photometric", "mask",      "residual",
     "gaussians", "dynamic",     "psnr_test", "psnr_test_water"};
-
-// Stage 1's model on the held-out frames, measured as the looping model
-// is (the same renders, the same figures): what Stage 3 starts from.
-LoopMetrics EvaluateStaticModel(const GaussianSet& gaussians,
-                                const Scene& scene,
-                                const RenderOptions& options) {
-  Rasterizer rasterizer;
-  RenderResult result;
-  std::vector<cv::Mat> images;
-  for (int f : scene.test) {
-    rasterizer.Forward(scene.frames[f].camera, SplatView::Of(gaussians),
-                       options, &result);
-    images.push_back(
-        cv::Mat(result.height, result.width, CV_64FC3, result.rgb.data())
-            .clone());
-  }
-  return CompareWithFrames(images, scene.frames, scene.test);
-}
 
 // The history's first row: the looping model before any step, beside
 // Stage 1's figures, so that a drop at the start of Stage 3 shows.
@@ -341,7 +323,12 @@ JointStageResult RunJointStage(const JointStageOptions& o,
               initial.size(), initial.sh_degree);
   JointStageResult r;
   if (o.eval_interval > 0 && !scene.test.empty()) {
-    r.stage1 = EvaluateStaticModel(initial, scene, JointRenderOptions(o.trainer));
+    // The same renders and figures as EvaluateLoopModel's for a model
+    // without motion.
+    const StaticMetrics stage1 = EvaluateStatic(
+        initial, scene.frames, scene.test, JointRenderOptions(o.trainer));
+    r.stage1 = {stage1.frames, stage1.psnr, stage1.ssim, stage1.psnr_water,
+                stage1.ssim_water};
   }
   std::optional<MotionField> motion = PretrainedMotion(o, &r.flow_init);
   SplitWater(o, scene, &initial);
