@@ -30,10 +30,11 @@ int main(int argc, char** argv) {
             es::JointStageOptionsFromFlags(&device);
         const es::JointStageResult r =
             es::RunJointStage(options, es::JointTrainerOn(device));
-        std::printf("test PSNR %.3f SSIM %.4f (water PSNR %.3f SSIM %.4f) "
-                    "over %d frames; %.1f s\n",
+        std::printf("test PSNR %.3f SSIM %.4f (water PSNR %.3f SSIM %.4f, "
+                    "scenery PSNR %.3f) over %d frames; %.1f s\n",
                     r.test.psnr, r.test.ssim, r.test.psnr_water,
-                    r.test.ssim_water, r.test.frames, r.seconds);
+                    r.test.ssim_water, r.test.psnr_static, r.test.frames,
+                    r.seconds);
         return 0;
       });
 }

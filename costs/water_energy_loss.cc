@@ -33,12 +33,17 @@ void Energy(const std::vector<double>& x, int w, int h,
 }  // namespace
 
 WaterEnergyLoss::WaterEnergyLoss(const WaterEnergyOptions& options)
-    : options_(options), kernels_(MakeWaterEnergyKernels(options)) {}
+    : options_(options),
+      kernels_(MakeWaterEnergyKernels(options)),
+      motion_floors_(RenderedEnergyFloors(options, kernels_, -1)) {
+  for (int k = 0; k < options.detail_octaves; ++k)
+    band_floors_.push_back(RenderedEnergyFloors(options, kernels_, k));
+}
 
 double WaterEnergyLoss::AmplitudeL1(const std::vector<double>& e_rendered,
                                     const std::vector<double>& e_input,
                                     const std::vector<double>& mask,
-                                    double scale,
+                                    double floor, double scale,
                                     std::vector<double>* d_energy) const {
   double count = 0;
   for (double m : mask) count += m;
@@ -47,7 +52,7 @@ double WaterEnergyLoss::AmplitudeL1(const std::vector<double>& e_rendered,
   double sum = 0;
   for (size_t p = 0; p < mask.size(); ++p) {
     if (mask[p] == 0) continue;
-    const double a = std::sqrt(std::max(e_rendered[p], 0.0) + options_.eps);
+    const double a = std::sqrt(std::max(e_rendered[p], 0.0) + floor);
     const double b = std::sqrt(std::max(e_input[p], 0.0) + options_.eps);
     sum += std::abs(a - b);
     const double sign = a > b ? 1.0 : (a < b ? -1.0 : 0.0);
@@ -120,7 +125,7 @@ void WaterEnergyLoss::EvaluateChannel(int c, const double* rendered_a,
     Energy(s->diff, w, h, kernels_.window[0], &s->blur, &s->g, &s->e_i);
     for (size_t p = 0; p < pixels; ++p) s->diff[p] = s->yb[p] - s->ya[p];
     Energy(s->diff, w, h, kernels_.window[0], &s->blur, &s->g, &s->e_r);
-    *motion = AmplitudeL1(s->e_r, s->e_i, mask_,
+    *motion = AmplitudeL1(s->e_r, s->e_i, mask_, motion_floors_[c],
                           channel_scale * options_.motion_weight, &s->d_e) /
               kChannels;
     BlurAdjoint(s->d_e, w, h, kernels_.window[0], &s->blur, &s->g);
@@ -146,7 +151,8 @@ void WaterEnergyLoss::EvaluateChannel(int c, const double* rendered_a,
         Band(y, w, h, k, kernels_.detail, &s->blur, &s->low, &s->high);
         Energy(s->high, w, h, window, &s->blur, &s->g, &s->e_r);
         *detail += 0.5 *
-                   AmplitudeL1(s->e_r, s->e_i, water, band_scale, &s->d_e) /
+                   AmplitudeL1(s->e_r, s->e_i, water, band_floors_[k][c],
+                               band_scale, &s->d_e) /
                    (kChannels * octaves);
         BlurAdjoint(s->d_e, w, h, window, &s->blur, &s->g);
         for (size_t p = 0; p < pixels; ++p) s->g[p] *= 2 * s->high[p];

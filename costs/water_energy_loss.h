@@ -45,7 +45,11 @@ struct ChannelScratch {
 // faint tinted streaks: each channel's amplitude matched, their signs
 // not). The motion term uses the
 // pixels that are water in A or B; the detail term each frame's own;
-// without masks, every pixel. Options and terms: costs/water_energy_terms.h.
+// without masks, every pixel. With the input's noise known
+// (WaterEnergyOptions::input_noise), the render's energies get its
+// expected energy added: the render is scored as if it had the input's
+// noise, so it is not asked to paint it. Options and terms:
+// costs/water_energy_terms.h.
 //
 // Evaluates the loss for one pair; reuses its buffers between calls, so
 // not thread-safe.
@@ -68,12 +72,13 @@ class WaterEnergyLoss {
                   double* d_a, double* d_b, WaterEnergyTerms* terms = nullptr);
 
  private:
-  // sum_p m_p |sqrt(e_r + eps) - sqrt(e_i + eps)| / sum_p m_p and, into
-  // d_energy, its derivative by e_r (times `scale`).
+  // sum_p m_p |sqrt(e_r + floor) - sqrt(e_i + eps)| / sum_p m_p and,
+  // into d_energy, its derivative by e_r (times `scale`); floor: the
+  // channel's and term's from RenderedEnergyFloors.
   double AmplitudeL1(const std::vector<double>& e_rendered,
                      const std::vector<double>& e_input,
-                     const std::vector<double>& mask, double scale,
-                     std::vector<double>* d_energy) const;
+                     const std::vector<double>& mask, double floor,
+                     double scale, std::vector<double>* d_energy) const;
 
   // One opponent channel's unweighted motion and detail terms (each
   // already divided by the channel count) and, into s->dya / s->dyb,
@@ -86,6 +91,9 @@ class WaterEnergyLoss {
   WaterEnergyOptions options_;
   // G_k and W_k of the detail bands.
   WaterEnergyKernels kernels_;
+  // The rendered energies' floors per channel: motion, and detail band k.
+  std::array<double, 3> motion_floors_;
+  std::vector<std::array<double, 3>> band_floors_;
   // Per-frame scratch, reused; the channels are evaluated in parallel.
   cv::Mat input_a_, input_b_;  // CV_64FC3
   std::vector<double> mask_, mask_a_, mask_b_;

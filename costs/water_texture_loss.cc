@@ -43,12 +43,16 @@ int WaterTextureLoss::dims() const {
   return kChannels * options_.bands * kNeighbours;
 }
 
-void WaterTextureLoss::Bands(const double* rgb,
+void WaterTextureLoss::Bands(const double* rgb, std::mt19937_64* noise,
                              std::vector<std::vector<double>>* bands) {
   const size_t pixels = static_cast<size_t>(w_) * h_;
   bands->resize(kChannels * options_.bands);
   for (int c = 0; c < kChannels; ++c) {
     internal::ChannelOf(rgb, pixels, c, &channel_);
+    if (noise != nullptr && options_.input_noise[c] > 0) {
+      std::normal_distribution<double> normal(0.0, options_.input_noise[c]);
+      for (double& v : channel_) v += normal(*noise);
+    }
     for (int k = 0; k < options_.bands; ++k)
       internal::Band(channel_, w_, h_, k, kernels_, &blur_, &low_,
                      &(*bands)[c * options_.bands + k]);
@@ -111,8 +115,10 @@ double WaterTextureLoss::Evaluate(const double* rendered,
   if (water_.size() < 2 || factor == 0) return 0;
 
   input.convertTo(input_, CV_64FC3);
-  Bands(rendered, &rendered_bands_);
-  Bands(input_.ptr<double>(), &input_bands_);
+  // Its own stream: the directions below stay those of `draw`.
+  std::mt19937_64 noise(draw ^ 0x9e3779b97f4a7c15ULL);
+  Bands(rendered, &noise, &rendered_bands_);
+  Bands(input_.ptr<double>(), nullptr, &input_bands_);
   FindTaps();
 
   const size_t n = water_.size();

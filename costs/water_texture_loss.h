@@ -1,7 +1,9 @@
 #ifndef EULERSPLAT_COSTS_WATER_TEXTURE_LOSS_H_
 #define EULERSPLAT_COSTS_WATER_TEXTURE_LOSS_H_
 
+#include <array>
 #include <cstdint>
+#include <random>
 #include <vector>
 
 #include <Eigen/Core>
@@ -17,6 +19,12 @@ struct WaterTextureOptions {
   int bands = 2;        // difference-of-Gaussians bands, finest first
   int projections = 16; // random directions per evaluation
   double sigma = 1.0;   // pixels: G_0; band k's blurs are 2^k times wider
+  // Std of the input's per-pixel noise on each opponent channel
+  // (costs/water_input_noise.h): white noise of this std is drawn onto
+  // the render's channels before its bands are taken, so the render is
+  // compared as the camera would have filmed it and is not asked to
+  // paint the noise.
+  std::array<double, 3> input_noise = {0, 0, 0};
 };
 
 // A loss on the distribution of the water's texture rather than its
@@ -56,8 +64,10 @@ class WaterTextureLoss {
                   double* d_rendered);
 
  private:
-  // The bands of every channel of one RGB image, channel-major.
-  void Bands(const double* rgb, std::vector<std::vector<double>>* bands);
+  // The bands of every channel of one RGB image, channel-major; with
+  // `noise` set, input_noise is drawn from it onto each channel first.
+  void Bands(const double* rgb, std::mt19937_64* noise,
+             std::vector<std::vector<double>>* bands);
 
   // Each water pixel's 3 x 3 neighbourhood per band level: taps_[k][9 i +
   // o], pixel indices.

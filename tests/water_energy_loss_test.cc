@@ -130,6 +130,7 @@ TEST(WaterEnergyLossTest, GradientMatchesFiniteDifferences) {
     options.detail_sigma = 0.8;
     options.window_sigma = 1.2;
     options.detail_octaves = setting >= 4 ? 3 : 1; // the pyramid's bands
+    if (setting % 2 == 0) options.input_noise = {0.05, 0.02, 0.03};
     const bool masked = setting != 3 && setting != 5;
     const cv::Mat ma = masked ? HalfMask(true) : cv::Mat();
     const cv::Mat mb = masked ? HalfMask(false) : cv::Mat();
@@ -240,6 +241,71 @@ TEST(WaterEnergyLossTest, ParallelChannelsGiveTheOneThreadResult) {
   EXPECT_EQ(one, three);
   EXPECT_EQ(da1, da3);
   EXPECT_EQ(db1, db3);
+}
+
+// noise_gain[k] is the share of white noise's variance that band k keeps:
+// the mean squared band of a large noise image, away from the borders.
+TEST(WaterEnergyLossTest, NoiseGainIsTheBandsShareOfWhiteNoise) {
+  const int w = 256, h = 256;
+  const double sigma = 0.1;
+  WaterEnergyOptions options;
+  options.detail_octaves = 3;
+  const WaterEnergyKernels kernels = MakeWaterEnergyKernels(options);
+  std::mt19937 rng(3);
+  std::normal_distribution<double> noise(0.0, sigma);
+  std::vector<double> y(static_cast<size_t>(w) * h), low, band;
+  for (double& v : y) v = noise(rng);
+  internal::BlurScratch scratch;
+  for (int k = 0; k < 3; ++k) {
+    internal::Band(y, w, h, k, kernels.detail, &scratch, &low, &band);
+    double sum = 0;
+    int n = 0;
+    for (int r = 32; r < h - 32; ++r)
+      for (int c = 32; c < w - 32; ++c, ++n) sum += band[r * w + c] * band[r * w + c];
+    SCOPED_TRACE("band " + std::to_string(k));
+    EXPECT_NEAR(sum / n, kernels.noise_gain[k] * sigma * sigma,
+                0.05 * kernels.noise_gain[k] * sigma * sigma);
+  }
+  EXPECT_GT(kernels.noise_gain[0], kernels.noise_gain[1]);
+}
+
+// Input frames = clean water + new noise each frame. Told the noise, the
+// loss prefers the clean render to one that paints noise of its own;
+// not told, it asks for the noise.
+TEST(WaterEnergyLossTest, KnownInputNoiseIsNotAskedOfTheRender) {
+  const int w = 48, h = 40;
+  const double sigma = 0.05;
+  cv::Mat clean_a = RandomRgbImage(w, h, 21), clean_b = RandomRgbImage(w, h, 22);
+  cv::GaussianBlur(clean_a, clean_a, cv::Size(0, 0), 1.5);
+  cv::GaussianBlur(clean_b, clean_b, cv::Size(0, 0), 1.5);
+  auto noisy = [&](const cv::Mat& clean, int seed) {
+    cv::Mat n(h, w, CV_32FC3), out;
+    cv::RNG(seed).fill(n, cv::RNG::NORMAL, 0.0, sigma);
+    out = clean + n;
+    return out;
+  };
+  const cv::Mat in_a = noisy(clean_a, 1), in_b = noisy(clean_b, 2);
+  const std::vector<double> clean_ra = FlatRgb(clean_a),
+                            clean_rb = FlatRgb(clean_b),
+                            noisy_ra = FlatRgb(noisy(clean_a, 3)),
+                            noisy_rb = FlatRgb(noisy(clean_b, 4));
+  for (bool told : {true, false}) {
+    WaterEnergyOptions options;
+    if (told) options.input_noise = {sigma, sigma, sigma};
+    WaterEnergyLoss loss(options);
+    const double clean = loss.Evaluate(clean_ra.data(), clean_rb.data(), in_a,
+                                       in_b, cv::Mat(), cv::Mat(), 1.0,
+                                       nullptr, nullptr);
+    const double painted = loss.Evaluate(noisy_ra.data(), noisy_rb.data(),
+                                         in_a, in_b, cv::Mat(), cv::Mat(),
+                                         1.0, nullptr, nullptr);
+    SCOPED_TRACE(told ? "told the noise" : "not told");
+    if (told) {
+      EXPECT_LT(clean, 0.5 * painted);
+    } else {
+      EXPECT_GT(clean, 2 * painted);
+    }
+  }
 }
 
 }  // namespace

@@ -167,6 +167,14 @@ DEFINE_double(loop_texture_weight, 3,
               "(docs/results/realism-2026-12-04.md: every "
               "preset's loop closer to the video). Its loss runs on the "
               "host, so on --device cuda it is off unless given.");
+DEFINE_double(input_noise, 0,
+              "Std (0..1 of the pixel range) of the input frames' per-pixel "
+              "noise (sensor or render-sample noise, new each frame), "
+              "which the water losses then do not ask the render to paint: "
+              "its expected share of the input's detail and change is "
+              "added to the render's before they are compared. -1: "
+              "estimated from the training frames outside the water "
+              "(printed); 0: none.");
 DEFINE_double(water_loss_warmup, 0,
               "> 0: the water losses (energy, texture, the loop's texture) "
               "ramp in linearly from 0 over this fraction of the "
@@ -227,6 +235,7 @@ void CheckFlags() {
   RequireInRange("detail_energy_octaves", FLAGS_detail_energy_octaves, 1, 8);
   RequireNonNegative("texture_weight", FLAGS_texture_weight);
   RequireNonNegative("loop_texture_weight", FLAGS_loop_texture_weight);
+  RequireInRange("input_noise", FLAGS_input_noise, -1, 1);
   RequireInRange("water_loss_warmup", FLAGS_water_loss_warmup, 0, 1);
   RequireInRange("motion_warmup", FLAGS_motion_warmup, 0, 1);
   RequireInRange("texture_bands", FLAGS_texture_bands, 1, 6);
@@ -323,6 +332,7 @@ JointStageOptions JointStageOptionsFromFlags(ComputeDevice* device) {
   o.checkpoint_interval = FLAGS_checkpoint_interval;
   o.log_interval = FLAGS_log_interval;
   o.eval_interval = FLAGS_eval_interval;
+  o.input_noise = FLAGS_input_noise;
   o.flow_init = !FLAGS_no_flow_init;
   o.flow_prior_to_field = FLAGS_flow_prior_to_field;
   o.particles.particle_pixels = FLAGS_particle_pixels;

@@ -1,5 +1,7 @@
 #include "costs/cuda/device_water_energy_loss.h"
 
+#include <array>
+
 #include <glog/logging.h>
 
 #include "costs/cuda/water_energy_kernels.h"
@@ -21,8 +23,8 @@ OpponentBasis Basis() {
 }  // namespace
 
 DeviceWaterEnergyLoss::DeviceWaterEnergyLoss(const WaterEnergyOptions& options)
-    : options_(options) {
-  const WaterEnergyKernels kernels = MakeWaterEnergyKernels(options);
+    : options_(options), kernels_(MakeWaterEnergyKernels(options)) {
+  const WaterEnergyKernels& kernels = kernels_;
   std::vector<double> taps;
   for (int k = 0; k < options.detail_octaves; ++k) {
     detail_offset_.push_back(taps.size());
@@ -41,6 +43,12 @@ DeviceWaterEnergyLoss::Taps DeviceWaterEnergyLoss::Detail(int k) const {
 
 DeviceWaterEnergyLoss::Taps DeviceWaterEnergyLoss::Window(int k) const {
   return {taps_.data() + window_offset_[k], window_radius_[k]};
+}
+
+ChannelFloors DeviceWaterEnergyLoss::Floors(int band) const {
+  const std::array<double, 3> f =
+      RenderedEnergyFloors(options_, kernels_, band);
+  return {{f[0], f[1], f[2]}};
 }
 
 double DeviceWaterEnergyLoss::Evaluate(
@@ -102,7 +110,7 @@ double DeviceWaterEnergyLoss::Evaluate(
                 scratch_.data(), energy_.data());
     AmplitudeTerms(kChannels, kChannels, pixels, energy_.data(),
                    energy_.data() + 3 * plane, water_.data() + 2 * plane,
-                   counts + 2, options_.eps,
+                   counts + 2, Floors(-1), options_.eps,
                    channel_scale * options_.motion_weight, d_e,
                    next_partials);
     next_partials += kChannels * blocks;
@@ -137,7 +145,8 @@ double DeviceWaterEnergyLoss::Evaluate(
                   scratch_.data(), energy_.data());
       AmplitudeTerms(2 * kChannels, kChannels, pixels, energy_.data(),
                      energy_.data() + 6 * plane, water_.data(), counts,
-                     options_.eps, band_scale, d_e, next_partials);
+                     Floors(k), options_.eps, band_scale, d_e,
+                     next_partials);
       next_partials += 2 * kChannels * blocks;
       if (!gradient) continue;
       // d y += (G_{k-1}^T - G_k^T) (2 high W_k^T d_e), renders only.

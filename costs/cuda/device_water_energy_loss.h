@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "core/base/cuda/device_buffer.h"
+#include "costs/cuda/water_energy_kernels.h"
 #include "costs/water_energy_terms.h"
 
 namespace es {
@@ -44,10 +45,13 @@ class DeviceWaterEnergyLoss {
   };
   Taps Detail(int k) const;
   Taps Window(int k) const;
+  // The rendered energies' floors of a term (band k; -1: motion).
+  ChannelFloors Floors(int band) const;
 
   WaterEnergyOptions options_;
   std::vector<size_t> detail_offset_, window_offset_;
   std::vector<int> detail_radius_, window_radius_;
+  WaterEnergyKernels kernels_;
   DeviceBuffer<double> taps_;
   // Per-pixel planes (see Evaluate) and the sums' partials.
   DeviceBuffer<double> water_, y_, dy_, diff_, square_, energy_, d_e_, g_,

@@ -172,7 +172,8 @@ __global__ void BandAndSquareKernel(long long n, const double* fine,
 __global__ void AmplitudeKernel(long long pixels, int blocks,
                                 int planes_per_mask, const double* e_r,
                                 const double* e_i, const double* water,
-                                const double* counts, double eps,
+                                const double* counts,
+                                ChannelFloors floors, double eps,
                                 double scale, double* d_e,
                                 double* partials) {
   const int plane = blockIdx.x / blocks;
@@ -184,7 +185,7 @@ __global__ void AmplitudeKernel(long long pixels, int blocks,
     const int mask = plane / planes_per_mask;
     double d = 0;
     if (water[mask * pixels + p] != 0) {
-      const double a = sqrt(fmax(e_r[i], 0.0) + eps);
+      const double a = sqrt(fmax(e_r[i], 0.0) + floors.c[plane % 3]);
       const double b = sqrt(fmax(e_i[i], 0.0) + eps);
       term = fabs(a - b);
       const double sign = a > b ? 1.0 : (a < b ? -1.0 : 0.0);
@@ -303,12 +304,12 @@ void BandAndSquare(long long n, const double* fine, const double* coarse,
 
 void AmplitudeTerms(int planes, int planes_per_mask, long long pixels,
                     const double* e_r, const double* e_i, const double* water,
-                    const double* counts, double eps, double scale,
-                    double* d_e, double* partials) {
+                    const double* counts, ChannelFloors floors, double eps,
+                    double scale, double* d_e, double* partials) {
   const int blocks = Blocks(pixels);
   AmplitudeKernel<<<planes * blocks, kThreads>>>(
-      pixels, blocks, planes_per_mask, e_r, e_i, water, counts, eps, scale,
-      d_e, partials);
+      pixels, blocks, planes_per_mask, e_r, e_i, water, counts, floors, eps,
+      scale, d_e, partials);
   ES_CUDA_CHECK_LAUNCH("AmplitudeKernel");
 }
 

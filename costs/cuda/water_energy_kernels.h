@@ -46,15 +46,22 @@ void ClampedBlurAdjoint(int planes, int width, int height,
 // high = fine - coarse and square = high^2 over n values.
 void BandAndSquare(long long n, const double* fine, const double* coarse,
                    double* high, double* square);
+// The rendered energies' floor per opponent channel
+// (RenderedEnergyFloors); plane q is of channel q % 3.
+struct ChannelFloors {
+  double c[3];
+};
+
 // The amplitude L1 of `planes` planes of energies: plane q's water plane
 // and count are water[q / planes_per_mask] and counts[q /
-// planes_per_mask]; a = sqrt(max(e_r, 0) + eps), b likewise of e_i;
+// planes_per_mask]; a = sqrt(max(e_r, 0) + floors.c[q % 3]),
+// b = sqrt(max(e_i, 0) + eps);
 // partials[q blocks + b]: block b's sum of |a - b| over water pixels; with
 // d_e set, d_e = scale sign(a - b) / (2 a count) on water, else 0.
 void AmplitudeTerms(int planes, int planes_per_mask, long long pixels,
                     const double* e_r, const double* e_i, const double* water,
-                    const double* counts, double eps, double scale,
-                    double* d_e, double* partials);
+                    const double* counts, ChannelFloors floors, double eps,
+                    double scale, double* d_e, double* partials);
 // The motion term's chain rule: t = 2 diff g per render plane c < 3,
 // dy[3 + c] += t (frame B), dy[c] -= t (frame A).
 void AddMotionGradient(long long pixels, const double* diff, const double* g,

@@ -9,7 +9,8 @@ nlohmann::ordered_json HeldOutJson(const LoopMetrics& m) {
           {"psnr", m.psnr},
           {"ssim", m.ssim},
           {"psnr_water", m.psnr_water},
-          {"ssim_water", m.ssim_water}};
+          {"ssim_water", m.ssim_water},
+          {"psnr_static", m.psnr_static}};
 }
 
 void PrintHeldOutRows(const LoopMetrics& m, bool has_masks) {
@@ -17,6 +18,8 @@ void PrintHeldOutRows(const LoopMetrics& m, bool has_masks) {
               m.frames, m.psnr, m.ssim);
   std::printf("  water region          PSNR %6.2f dB   SSIM %.4f%s\n",
               m.psnr_water, m.ssim_water, has_masks ? "" : "   (no masks)");
+  if (has_masks)
+    std::printf("  scenery (not water)   PSNR %6.2f dB\n", m.psnr_static);
 }
 
 nlohmann::ordered_json RealismRegionJson(const RealismRegion& r) {

@@ -74,7 +74,7 @@ LoopMetrics CompareWithFrames(const std::vector<cv::Mat>& images,
                               const std::vector<Frame>& frames,
                               const std::vector<int>& indices) {
   CHECK_EQ(images.size(), indices.size());
-  FiniteMean psnr, ssim, psnr_water, ssim_water;
+  FiniteMean psnr, ssim, psnr_water, ssim_water, psnr_static;
   for (size_t k = 0; k < indices.size(); ++k) {
     const Frame& f = frames[indices[k]];
     const cv::Mat& x = images[k];
@@ -85,6 +85,7 @@ LoopMetrics CompareWithFrames(const std::vector<cv::Mat>& images,
     if (f.mask.empty()) continue;
     psnr_water.Add(MaskedPsnr(x, y, f.mask));
     ssim_water.Add(MaskedSsim(x, y, f.mask));
+    psnr_static.Add(MaskedPsnr(x, y, f.mask, /*invert=*/true));
   }
   LoopMetrics out;
   out.frames = static_cast<int>(indices.size());
@@ -92,6 +93,7 @@ LoopMetrics CompareWithFrames(const std::vector<cv::Mat>& images,
   out.ssim = ssim.Get();
   out.psnr_water = psnr_water.Get();
   out.ssim_water = ssim_water.Get();
+  out.psnr_static = psnr_static.Get();
   return out;
 }
 

@@ -18,11 +18,13 @@ namespace es {
 // Held-out quality of a looping model: each frame is composed at its time
 // index (Alg. 1, t and p from its place in the video) and rendered. Means
 // over frames; the water variants use the masks (> 0.5) and skip frames
-// without water (NaN when none has any).
+// without water (NaN when none has any); psnr_static is the rest of the
+// image (the scenery, which the loop should leave as Stage 1 fit it).
 struct LoopMetrics {
   int frames = 0;
   double psnr = 0, ssim = 0;
   double psnr_water = 0, ssim_water = 0;
+  double psnr_static = 0;
 };
 
 // `rasterizer` renders the compositions (CPU or device); the options

@@ -1,6 +1,7 @@
 #include "solvers/train/joint_stage.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -18,6 +19,7 @@
 #include "core/io/output_dir.h"
 #include "core/io/ply_io.h"
 #include "core/loop/loop_model.h"
+#include "costs/water_input_noise.h"
 #include "solvers/checkpoint/joint_checkpoint.h"
 #include "solvers/eval/loop_evaluation.h"
 #include "solvers/eval/static_eval.h"
@@ -57,6 +59,7 @@ void WriteMetrics(const std::string& path, const JointStageResult& r,
                        {"ssim_test", m.ssim},
                        {"psnr_test_water", m.psnr_water},
                        {"ssim_test_water", m.ssim_water},
+                       {"psnr_test_static", m.psnr_static},
                        {"test_frames", m.frames},
                        {"seconds", r.seconds},
                        {"iterations", r.iterations},
@@ -69,7 +72,21 @@ void WriteMetrics(const std::string& path, const JointStageResult& r,
                        {"random_start", random_start},
                        {"final_loss", r.final_loss},
                        {"stage1_psnr_test", r.stage1.psnr},
-                       {"stage1_psnr_test_water", r.stage1.psnr_water}});
+                       {"stage1_psnr_test_water", r.stage1.psnr_water},
+                       {"stage1_psnr_test_static", r.stage1.psnr_static}});
+}
+
+// The water losses' input noise (costs/water_input_noise.h): `sigma` on
+// every channel, or, for sigma < 0, estimated from the training frames.
+void SetInputNoise(double sigma, const Scene& scene,
+                   JointTrainerOptions* trainer) {
+  std::array<double, 3> noise = {sigma, sigma, sigma};
+  if (sigma < 0) noise = EstimateInputNoise(scene.frames, scene.train);
+  trainer->water_energy.input_noise = noise;
+  trainer->water_texture.input_noise = noise;
+  std::printf("input noise, std per opponent channel: %.4f %.4f %.4f (%s)\n",
+              noise[0], noise[1], noise[2],
+              sigma < 0 ? "estimated from the training frames" : "given");
 }
 
 // V pretrained by Stage 2 (<init>/motion_field.bin) when there is one and
@@ -148,9 +165,10 @@ const std::vector<std::string> kHistoryColumns = {
 // Stage 1's figures, so that a drop at the start of Stage 3 shows.
 void RecordStart(const LoopMetrics& stage1, const LoopMetrics& start,
                  TrainingHistory* history) {
-  std::printf("iter 0: held-out PSNR %.2f dB, water %.2f dB (Stage 1's "
-              "model: %.2f dB, water %.2f dB)\n",
-              start.psnr, start.psnr_water, stage1.psnr, stage1.psnr_water);
+  std::printf("iter 0: held-out PSNR %.2f dB, water %.2f dB, scenery %.2f "
+              "dB (Stage 1's model: %.2f, %.2f, %.2f dB)\n",
+              start.psnr, start.psnr_water, start.psnr_static, stage1.psnr,
+              stage1.psnr_water, stage1.psnr_static);
   history->Add(0, 0.0,
                {NAN, NAN, NAN, NAN, NAN, NAN, start.psnr, start.psnr_water});
   history->Write();
@@ -310,11 +328,13 @@ void RecordFinalMetrics(const LoopMetrics& metrics, int64_t iteration,
 
 }  // namespace
 
-JointStageResult RunJointStage(const JointStageOptions& o,
+JointStageResult RunJointStage(const JointStageOptions& options,
                                const JointTrainerFactory& make_trainer) {
-  PrepareOutputDirectory(o.out_dir, "out");
-  const Scene scene = LoadScene(o.scene_dir, o.scene);
-  CheckScene(o, scene);
+  PrepareOutputDirectory(options.out_dir, "out");
+  const Scene scene = LoadScene(options.scene_dir, options.scene);
+  CheckScene(options, scene);
+  JointStageOptions o = options;
+  SetInputNoise(options.input_noise, scene, &o.trainer);
   const std::string static_ply = InDir(o.init_dir, "static.ply");
   GaussianSet initial = ReadPly(static_ply);
   if (initial.size() == 0)
@@ -327,8 +347,8 @@ JointStageResult RunJointStage(const JointStageOptions& o,
     // without motion.
     const StaticMetrics stage1 = EvaluateStatic(
         initial, scene.frames, scene.test, JointRenderOptions(o.trainer));
-    r.stage1 = {stage1.frames, stage1.psnr, stage1.ssim, stage1.psnr_water,
-                stage1.ssim_water};
+    r.stage1 = {stage1.frames,     stage1.psnr,       stage1.ssim,
+                stage1.psnr_water, stage1.ssim_water, stage1.psnr_static};
   }
   std::optional<MotionField> motion = PretrainedMotion(o, &r.flow_init);
   SplitWater(o, scene, &initial);

@@ -36,6 +36,10 @@ struct JointStageOptions {
   // Gaussians into particles before training (its dynamic_threshold and
   // seed are the trainer's); 0: keep the water as Stage 1 left it.
   WaterParticleOptions particles{/*particle_pixels=*/0};
+  // Std of the input frames' per-pixel noise, which the water losses do
+  // not ask the render to paint (costs/water_input_noise.h): < 0:
+  // estimated from the training frames; >= 0: this on every channel.
+  double input_noise = -1;
   bool profile = false;  // print the per-stage time of the iterations
   // Set: "training on <device_name>" is printed once the trainer is made.
   std::string device_name;
