@@ -42,6 +42,12 @@ __global__ void ScaleKernel(long long n, double scale, double* x) {
   if (i < n) x[i] *= scale;
 }
 
+__global__ void AverageIntoKernel(long long n, const double* b, double* a) {
+  const long long i = static_cast<long long>(blockIdx.x) * blockDim.x +
+                      threadIdx.x;
+  if (i < n) a[i] = 0.5 * (a[i] + b[i]);
+}
+
 }  // namespace
 
 void SigmoidArray(int n, const double* logits, double* probability) {
@@ -78,6 +84,12 @@ void AddFloatArray(long long n, const float* from, float* to) {
   if (n == 0) return;
   AddFloatKernel<<<Blocks(n), kThreads>>>(n, from, to);
   ES_CUDA_CHECK_LAUNCH("AddFloatKernel");
+}
+
+void AverageInto(long long n, const double* b, double* a) {
+  if (n == 0) return;
+  AverageIntoKernel<<<Blocks(n), kThreads>>>(n, b, a);
+  ES_CUDA_CHECK_LAUNCH("AverageIntoKernel");
 }
 
 }  // namespace cuda

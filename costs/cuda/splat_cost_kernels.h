@@ -2,8 +2,8 @@
 #define EULERSPLAT_COSTS_CUDA_SPLAT_COST_KERNELS_H_
 
 // The element-wise steps of the device render costs (DeviceSplatRenderCost,
-// DeviceJointRenderCost; splat_cost.cu) around the rasterizer and the
-// losses: plain types only, device pointers, one thread per value, double
+// DeviceJointRenderCost, DeviceJointObjective; splat_cost.cu) around the
+// rasterizer and the losses: plain types only, device pointers, one thread per value, double
 // as the CPU's costs compute them (images in float, as rendered).
 
 namespace es {
@@ -27,6 +27,9 @@ void ScaleArray(long long n, double scale, double* x);
 
 // to[i] += from[i], i < n (float images, e.g. image gradients).
 void AddFloatArray(long long n, const float* from, float* to);
+
+// a[i] = 0.5 (a[i] + b[i]) for i < n: the mean of two gradients.
+void AverageInto(long long n, const double* b, double* a);
 
 }  // namespace cuda
 }  // namespace es

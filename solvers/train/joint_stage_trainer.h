@@ -17,6 +17,7 @@
 #include "core/loop/euler_chain.h"
 #include "core/loop/loop_model.h"
 #include "core/render/rasterizer.h"
+#include "costs/joint_objective_options.h"
 #include "costs/water_energy_loss.h"
 #include "costs/water_texture_loss.h"
 #include "solvers/checkpoint/joint_checkpoint.h"
@@ -126,19 +127,14 @@ struct JointTrainerOptions {
   int max_nonfinite_steps = 10;
 };
 
-struct JointIterationStats {
+// One step: the objective's terms (JointObjectiveTerms, unweighted; the
+// pair's mean with a pair frame), the sampled frames and what the step did.
+struct JointIterationStats : JointObjectiveTerms {
   int frame = -1;
   double loss = 0;  // weighted total
-  double photometric = 0;
-  double mask = 0;
-  double residual = 0;
   double flow_prior = 0;  // weighted; included in loss
-  int pair_frame = -1;    // the neighbour rendered for the energy term
-  WaterEnergyTerms energy;  // unweighted; weighted into loss
-  double texture = 0;  // unweighted, mean of the pair's; weighted into loss
-  double loop_texture = 0;  // unweighted, of the loop's frame; weighted too
+  int pair_frame = -1;    // the neighbour rendered for the pair terms
   int num_dynamic = 0;
-  EulerStats euler;
   bool skipped = false;  // non-finite loss or gradient: no update
   WaterDensifyResult densified;  // after this step's update
 };

@@ -43,31 +43,12 @@ JointTrainer::JointTrainer(const std::vector<Frame>* frames,
     field_adam_.emplace_back(static_cast<int>(block->size()));
     field_grad_.emplace_back(block->size(), 0.0);
   }
-  cost_.emplace(&(*frames_)[train_.at(0)],
-                (*frames_)[train_.at(0)].time_index,
-                LoopStructure::Of(model_),
-                JointLossTerms(options_, use_masks_),
-                render_options(), &rasterizer_, options_.euler);
-  energy_masks_ = WaterLossOn(options_) && AllHaveMasks(*frames_, train_);
-  if (LoopTextureOn(options_)) {
-    loop_cost_.emplace(&(*frames_)[train_.at(0)],
-                       (*frames_)[train_.at(0)].time_index,
-                       LoopStructure::Of(model_), ImageGradientOnlyTerms(),
-                       render_options(), &rasterizer_, options_.euler);
-    loop_cost_->set_cycle_number(0);
-    loop_texture_.emplace(LoopTextureOptions(options_));
-  }
-  if (PairLossOn(options_)) {
-    partner_ = TrainingNeighbours(*frames_, train_);
-    energy_.emplace(options_.water_energy);
-    if (WaterTextureOn(options_)) texture_.emplace(options_.water_texture);
-    // Its own rasterizer: both renders are kept until both backward passes.
-    pair_cost_.emplace(&(*frames_)[train_.at(0)],
-                       (*frames_)[train_.at(0)].time_index,
-                       LoopStructure::Of(model_),
-                       JointLossTerms(options_, use_masks_),
-                       render_options(), nullptr, options_.euler);
-  }
+  const bool water_masks =
+      WaterLossOn(options_) && AllHaveMasks(*frames_, train_);
+  objective_.emplace(&(*frames_)[train_.at(0)], LoopStructure::Of(model_),
+                     JointObjectiveOptionsOf(options_, use_masks_,
+                                             water_masks));
+  if (PairLossOn(options_)) partner_ = TrainingNeighbours(*frames_, train_);
   ApplyMotionRamp(options_, iteration_, &model_);
 }
 
@@ -85,7 +66,7 @@ RenderOptions JointTrainer::render_options() const {
 }
 
 std::vector<char*> JointTrainer::TriplaneChunkFlags() {
-  const JointBlockLayout& layout = cost_->layout();
+  const JointBlockLayout& layout = objective_->layout();
   std::vector<char*> chunks(layout.num_blocks(), nullptr);
   // Field blocks: V's triplane and MLP, then D's.
   if (layout.motion_triplane() >= 0)
@@ -126,29 +107,17 @@ JointIterationStats JointTrainer::Step() {
   if (grad_.size() != n || grad_.sh_degree != model_.gaussians.sh_degree)
     grad_ = ZeroGaussians(n, model_.gaussians.sh_degree);
   const Frame& frame = (*frames_)[out.frame];
-  cost_->Reset(&frame, frame.time_index, LoopStructure::Of(model_));
-  const int partner = PairLossOn(options_) ? partner_[out.frame] : -1;
-  if (partner >= 0) {
-    out.loss = PairLossGradient(frame, partner, &out);
-  } else {
-    std::vector<double*> params = JointBlocks(&model_);
-    std::vector<double*> gradients = SplatRenderCost::Blocks(&grad_);
-    // AddLossGradient adds: the splats' rows are cleared here, the
-    // fields' are zero already.
-    const JointBlockLayout& layout = cost_->layout();
-    const std::vector<int32_t>& sizes = layout.sizes();
-    for (size_t b = 0; b < gradients.size(); ++b)
-      std::fill(gradients[b], gradients[b] + sizes[b], 0.0);
-    for (std::vector<double>& g : field_grad_) gradients.push_back(g.data());
-    const std::vector<char*> chunks = TriplaneChunkFlags();
-    out.loss = cost_->AddLossGradient(params.data(), gradients.data(),
-                                      chunks.data());
-    out.photometric = cost_->last_photometric();
-    out.mask = cost_->last_mask();
-    out.residual = cost_->last_residual();
-  }
-  out.euler = cost_->last_euler_stats();
-  if (loop_cost_) out.loss += LoopTextureGradient(frame, &out);
+  if (PairLossOn(options_)) out.pair_frame = partner_[out.frame];
+  const Frame* partner =
+      out.pair_frame >= 0 ? &(*frames_)[out.pair_frame] : nullptr;
+  std::vector<double*> params = JointBlocks(&model_);
+  std::vector<double*> gradients = SplatRenderCost::Blocks(&grad_);
+  for (std::vector<double>& g : field_grad_) gradients.push_back(g.data());
+  const std::vector<char*> chunks = TriplaneChunkFlags();
+  out.loss = objective_->Evaluate(
+      LoopStructure::Of(model_), params.data(), frame, partner,
+      WaterLossRamp(options_, iteration_), iteration_, gradients.data(),
+      chunks.data(), &out);
   if (flow_prior_) {
     // V's blocks come first among the field gradients.
     out.flow_prior = flow_prior_->AddLossAndGradient(
@@ -203,127 +172,6 @@ JointIterationStats JointTrainer::Step() {
   return out;
 }
 
-double JointTrainer::PairLossGradient(const Frame& frame, int partner,
-                                      JointIterationStats* out) {
-  const Frame& other = (*frames_)[partner];
-  out->pair_frame = partner;
-  pair_cost_->Reset(&other, other.time_index, LoopStructure::Of(model_));
-  const int n = model_.gaussians.size();
-  if (pair_grad_.size() != n ||
-      pair_grad_.sh_degree != model_.gaussians.sh_degree)
-    pair_grad_ = ZeroGaussians(n, model_.gaussians.sh_degree);
-  std::vector<double*> params = JointBlocks(&model_);
-  std::vector<double*> gradients = SplatRenderCost::Blocks(&grad_);
-  std::vector<double*> pair_gradients = SplatRenderCost::Blocks(&pair_grad_);
-  // Both backward passes add: the splats' rows are cleared here and
-  // averaged below; the fields' buffers (zero already) are shared, take
-  // the sum of both passes, flagged, and are halved below.
-  const size_t splat_blocks = gradients.size();
-  const std::vector<int32_t>& sizes = cost_->layout().sizes();
-  for (size_t b = 0; b < splat_blocks; ++b) {
-    std::fill(gradients[b], gradients[b] + sizes[b], 0.0);
-    std::fill(pair_gradients[b], pair_gradients[b] + sizes[b], 0.0);
-  }
-  for (std::vector<double>& g : field_grad_) {
-    gradients.push_back(g.data());
-    pair_gradients.push_back(g.data());
-  }
-  const std::vector<char*> chunks = TriplaneChunkFlags();
-  const double loss = cost_->RenderForGradient(params.data());
-  out->photometric = cost_->last_photometric();
-  out->mask = cost_->last_mask();
-  out->residual = cost_->last_residual();
-  const double pair_loss = pair_cost_->RenderForGradient(params.data());
-  out->photometric = 0.5 * (out->photometric + pair_cost_->last_photometric());
-  out->mask = 0.5 * (out->mask + pair_cost_->last_mask());
-  out->residual = 0.5 * (out->residual + pair_cost_->last_residual());
-
-  // The step follows 0.5 (loss + pair_loss + 2 energy): the energy's
-  // gradient enters both backward passes at twice its weight and the sum
-  // is halved below.
-  const bool frame_first = frame.time_index < other.time_index;
-  const JointRenderCost& first = frame_first ? *cost_ : *pair_cost_;
-  const JointRenderCost& second = frame_first ? *pair_cost_ : *cost_;
-  const Frame& a = frame_first ? frame : other;
-  const Frame& b = frame_first ? other : frame;
-  energy_grad_a_.assign(first.render().rgb.size(), 0.0);
-  energy_grad_b_.assign(second.render().rgb.size(), 0.0);
-  const double energy = energy_->Evaluate(
-      first.render().rgb.data(), second.render().rgb.data(), a.image,
-      b.image, energy_masks_ ? a.mask : cv::Mat(),
-      energy_masks_ ? b.mask : cv::Mat(),
-      2.0 * WaterLossRamp(options_, iteration_), energy_grad_a_.data(),
-      energy_grad_b_.data(), &out->energy);
-  const double texture = TextureLossGradient(
-      first.render().rgb.data(), second.render().rgb.data(), a, b, out);
-  cost_->BackwardWithImageGradient(
-      params.data(),
-      frame_first ? energy_grad_a_.data() : energy_grad_b_.data(),
-      gradients.data(), /*accumulate=*/true, chunks.data());
-  pair_cost_->BackwardWithImageGradient(
-      params.data(),
-      frame_first ? energy_grad_b_.data() : energy_grad_a_.data(),
-      pair_gradients.data(), /*accumulate=*/true, chunks.data());
-  for (size_t k = 0; k < splat_blocks; ++k)
-    for (int i = 0; i < sizes[k]; ++i)
-      gradients[k][i] = 0.5 * (gradients[k][i] + pair_gradients[k][i]);
-  // The fields' sum: the triplanes' flagged chunks, the MLPs whole.
-  for (size_t b = 0; b < field_grad_.size(); ++b) {
-    std::vector<double>& g = field_grad_[b];
-    const char* flags = chunks[splat_blocks + b];  // nullptr: an MLP
-    for (size_t c = 0; c < static_cast<size_t>(NumGradientChunks(g.size()));
-         ++c) {
-      if (flags != nullptr && !flags[c]) continue;
-      const size_t end = std::min(g.size(), (c + 1) * kGradientChunk);
-      for (size_t i = c * kGradientChunk; i < end; ++i) g[i] *= 0.5;
-    }
-  }
-  return 0.5 * (loss + pair_loss + energy + texture);
-}
-
-double JointTrainer::TextureLossGradient(const double* render_a,
-                                         const double* render_b,
-                                         const Frame& a, const Frame& b,
-                                         JointIterationStats* out) {
-  if (!texture_) return 0;
-  // Each frame's distance at its full weight: the step halves the pair's
-  // sum, so the term is the two frames' mean. The draws follow the
-  // iteration, so a resumed run sees the same directions.
-  const uint64_t draw = 2 * static_cast<uint64_t>(iteration_);
-  const double ramp = WaterLossRamp(options_, iteration_);
-  const double sum =
-      texture_->Evaluate(render_a, a.image, energy_masks_ ? a.mask : cv::Mat(),
-                         ramp, draw, energy_grad_a_.data()) +
-      texture_->Evaluate(render_b, b.image, energy_masks_ ? b.mask : cv::Mat(),
-                         ramp, draw + 1, energy_grad_b_.data());
-  // The term itself, unramped (0 at iteration 0, where the ramp is).
-  out->texture =
-      ramp > 0 ? 0.5 * sum / (ramp * options_.water_texture.weight) : 0.0;
-  return sum;
-}
-
-double JointTrainer::LoopTextureGradient(const Frame& frame,
-                                         JointIterationStats* out) {
-  loop_cost_->Reset(&frame, frame.time_index, LoopStructure::Of(model_));
-  std::vector<double*> params = JointBlocks(&model_);
-  loop_cost_->RenderForGradient(params.data());
-  loop_grad_.assign(loop_cost_->render().rgb.size(), 0.0);
-  const double ramp = WaterLossRamp(options_, iteration_);
-  const double loss = loop_texture_->Evaluate(
-      loop_cost_->render().rgb.data(), frame.image,
-      energy_masks_ ? frame.mask : cv::Mat(), ramp,
-      LoopTextureDraw(iteration_), loop_grad_.data());
-  out->loop_texture =
-      ramp > 0 ? loss / (ramp * options_.loop_texture_weight) : 0.0;
-  std::vector<double*> gradients = SplatRenderCost::Blocks(&grad_);
-  for (std::vector<double>& g : field_grad_) gradients.push_back(g.data());
-  const std::vector<char*> chunks = TriplaneChunkFlags();
-  loop_cost_->BackwardWithImageGradient(params.data(), loop_grad_.data(),
-                                        gradients.data(), /*accumulate=*/true,
-                                        chunks.data());
-  return loss;
-}
-
 WaterDensifyResult JointTrainer::DensifyWaterNow() {
   ScopedStage timer(Stage::kDensify);
   const int budget = WaterBudget(options_, initial_dynamic_);
@@ -341,10 +189,10 @@ WaterDensifyResult JointTrainer::DensifyWaterNow() {
   std::vector<double> mean2d_grads;
   for (int f : WaterDensifyViews(options_, train_, iteration_)) {
     const Frame& frame = (*frames_)[f];
-    cost_->Reset(&frame, frame.time_index, LoopStructure::Of(model_));
-    cost_->LossGradient(params.data(), gradients.data());
-    rasterizer_.Radii(&radii);
-    rasterizer_.Mean2dGradients(&mean2d_grads);
+    objective_->FitGradient(LoopStructure::Of(model_), params.data(), frame,
+                            gradients.data());
+    objective_->rasterizer().Radii(&radii);
+    objective_->rasterizer().Mean2dGradients(&mean2d_grads);
     stats.AddView(frame.camera.width, frame.camera.height, radii,
                   mean2d_grads);
   }

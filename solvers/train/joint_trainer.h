@@ -11,8 +11,7 @@
 #include "core/io/scene.h"
 #include "core/loop/loop_model.h"
 #include "core/render/rasterizer.h"
-#include "costs/joint_render_cost.h"
-#include "costs/water_energy_loss.h"
+#include "costs/joint_objective.h"
 #include "solvers/optim/adam.h"
 #include "solvers/optim/sparse_adam.h"
 #include "solvers/train/divergence_guard.h"
@@ -23,12 +22,13 @@
 
 namespace es {
 
-// Trains a looping model (Stage 3): one sampled training frame per
-// iteration, composed at its frame index (Alg. 1 + D), rendered and scored
-// by a JointRenderCost evaluated directly into preallocated gradient
-// buffers, then one Adam step per block. The dynamic set follows the
-// learned probability every refresh_interval iterations: Gaussians that
-// stay keep their start time, new ones draw theirs from the seeded RNG.
+// Trains a looping model (Stage 3): one sampled training frame (and its
+// neighbour, for the pair terms) per iteration, scored by the
+// JointObjective (costs/joint_objective.h) into preallocated gradient
+// buffers, plus the scene-flow prior on V, then one Adam step per block.
+// The dynamic set follows the learned probability every refresh_interval
+// iterations: Gaussians that stay keep their start time, new ones draw
+// theirs from the seeded RNG.
 class JointTrainer : public JointStageTrainer {
  public:
   // `initial` are the static model's Gaussians; `motion` a pretrained V
@@ -56,21 +56,6 @@ class JointTrainer : public JointStageTrainer {
 
  private:
   void RefreshDynamicSet();
-  // Step's loss and gradient (into grad_ and field_grad_) with the pair's
-  // terms: the pair's mean loss plus the weighted WaterEnergyLoss and
-  // WaterTextureLoss.
-  double PairLossGradient(const Frame& frame, int partner,
-                          JointIterationStats* out);
-  // The texture term of the pair (frames a and b, b after a in the video;
-  // their renders): its weighted value, its gradient added to the energy's
-  // buffers; 0 when off.
-  double TextureLossGradient(const double* render_a, const double* render_b,
-                             const Frame& a, const Frame& b,
-                             JointIterationStats* out);
-  // The loop texture term of `frame` (composed at cycle number 0, as
-  // es_animate plays it): its weighted value, its gradient added into
-  // grad_ and field_grad_ (+=).
-  double LoopTextureGradient(const Frame& frame, JointIterationStats* out);
   // Ranks the water Gaussians by their mean view-space gradient over
   // water_densify.views training frames and densifies the top fraction.
   // Stateless (frames and draws follow from seed and iteration), so a
@@ -100,25 +85,13 @@ class JointTrainer : public JointStageTrainer {
   int64_t field_step_ = 0;
   FrameSampler sampler_;
   std::mt19937_64 rng_;
-  Rasterizer rasterizer_;
-  std::optional<JointRenderCost> cost_;
+  // The loss and gradient of a step (the sampled frame, its partner).
+  std::optional<JointObjective> objective_;
   std::optional<MotionField> prior_field_;  // V at full displacement
   std::optional<SceneFlowPrior> flow_prior_;
-  // The energy term: each training frame's neighbour (a frame index; -1:
-  // none), a second cost (its own rasterizer) and its gradient buffers.
+  // Each training frame's neighbour for the pair terms (a frame index;
+  // -1: none).
   std::vector<int> partner_;
-  bool energy_masks_ = false;
-  std::optional<WaterEnergyLoss> energy_;
-  std::optional<WaterTextureLoss> texture_;  // set when its weight is > 0
-  std::optional<JointRenderCost> pair_cost_;
-  GaussianSet pair_grad_;
-  std::vector<double> energy_grad_a_, energy_grad_b_;
-  // loop_texture_weight > 0: the frame as the loop plays it (rendered on
-  // rasterizer_ after cost_'s backward pass), its texture loss and its
-  // image gradient.
-  std::optional<JointRenderCost> loop_cost_;
-  std::optional<WaterTextureLoss> loop_texture_;
-  std::vector<double> loop_grad_;
   int64_t iteration_ = 0;
   DivergenceGuard guard_;
   // Splats then fields (GuardedJointBlocks), bounded at construction.

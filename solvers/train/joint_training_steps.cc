@@ -52,24 +52,35 @@ RenderOptions JointRenderOptions(const JointTrainerOptions& o) {
   return r;
 }
 
+JointObjectiveOptions JointObjectiveOptionsOf(const JointTrainerOptions& o,
+                                              bool use_masks,
+                                              bool water_masks) {
+  JointObjectiveOptions j;
+  j.terms = JointLossTerms(o, use_masks);
+  j.render = JointRenderOptions(o);
+  j.euler = o.euler;
+  j.water_energy = o.water_energy;
+  j.water_texture = o.water_texture;
+  j.loop_texture_weight = o.loop_texture_weight;
+  j.water_masks = water_masks;
+  return j;
+}
+
 bool WaterEnergyOn(const JointTrainerOptions& o) {
-  return o.water_energy.motion_weight > 0 || o.water_energy.detail_weight > 0;
+  return JointObjectiveOptionsOf(o, false, false).energy_on();
 }
 
 bool WaterTextureOn(const JointTrainerOptions& o) {
-  return o.water_texture.weight > 0;
+  return JointObjectiveOptionsOf(o, false, false).texture_on();
 }
 
 bool PairLossOn(const JointTrainerOptions& o) {
-  return WaterEnergyOn(o) || WaterTextureOn(o);
-}
-
-bool LoopTextureOn(const JointTrainerOptions& o) {
-  return o.loop_texture_weight > 0;
+  return JointObjectiveOptionsOf(o, false, false).pair_on();
 }
 
 bool WaterLossOn(const JointTrainerOptions& o) {
-  return PairLossOn(o) || LoopTextureOn(o);
+  const JointObjectiveOptions j = JointObjectiveOptionsOf(o, false, false);
+  return j.pair_on() || j.loop_texture_on();
 }
 
 double WaterLossRamp(const JointTrainerOptions& o, int64_t iteration) {
@@ -85,22 +96,6 @@ void ApplyMotionRamp(const JointTrainerOptions& o, int64_t iteration,
   if (model->motion) {
     model->motion->SetDisplacementFactor(MotionRamp(o, iteration));
   }
-}
-
-WaterTextureOptions LoopTextureOptions(const JointTrainerOptions& o) {
-  WaterTextureOptions texture = o.water_texture;
-  texture.weight = o.loop_texture_weight;
-  return texture;
-}
-
-JointRenderTerms ImageGradientOnlyTerms() {
-  JointRenderTerms none;
-  none.photometric_weight = 0;
-  return none;
-}
-
-uint64_t LoopTextureDraw(int64_t iteration) {
-  return (uint64_t{1} << 40) + static_cast<uint64_t>(iteration);
 }
 
 std::vector<int> TrainingNeighbours(const std::vector<Frame>& frames,

@@ -15,6 +15,7 @@
 
 #include "core/io/scene.h"
 #include "core/loop/loop_model.h"
+#include "costs/joint_objective_options.h"
 #include "costs/joint_render_cost.h"
 #include "solvers/checkpoint/joint_checkpoint.h"
 #include "solvers/optim/adam.h"
@@ -29,11 +30,16 @@ int CyclesCovering(int frames, int cycle_length);
 
 JointRenderTerms JointLossTerms(const JointTrainerOptions& o, bool use_masks);
 RenderOptions JointRenderOptions(const JointTrainerOptions& o);
+// The objective both trainers step on: each frame's fit (the mask term on
+// with use_masks), the water losses (reading the masks with water_masks).
+JointObjectiveOptions JointObjectiveOptionsOf(const JointTrainerOptions& o,
+                                              bool use_masks,
+                                              bool water_masks);
+// Which of its terms are on (JointObjectiveOptions' tests).
 bool WaterEnergyOn(const JointTrainerOptions& o);
 bool WaterTextureOn(const JointTrainerOptions& o);
 // Either loss on frame pairs is on: each step renders a neighbour too.
 bool PairLossOn(const JointTrainerOptions& o);
-bool LoopTextureOn(const JointTrainerOptions& o);
 // Any loss on the water's statistics is on (those read the water masks).
 bool WaterLossOn(const JointTrainerOptions& o);
 // The factor on the water losses at `iteration` (from 0): rises linearly
@@ -47,15 +53,6 @@ double MotionRamp(const JointTrainerOptions& o, int64_t iteration);
 // motion the next step trains.
 void ApplyMotionRamp(const JointTrainerOptions& o, int64_t iteration,
                      LoopModel* model);
-// The loop texture term's WaterTextureLoss: water_texture's bands and
-// projections at loop_texture_weight.
-WaterTextureOptions LoopTextureOptions(const JointTrainerOptions& o);
-// A render cost's terms when another loss's image gradient is its only
-// one (the loop texture term's render).
-JointRenderTerms ImageGradientOnlyTerms();
-// The loop texture term's random directions at an iteration: apart from
-// the pair's texture term's (2 i and 2 i + 1), and the same on a resume.
-uint64_t LoopTextureDraw(int64_t iteration);
 
 // For every training frame (by frame index), the training frame next to
 // it in the video: the next one, else the previous one; -1 for none.

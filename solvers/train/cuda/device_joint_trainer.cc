@@ -7,7 +7,6 @@
 
 #include "core/model/dynamic_set.h"
 #include "core/base/stage_profile.h"
-#include "costs/cuda/splat_cost_kernels.h"
 #include "solvers/train/cuda/device_density_stats.h"
 #include "solvers/train/cuda/training_kernels.h"
 #include "solvers/train/joint_training_steps.h"
@@ -30,12 +29,7 @@ DeviceJointTrainer::DeviceJointTrainer(const std::vector<Frame>* frames,
       sampler_(train_, options.seed),
       rng_(options.seed + 1),
       images_(*frames, train_, use_masks_ || energy_masks_),
-      cost_(JointLossTerms(options, use_masks_), options.background,
-            &rasterizer_, options.euler),
-      // Its own rasterizer: both renders are kept until both backward
-      // passes.
-      pair_cost_(JointLossTerms(options, use_masks_), options.background,
-                 &pair_rasterizer_, options.euler),
+      objective_(JointObjectiveOptionsOf(options, use_masks_, energy_masks_)),
       guard_("Stage 3 training", options.max_nonfinite_steps) {
   model_ = InitialLoopModel(options_, static_cast<int>(frames_->size()),
                             std::move(initial), std::move(motion), &rng_);
@@ -53,17 +47,7 @@ DeviceJointTrainer::DeviceJointTrainer(const std::vector<Frame>* frames,
     f.v.Zero();
   }
   UpdateScaleBounds();
-  if (LoopTextureOn(options_)) {
-    loop_cost_.emplace(ImageGradientOnlyTerms(), options_.background,
-                       &rasterizer_, options_.euler);
-    loop_cost_->set_cycle_number(0);
-    loop_texture_.emplace(LoopTextureOptions(options_));
-  }
-  if (PairLossOn(options_)) {
-    partner_ = TrainingNeighbours(*frames_, train_);
-    energy_.emplace(options_.water_energy);
-    if (WaterTextureOn(options_)) texture_.emplace(options_.water_texture);
-  }
+  if (PairLossOn(options_)) partner_ = TrainingNeighbours(*frames_, train_);
   ApplyMotionRamp(options_, iteration_, &model_);
 }
 
@@ -105,25 +89,18 @@ JointIterationStats DeviceJointTrainer::Step() {
   JointIterationStats out;
   out.frame = sampler_.Next();
   out.num_dynamic = model_.num_dynamic();
-  const Frame& frame = (*frames_)[out.frame];
-  cost_.Reset(frame.camera, images_.image(out.frame),
-              use_masks_ ? images_.mask(out.frame) : nullptr,
-              frame.time_index, Structure());
-  // The splats' rows are cleared here, the fields' are zero already.
+  // The objective overwrites the splats' rows; the fields' are zero.
   grad_.ResizeZero(g_.size(), g_.sh_degree());
-  const int partner = energy_ ? partner_[out.frame] : -1;
-  if (partner >= 0) {
-    out.loss = PairLossGradient(out.frame, partner, &out);
-  } else {
-    std::vector<double*> params = ParamBlocks();
-    std::vector<double*> gradients = GradientBlocks(&grad_);
-    out.loss = cost_.AddLossGradient(params.data(), gradients.data());
-    out.photometric = cost_.last_photometric();
-    out.mask = cost_.last_mask();
-    out.residual = cost_.last_residual();
-  }
-  out.euler = cost_.last_euler_stats();
-  if (loop_cost_) out.loss += LoopTextureGradient(out.frame, &out);
+  if (PairLossOn(options_)) out.pair_frame = partner_[out.frame];
+  const DeviceObjectiveFrame frame = ObjectiveFrame(out.frame);
+  const DeviceObjectiveFrame partner =
+      out.pair_frame >= 0 ? ObjectiveFrame(out.pair_frame) : frame;
+  std::vector<double*> blocks = ParamBlocks();
+  std::vector<double*> gradients = GradientBlocks(&grad_);
+  out.loss = objective_.Evaluate(
+      Structure(), blocks.data(), frame,
+      out.pair_frame >= 0 ? &partner : nullptr,
+      WaterLossRamp(options_, iteration_), iteration_, gradients.data(), &out);
   if (flow_prior_) {
     // V's blocks come first among the fields.
     out.flow_prior = flow_prior_->AddLossAndGradient(
@@ -171,132 +148,8 @@ JointIterationStats DeviceJointTrainer::Step() {
   return out;
 }
 
-double DeviceJointTrainer::PairLossGradient(int frame_index, int partner,
-                                            JointIterationStats* out) {
-  const Frame& frame = (*frames_)[frame_index];
-  const Frame& other = (*frames_)[partner];
-  out->pair_frame = partner;
-  pair_cost_.Reset(other.camera, images_.image(partner),
-                   use_masks_ ? images_.mask(partner) : nullptr,
-                   other.time_index, Structure());
-  pair_grad_.ResizeZero(g_.size(), g_.sh_degree());
-  // Both backward passes add: the splats' rows (cleared) are averaged
-  // below; the fields' rows are shared, take the sum of both passes and
-  // are halved below.
-  std::vector<double*> params = ParamBlocks();
-  std::vector<double*> gradients = GradientBlocks(&grad_);
-  std::vector<double*> pair_gradients = GradientBlocks(&pair_grad_);
-  const double loss = cost_.RenderForGradient(params.data());
-  const double pair_loss = pair_cost_.RenderForGradient(params.data());
-  out->photometric =
-      0.5 * (cost_.last_photometric() + pair_cost_.last_photometric());
-  out->mask = 0.5 * (cost_.last_mask() + pair_cost_.last_mask());
-  out->residual = 0.5 * (cost_.last_residual() + pair_cost_.last_residual());
-
-  // The step follows 0.5 (loss + pair_loss + 2 energy): the energy's
-  // gradient enters both backward passes at twice its weight and the sum
-  // is halved below.
-  const bool frame_first = frame.time_index < other.time_index;
-  const int a = frame_first ? frame_index : partner;
-  const int b = frame_first ? partner : frame_index;
-  const DeviceJointRenderCost& first = frame_first ? cost_ : pair_cost_;
-  const DeviceJointRenderCost& second = frame_first ? pair_cost_ : cost_;
-  const Camera& camera = (*frames_)[a].camera;
-  CHECK(camera.width == (*frames_)[b].camera.width &&
-        camera.height == (*frames_)[b].camera.height)
-      << "the water energy pairs frames of one size";
-  const size_t values = 3 * static_cast<size_t>(camera.width) * camera.height;
-  energy_grad_a_.Resize(values);
-  energy_grad_a_.Zero();
-  energy_grad_b_.Resize(values);
-  energy_grad_b_.Zero();
-  const double energy = energy_->Evaluate(
-      first.render().rgb, second.render().rgb, images_.image(a),
-      images_.image(b), energy_masks_ ? images_.mask(a) : nullptr,
-      energy_masks_ ? images_.mask(b) : nullptr, camera.width, camera.height,
-      2.0 * WaterLossRamp(options_, iteration_), energy_grad_a_.data(),
-      energy_grad_b_.data(), &out->energy);
-  const double texture = TextureLossGradient(
-      first.render().rgb, second.render().rgb, a, b, out);
-  cost_.BackwardWithImageGradient(
-      params.data(),
-      frame_first ? energy_grad_a_.data() : energy_grad_b_.data(),
-      gradients.data(), /*accumulate=*/true);
-  pair_cost_.BackwardWithImageGradient(
-      params.data(),
-      frame_first ? energy_grad_b_.data() : energy_grad_a_.data(),
-      pair_gradients.data(), /*accumulate=*/true);
-  const std::vector<int32_t>& sizes = cost_.layout().sizes();
-  const size_t splat_blocks = sizes.size() - fields_.size();
-  for (size_t k = 0; k < splat_blocks; ++k)
-    AverageInto(sizes[k], pair_gradients[k], gradients[k]);
-  for (FieldBlock& f : fields_)
-    ScaleValues(static_cast<long long>(f.grad.size()), 0.5, f.grad.data());
-  return 0.5 * (loss + pair_loss + energy + texture);
-}
-
-double DeviceJointTrainer::TextureLossGradient(const float* render_a,
-                                               const float* render_b, int a,
-                                               int b,
-                                               JointIterationStats* out) {
-  if (!texture_) return 0;
-  // As JointTrainer's: each frame at full weight, the draws by iteration.
-  const uint64_t draw = 2 * static_cast<uint64_t>(iteration_);
-  const double ramp = WaterLossRamp(options_, iteration_);
-  const double sum =
-      HostTextureGradient(&*texture_, render_a, (*frames_)[a], ramp, draw,
-                          energy_grad_a_.data()) +
-      HostTextureGradient(&*texture_, render_b, (*frames_)[b], ramp, draw + 1,
-                          energy_grad_b_.data());
-  // The term itself, unramped (0 at iteration 0, where the ramp is).
-  out->texture =
-      ramp > 0 ? 0.5 * sum / (ramp * options_.water_texture.weight) : 0.0;
-  return sum;
-}
-
-double DeviceJointTrainer::LoopTextureGradient(int frame_index,
-                                               JointIterationStats* out) {
-  const Frame& frame = (*frames_)[frame_index];
-  loop_cost_->Reset(frame.camera, images_.image(frame_index), nullptr,
-                    frame.time_index, Structure());
-  std::vector<double*> params = ParamBlocks();
-  loop_cost_->RenderForGradient(params.data());
-  loop_grad_.Resize(3 * static_cast<size_t>(frame.camera.width) *
-                    frame.camera.height);
-  loop_grad_.Zero();
-  const double ramp = WaterLossRamp(options_, iteration_);
-  const double loss =
-      HostTextureGradient(&*loop_texture_, loop_cost_->render().rgb, frame,
-                          ramp, LoopTextureDraw(iteration_), loop_grad_.data());
-  out->loop_texture =
-      ramp > 0 ? loss / (ramp * options_.loop_texture_weight) : 0.0;
-  std::vector<double*> gradients = GradientBlocks(&grad_);
-  loop_cost_->BackwardWithImageGradient(params.data(), loop_grad_.data(),
-                                        gradients.data(), /*accumulate=*/true);
-  return loss;
-}
-
-double DeviceJointTrainer::HostTextureGradient(WaterTextureLoss* loss,
-                                               const float* render,
-                                               const Frame& frame,
-                                               double scale, uint64_t draw,
-                                               float* device_grad) {
-  const size_t values =
-      3 * static_cast<size_t>(frame.camera.width) * frame.camera.height;
-  host_values_.resize(values);
-  CopyToHost(host_values_.data(), render, values * sizeof(float));
-  host_render_.assign(host_values_.begin(), host_values_.end());
-  host_grad_.assign(values, 0.0);
-  const double value =
-      loss->Evaluate(host_render_.data(), frame.image,
-                     energy_masks_ ? frame.mask : cv::Mat(), scale, draw,
-                     host_grad_.data());
-  // Up once, then added on the device.
-  host_values_.assign(host_grad_.begin(), host_grad_.end());
-  texture_grad_.Upload(host_values_);
-  cuda::AddFloatArray(static_cast<long long>(values), texture_grad_.data(),
-                      device_grad);
-  return value;
+DeviceObjectiveFrame DeviceJointTrainer::ObjectiveFrame(int frame) const {
+  return {&(*frames_)[frame], images_.image(frame), images_.mask(frame)};
 }
 
 void DeviceJointTrainer::RefreshDynamicSet() {
@@ -331,12 +184,10 @@ WaterDensifyResult DeviceJointTrainer::DensifyWaterNow() {
   DeviceDensityStats stats;
   stats.Reset(g_.size());
   for (int f : WaterDensifyViews(options_, train_, iteration_)) {
-    const Frame& frame = (*frames_)[f];
-    cost_.Reset(frame.camera, images_.image(f),
-                use_masks_ ? images_.mask(f) : nullptr, frame.time_index,
-                Structure());
-    cost_.AddLossGradient(params.data(), gradients.data());
-    stats.AddView(frame.camera.width, frame.camera.height, rasterizer_);
+    const Camera& camera = (*frames_)[f].camera;
+    objective_.FitGradient(Structure(), params.data(), ObjectiveFrame(f),
+                           gradients.data());
+    stats.AddView(camera.width, camera.height, objective_.rasterizer());
   }
   // Step expects the field gradients zero.
   for (FieldBlock& f : fields_) f.grad.Zero();

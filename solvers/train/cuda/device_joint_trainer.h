@@ -2,8 +2,8 @@
 #define EULERSPLAT_SOLVERS_TRAIN_CUDA_DEVICE_JOINT_TRAINER_H_
 
 // JointTrainer (solvers/train/joint_trainer.h) on a CUDA device, step for
-// step: the same frame order, start times, loss terms (through
-// DeviceJointRenderCost, a ceres::CostFunction on device blocks), water
+// step: the same frame order, start times, objective (through
+// DeviceJointObjective, JointObjective's twin on device blocks), water
 // energy pairs, scene-flow prior, learning rates, divergence guard and
 // water densification (the host-side pieces are the CPU trainer's own,
 // solvers/train/joint_training_steps.h). The splats, V's and D's
@@ -25,10 +25,7 @@
 #include "core/fields/cuda/device_motion_field.h"
 #include "core/io/scene.h"
 #include "core/base/cuda/device_buffer.h"
-#include "core/render/cuda/device_rasterizer.h"
-#include "costs/cuda/device_joint_render_cost.h"
-#include "costs/cuda/device_water_energy_loss.h"
-#include "costs/water_texture_loss.h"
+#include "costs/cuda/device_joint_objective.h"
 #include "solvers/optim/cuda/device_adam.h"
 #include "solvers/train/cuda/device_flow_prior.h"
 #include "solvers/train/cuda/device_frame_images.h"
@@ -88,28 +85,8 @@ class DeviceJointTrainer : public JointStageTrainer {
   // The splat and field blocks in JointBlockLayout order.
   std::vector<double*> ParamBlocks();
   std::vector<double*> GradientBlocks(DeviceGaussians* splat_grads);
-  // Step's loss and gradient with the energy term, as JointTrainer's
-  // PairLossGradient.
-  double PairLossGradient(int frame_index, int partner,
-                          JointIterationStats* out);
-  // The texture term of frames a and b (their device renders), its
-  // gradient added to energy_grad_a_ / energy_grad_b_; 0 when off. It runs
-  // on the host (WaterTextureLoss itself): each frame's render and
-  // gradient cross the bus once per step, the one per-iteration transfer
-  // of images, in exchange for one implementation of its sorts.
-  double TextureLossGradient(const float* render_a, const float* render_b,
-                             int a, int b, JointIterationStats* out);
-  // The loop texture term of the frame (composed at cycle number 0, as
-  // JointTrainer's): its weighted value, its gradient added into grad_
-  // and the fields' gradients. Its texture loss runs on the host too.
-  double LoopTextureGradient(int frame_index, JointIterationStats* out);
-  // `loss` of the device render of `frame` (draw: its directions) on the
-  // host; its gradient goes up once and is added to `device_grad` (H W 3
-  // floats). Returns the loss.
-  // `scale` times the loss and its gradient (the water losses' ramp).
-  double HostTextureGradient(WaterTextureLoss* loss, const float* render,
-                             const Frame& frame, double scale, uint64_t draw,
-                             float* device_grad);
+  // Frame `frame` (an index into frames_) as the objective reads it.
+  DeviceObjectiveFrame ObjectiveFrame(int frame) const;
   WaterDensifyResult DensifyWaterNow();
   // Whether every value of the splats' and the fields' gradients is
   // finite: one flag for all, one int back to the host.
@@ -134,7 +111,7 @@ class DeviceJointTrainer : public JointStageTrainer {
   mutable bool host_current_ = true;
   int initial_dynamic_ = 0;
   DeviceFrameImages images_;
-  DeviceGaussians g_, grad_, pair_grad_;
+  DeviceGaussians g_, grad_;
   DeviceGaussianAdam adam_;
   std::vector<FieldBlock> fields_;
   int64_t field_step_ = 0;
@@ -142,23 +119,12 @@ class DeviceJointTrainer : public JointStageTrainer {
   DeviceBuffer<double> max_log_scale_;     // per dynamic Gaussian
   DeviceBuffer<int> flag_;
   DeviceBuffer<unsigned long long> magnitude_bits_;
-  DeviceRasterizer rasterizer_, pair_rasterizer_;
-  DeviceJointRenderCost cost_, pair_cost_;
+  // The loss and gradient of a step (the sampled frame, its partner).
+  DeviceJointObjective objective_;
   std::optional<DeviceMotionField> prior_field_;
   std::optional<DeviceSceneFlowPrior> flow_prior_;
+  // Each training frame's neighbour for the pair terms (-1: none).
   std::vector<int> partner_;
-  std::optional<DeviceWaterEnergyLoss> energy_;
-  DeviceBuffer<float> energy_grad_a_, energy_grad_b_;
-  std::optional<WaterTextureLoss> texture_;
-  // loop_texture_weight > 0: the frame as the loop plays it (on
-  // rasterizer_, after cost_'s backward pass), its loss and gradient.
-  std::optional<DeviceJointRenderCost> loop_cost_;
-  std::optional<WaterTextureLoss> loop_texture_;
-  DeviceBuffer<float> loop_grad_;
-  // The texture terms' transfers.
-  std::vector<float> host_values_;
-  std::vector<double> host_render_, host_grad_;
-  DeviceBuffer<float> texture_grad_;
   int64_t iteration_ = 0;
   DivergenceGuard guard_;
   // Splats then fields (GuardedJointBlocks), bounded at construction.

@@ -1,7 +1,6 @@
 // The device trainer's kernels (training_kernels.h): the densification
 // statistics in DensityStats::AddView's arithmetic, the finiteness check
-// of the divergence guard, the water's scale bound and gradient
-// averaging.
+// of the divergence guard and the water's scale bound.
 
 #include <cmath>
 #include <cstring>
@@ -74,18 +73,6 @@ __global__ void ClampLogScalesKernel(int m, const int* dynamic,
     if (s[a] > max_log_scale[k]) s[a] = max_log_scale[k];
 }
 
-__global__ void AverageIntoKernel(long long n, const double* b, double* a) {
-  const long long i = static_cast<long long>(blockIdx.x) * blockDim.x +
-                      threadIdx.x;
-  if (i < n) a[i] = 0.5 * (a[i] + b[i]);
-}
-
-__global__ void ScaleValuesKernel(long long n, double factor, double* x) {
-  const long long i = static_cast<long long>(blockIdx.x) * blockDim.x +
-                      threadIdx.x;
-  if (i < n) x[i] *= factor;
-}
-
 }  // namespace
 
 void AddViewStats(int count, double half_w, double half_h, const int* radii,
@@ -124,18 +111,6 @@ void ClampLogScales(int m, const int* dynamic, const double* max_log_scale,
   ClampLogScalesKernel<<<Blocks(m), kThreads>>>(m, dynamic, max_log_scale,
                                                 log_scales);
   ES_CUDA_CHECK_LAUNCH("ClampLogScalesKernel");
-}
-
-void AverageInto(long long n, const double* b, double* a) {
-  if (n == 0) return;
-  AverageIntoKernel<<<Blocks(n), kThreads>>>(n, b, a);
-  ES_CUDA_CHECK_LAUNCH("AverageIntoKernel");
-}
-
-void ScaleValues(long long n, double factor, double* x) {
-  if (n == 0) return;
-  ScaleValuesKernel<<<Blocks(n), kThreads>>>(n, factor, x);
-  ES_CUDA_CHECK_LAUNCH("ScaleValuesKernel");
 }
 
 }  // namespace cuda

@@ -35,11 +35,6 @@ double MagnitudeOfBits(unsigned long long bits);
 void ClampLogScales(int m, const int* dynamic, const double* max_log_scale,
                     double* log_scales);
 
-// a[i] = 0.5 (a[i] + b[i]) for i < n: the mean of two gradients.
-void AverageInto(long long n, const double* b, double* a);
-// x[i] *= factor for i < n.
-void ScaleValues(long long n, double factor, double* x);
-
 }  // namespace cuda
 }  // namespace es
 
