@@ -4,9 +4,10 @@
 #include <cmath>
 #include <limits>
 
+#include <glog/logging.h>
 #include <opencv2/imgproc.hpp>
 
-#include "costs/water_energy_terms.h"
+#include "costs/water_image_filters.h"
 
 namespace es {
 namespace {
@@ -47,6 +48,7 @@ double HaarNoiseSigma(const cv::Mat& channel, const cv::Mat& skip) {
 std::array<double, 3> EstimateInputNoise(const std::vector<Frame>& frames,
                                          const std::vector<int>& indices) {
   std::array<std::vector<double>, 3> per_frame;
+  std::vector<double> values;  // one opponent channel of a frame
   for (int index : indices) {
     const Frame& f = frames[index];
     cv::Mat rgb;
@@ -57,15 +59,8 @@ std::array<double, 3> EstimateInputNoise(const std::vector<Frame>& frames,
       cv::dilate(skip, skip, cv::Mat::ones(3, 3, CV_8UC1));
     }
     for (int c = 0; c < 3; ++c) {
-      cv::Mat channel(rgb.rows, rgb.cols, CV_64FC1);
-      for (int y = 0; y < rgb.rows; ++y) {
-        const cv::Vec3d* in = rgb.ptr<cv::Vec3d>(y);
-        double* out = channel.ptr<double>(y);
-        for (int x = 0; x < rgb.cols; ++x)
-          out[x] = kWaterOpponent[c][0] * in[x][0] +
-                   kWaterOpponent[c][1] * in[x][1] +
-                   kWaterOpponent[c][2] * in[x][2];
-      }
+      internal::ChannelOf(rgb.ptr<double>(), rgb.total(), c, &values);
+      const cv::Mat channel(rgb.rows, rgb.cols, CV_64FC1, values.data());
       const double sigma = HaarNoiseSigma(channel, skip);
       if (std::isfinite(sigma)) per_frame[c].push_back(sigma);
     }

@@ -84,6 +84,7 @@ void SetInputNoise(double sigma, const Scene& scene,
   if (sigma < 0) noise = EstimateInputNoise(scene.frames, scene.train);
   trainer->water_energy.input_noise = noise;
   trainer->water_texture.input_noise = noise;
+  if (sigma == 0) return;  // off: nothing to say
   std::printf("input noise, std per opponent channel: %.4f %.4f %.4f (%s)\n",
               noise[0], noise[1], noise[2],
               sigma < 0 ? "estimated from the training frames" : "given");
