@@ -132,34 +132,42 @@ void ShColors(int coeffs, const F basis[kMaxCoeffs][kB],
     }
 }
 
-void Forward(const ProjectionInput& in, int begin, int count,
-             ProjectedSplat* out, char* keep) {
-  const Camera cam(in);
-  const int coeffs = (in.sh_degree + 1) * (in.sh_degree + 1);
+// A batch's inputs, geometry, view directions, SH and colours: what
+// forward and backward both compute first.
+struct Batch {
+  Camera cam;
+  int coeffs;
   Lanes<kB> l;
-  Gather(in, begin, count, &l);
   Geometry<kB> g;
-  ComputeGeometry(cam, l, &g);
   F dir[3][kB], len[kB], basis[kMaxCoeffs][kB], sh[3 * kMaxCoeffs][kB],
       color[3][kB];
-  ViewDirections(l, dir, len);
-  ShBasis(dir, basis);
-  GatherSh(in, begin, count, 3 * coeffs, sh);
-  ShColors(coeffs, basis, sh, color);
+  Batch(const ProjectionInput& in, int begin, int count)
+      : cam(in), coeffs((in.sh_degree + 1) * (in.sh_degree + 1)) {
+    Gather(in, begin, count, &l);
+    ComputeGeometry(cam, l, &g);
+    ViewDirections(l, dir, len);
+    ShBasis(dir, basis);
+    GatherSh(in, begin, count, 3 * coeffs, sh);
+    ShColors(coeffs, basis, sh, color);
+  }
+};
 
+void Forward(const ProjectionInput& in, int begin, int count,
+             ProjectedSplat* out, char* keep) {
+  const Batch b(in, begin, count);
   Footprint<kB> fp;
 #pragma omp simd
-  for (int i = 0; i < kB; ++i) FootprintLane(cam, l, g, color, i, &fp);
+  for (int i = 0; i < kB; ++i) FootprintLane(b.cam, b.l, b.g, b.color, i, &fp);
   for (int i = 0; i < count; ++i) {
     keep[i] = fp.ok[i] != 0.0f;
     if (!keep[i]) continue;
     ProjectedSplat& p = out[i];
     p.mean2d[0] = fp.mean[0][i];
     p.mean2d[1] = fp.mean[1][i];
-    for (int k = 0; k < 3; ++k) p.conic[k] = g.conic[k][i];
-    p.depth = l.p[2][i];
+    for (int k = 0; k < 3; ++k) p.conic[k] = b.g.conic[k][i];
+    p.depth = b.l.p[2][i];
     p.opacity = fp.opacity[i];
-    for (int ch = 0; ch < 3; ++ch) p.color[ch] = Max(color[ch][i], 0.0f);
+    for (int ch = 0; ch < 3; ++ch) p.color[ch] = Max(b.color[ch][i], 0.0f);
     p.radius = static_cast<int>(fp.radius[i]);
     p.px0 = fp.box[0][i];
     p.px1 = fp.box[1][i];
@@ -175,32 +183,23 @@ void Forward(const ProjectionInput& in, int begin, int count,
 void Backward(const ProjectionInput& in, int begin, int count, const char* keep,
               const double* grad2d, int stride,
               const ProjectionGradients& out) {
-  const Camera cam(in);
-  const int coeffs = (in.sh_degree + 1) * (in.sh_degree + 1);
-  Lanes<kB> l;
-  Gather(in, begin, count, &l);
-  Geometry<kB> g;
-  ComputeGeometry(cam, l, &g);
+  const Batch b(in, begin, count);
+  const int coeffs = b.coeffs;
   ScreenGradients<kB> sg;
   for (int i = 0; i < kB; ++i)
     GatherGradientLane(
         grad2d + static_cast<size_t>(stride) * (i < count ? i : 0), i, &sg);
   GeometryGradients<kB> gg;
 #pragma omp simd
-  for (int i = 0; i < kB; ++i) GeometryBackwardLane(cam, l, g, sg, i, &gg);
+  for (int i = 0; i < kB; ++i)
+    GeometryBackwardLane(b.cam, b.l, b.g, sg, i, &gg);
 
   // Colour: SH + 0.5, clamped below at 0 (no gradient where clamped).
-  F dir[3][kB], len[kB], basis[kMaxCoeffs][kB], sh[3 * kMaxCoeffs][kB],
-      color[3][kB];
-  ViewDirections(l, dir, len);
-  ShBasis(dir, basis);
-  GatherSh(in, begin, count, 3 * coeffs, sh);
-  ShColors(coeffs, basis, sh, color);
   F g_color[3][kB];
   for (int ch = 0; ch < 3; ++ch) {
 #pragma omp simd
     for (int i = 0; i < kB; ++i)
-      g_color[ch][i] = color[ch][i] < 0 ? 0.0f : sg.pg[kTileGradHead + ch][i];
+      g_color[ch][i] = b.color[ch][i] < 0 ? 0.0f : sg.pg[kTileGradHead + ch][i];
   }
   F g_basis[kMaxCoeffs][kB];
   for (int k = coeffs; k < kMaxCoeffs; ++k)
@@ -208,14 +207,14 @@ void Backward(const ProjectionInput& in, int begin, int count, const char* keep,
   for (int k = 0; k < coeffs; ++k) {
 #pragma omp simd
     for (int i = 0; i < kB; ++i)
-      g_basis[k][i] = sh[3 * k][i] * g_color[0][i] +
-                      sh[3 * k + 1][i] * g_color[1][i] +
-                      sh[3 * k + 2][i] * g_color[2][i];
+      g_basis[k][i] = b.sh[3 * k][i] * g_color[0][i] +
+                      b.sh[3 * k + 1][i] * g_color[1][i] +
+                      b.sh[3 * k + 2][i] * g_color[2][i];
   }
   if (in.sh_degree > 0) {
 #pragma omp simd
     for (int i = 0; i < kB; ++i)
-      ViewDirectionBackwardLane(dir, len, g_basis, i, gg.mean);
+      ViewDirectionBackwardLane(b.dir, b.len, g_basis, i, gg.mean);
   }
 
   for (int i = 0; i < count; ++i) {
@@ -230,7 +229,7 @@ void Backward(const ProjectionInput& in, int begin, int count, const char* keep,
     double* g_sh = out.sh + 3 * static_cast<size_t>(coeffs) * n;
     for (int k = 0; k < coeffs; ++k)
       for (int ch = 0; ch < 3; ++ch)
-        g_sh[3 * k + ch] = basis[k][i] * g_color[ch][i];
+        g_sh[3 * k + ch] = b.basis[k][i] * g_color[ch][i];
   }
 }
 
