@@ -8,56 +8,10 @@
 #include <glog/logging.h>
 
 #include "core/base/stage_profile.h"
+#include "core/loop/safe_step.h"
 
 namespace es {
 namespace {
-
-enum class StepKind { kPlain, kClamped, kNonFinite };
-
-// The stress rule of EulerOptions: writes the step taken for velocity v.
-StepKind SafeStep(const double* v, double max_step, double* step) {
-  if (!std::isfinite(v[0]) || !std::isfinite(v[1]) || !std::isfinite(v[2])) {
-    step[0] = step[1] = step[2] = 0.0;
-    return StepKind::kNonFinite;
-  }
-  const double norm = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-  // Finite components can still overflow the norm: treat that as clamped.
-  if (norm > max_step) {
-    const double s = std::isfinite(norm) ? max_step / norm : 0.0;
-    for (int j = 0; j < 3; ++j) step[j] = v[j] * s;
-    return StepKind::kClamped;
-  }
-  for (int j = 0; j < 3; ++j) step[j] = v[j];
-  return StepKind::kPlain;
-}
-
-// d_v = J^T g for the step function of SafeStep at v.
-void SafeStepBackward(const double* v, double max_step, const double* g,
-                      double* d_v) {
-  double step[3];
-  switch (SafeStep(v, max_step, step)) {
-    case StepKind::kPlain:
-      for (int j = 0; j < 3; ++j) d_v[j] = g[j];
-      return;
-    case StepKind::kNonFinite:
-      d_v[0] = d_v[1] = d_v[2] = 0.0;
-      return;
-    case StepKind::kClamped: {
-      const double norm2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
-      const double norm = std::sqrt(norm2);
-      if (!std::isfinite(norm)) {
-        d_v[0] = d_v[1] = d_v[2] = 0.0;
-        return;
-      }
-      // (max_step / |v|) (I - v v^T / |v|^2) g
-      const double vg = v[0] * g[0] + v[1] * g[1] + v[2] * g[2];
-      for (int j = 0; j < 3; ++j) {
-        d_v[j] = max_step / norm * (g[j] - v[j] * vg / norm2);
-      }
-      return;
-    }
-  }
-}
 
 void Count(StepKind kind, EulerStats* stats) {
   if (kind == StepKind::kClamped) ++stats->clamped_steps;

@@ -1,39 +1,25 @@
 // The Euler chain's per-point work on the device, one thread per point:
-// the stress rule of EulerOptions (core/loop/euler_chain.h) and its
-// Jacobian, with EulerChain's arithmetic in double, and Alg. 2's step
+// the stress rule of EulerOptions and its Jacobian (core/loop/safe_step.h,
+// which EulerChain runs too), in double, and Alg. 2's step
 // (LoopAnimator::Advance).
 
 #include "core/loop/cuda/euler_kernels.h"
 #include "core/base/cuda/cuda_check.h"
+#include "core/loop/safe_step.h"
 
 namespace es {
 namespace cuda {
 namespace {
 
 constexpr int kThreads = 128;
-enum StepKind { kPlain, kClamped, kNonFinite };
 
 int Blocks(int n) { return (n + kThreads - 1) / kThreads; }
 
-// Not NaN nor infinite (Inf - Inf and NaN - NaN are NaN).
-__device__ bool Finite(double v) { return v - v == 0.0; }
-
-// The stress rule: writes the step taken for velocity v.
-__device__ StepKind SafeStep(const double* v, double max_step,
-                             double* step) {
-  if (!Finite(v[0]) || !Finite(v[1]) || !Finite(v[2])) {
-    step[0] = step[1] = step[2] = 0.0;
-    return kNonFinite;
-  }
-  const double norm = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-  // Finite components can still overflow the norm: treat that as clamped.
-  if (norm > max_step) {
-    const double s = Finite(norm) ? max_step / norm : 0.0;
-    for (int j = 0; j < 3; ++j) step[j] = v[j] * s;
-    return kClamped;
-  }
-  for (int j = 0; j < 3; ++j) step[j] = v[j];
-  return kPlain;
+// Counts a clamped or non-finite step (EulerStats).
+__device__ void Count(StepKind kind, unsigned long long* counters) {
+  if (kind == StepKind::kClamped) atomicAdd(counters + kClampedSteps, 1ULL);
+  if (kind == StepKind::kNonFinite)
+    atomicAdd(counters + kNonFiniteVelocities, 1ULL);
 }
 
 __global__ void StartKernel(int n, int first, const int* order,
@@ -53,9 +39,7 @@ __global__ void StepKernel(int m, int m_next, const int* order,
   const int k = blockIdx.x * blockDim.x + threadIdx.x;
   if (k >= m) return;
   double step[3];
-  const StepKind kind = SafeStep(v + 3LL * k, max_step, step);
-  if (kind == kClamped) atomicAdd(counters + kClampedSteps, 1ULL);
-  if (kind == kNonFinite) atomicAdd(counters + kNonFiniteVelocities, 1ULL);
+  Count(SafeStep(v + 3LL * k, max_step, step), counters);
   double* dst = k < m_next ? next + 3LL * k : x_out + 3LL * order[k];
   for (int j = 0; j < 3; ++j) dst[j] = xs[3LL * k + j] + step[j];
 }
@@ -73,9 +57,7 @@ __global__ void AdvanceKernel(int n, int cycle_length, const double* v,
     return;
   }
   double step[3];
-  const StepKind kind = SafeStep(v + 3LL * k, max_step, step);
-  if (kind == kClamped) atomicAdd(counters + kClampedSteps, 1ULL);
-  if (kind == kNonFinite) atomicAdd(counters + kNonFiniteVelocities, 1ULL);
+  Count(SafeStep(v + 3LL * k, max_step, step), counters);
   for (int j = 0; j < 3; ++j) x[j] += step[j];
 }
 
@@ -100,32 +82,8 @@ __global__ void StepBackwardKernel(int m, const double* velocity,
                                    double* step_gradient) {
   const int k = blockIdx.x * blockDim.x + threadIdx.x;
   if (k >= m) return;
-  const double* v = velocity + 3LL * k;
-  const double* g = gradient + 3LL * k;
-  double* d_v = step_gradient + 3LL * k;
-  double step[3];
-  switch (SafeStep(v, max_step, step)) {
-    case kPlain:
-      for (int j = 0; j < 3; ++j) d_v[j] = g[j];
-      return;
-    case kNonFinite:
-      d_v[0] = d_v[1] = d_v[2] = 0.0;
-      return;
-    case kClamped: {
-      const double norm2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
-      const double norm = sqrt(norm2);
-      if (!Finite(norm)) {
-        d_v[0] = d_v[1] = d_v[2] = 0.0;
-        return;
-      }
-      // (max_step / |v|) (I - v v^T / |v|^2) g
-      const double vg = v[0] * g[0] + v[1] * g[1] + v[2] * g[2];
-      for (int j = 0; j < 3; ++j) {
-        d_v[j] = max_step / norm * (g[j] - v[j] * vg / norm2);
-      }
-      return;
-    }
-  }
+  SafeStepBackward(velocity + 3LL * k, max_step, gradient + 3LL * k,
+                   step_gradient + 3LL * k);
 }
 
 __global__ void ScatterAddKernel(int n, const int* order,
