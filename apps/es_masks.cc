@@ -6,7 +6,7 @@
 // frame (core/masks/water_masks.h, water_matting.h). Writes one PNG per
 // registered frame (same names as the images, .png; white = water) that a
 // person can inspect and edit, a sheet to check them with, and a report;
-// with --truth also the IoU against true masks.
+// with --truth also the IoU, precision and recall against true masks.
 //
 //   es_masks --scene DIR --static static.ply --out MASKS_DIR
 //            [--sheet FILE] [--report FILE] [--truth TRUE_MASKS_DIR]
@@ -36,7 +36,7 @@ DEFINE_string(out, "", "Mask folder to write (must not exist; written "
 DEFINE_string(sheet, "", "Check sheet PNG (default: OUT_sheet.png).");
 DEFINE_string(report, "", "Report JSON (default: OUT_report.json).");
 DEFINE_string(truth, "", "Optional true masks (same names): adds the mean "
-              "per-frame IoU to the report.");
+              "per-frame IoU, precision and recall to the report.");
 DEFINE_double(image_scale, 1.0, "Work at this fraction of the frames' size "
               "(masks are written at full size).");
 DEFINE_int32(window, 2, "Frames on each side for temporal averaging and "
@@ -96,20 +96,25 @@ void WriteMasks(const es::Scene& scene, const es::WaterMaskResult& result,
   fs::rename(staging, out);
 }
 
-// Mean per-frame IoU against the masks in truth_dir (at the working size).
-double MeanIou(const es::Scene& scene, const es::WaterMaskResult& result,
-               const std::string& truth_dir) {
+// Mean per-frame scores against the masks in truth_dir (at the working
+// size).
+es::MaskScore MeanScore(const es::Scene& scene,
+                        const es::WaterMaskResult& result,
+                        const std::string& truth_dir) {
   std::vector<std::string> names;
   for (const es::Frame& f : scene.frames) names.push_back(f.camera.image_name);
   const std::vector<std::string> files = es::FindMaskFiles(truth_dir, names);
-  double sum = 0;
+  es::MaskScore mean{0, 0, 0};
   for (size_t i = 0; i < files.size(); ++i) {
     cv::Mat truth;
     cv::resize(es::ReadMask(files[i]), truth, result.masks[i].size(), 0, 0,
                cv::INTER_AREA);
-    sum += es::MaskIou(result.masks[i], truth);
+    const es::MaskScore s = es::ScoreMask(result.masks[i], truth);
+    mean.iou += s.iou / files.size();
+    mean.precision += s.precision / files.size();
+    mean.recall += s.recall / files.size();
   }
-  return sum / files.size();
+  return mean;
 }
 
 int Main() {
@@ -152,15 +157,19 @@ int Main() {
         }
       });
   es::WriteImageAtomically(sheet, es::WaterMaskSheet(scene, result, 8));
-  const double iou =
-      FLAGS_truth.empty() ? -1 : MeanIou(scene, result, FLAGS_truth);
   nlohmann::ordered_json json;
   json["frames"] = scene.frames.size();
   json["has_water"] = result.has_water;
   json["water_fraction"] = result.water_fraction;
   json["threshold"] = result.threshold;
-  json["mean_iou"] =
-      iou < 0 ? nlohmann::ordered_json() : nlohmann::ordered_json(iou);
+  json["mean_iou"] = nullptr;
+  if (!FLAGS_truth.empty()) {
+    const es::MaskScore score = MeanScore(scene, result, FLAGS_truth);
+    json["mean_iou"] = score.iou;
+    json["mean_precision"] = score.precision;
+    json["mean_recall"] = score.recall;
+    json["truth"] = FLAGS_truth;
+  }
   // The report last: its presence means the masks are complete.
   if (result.has_water) WriteMasks(scene, result, FLAGS_out);
   es::WriteJsonFile(report, json);
@@ -169,8 +178,12 @@ int Main() {
               "the static level)%s\n",
               100 * result.water_fraction, result.threshold,
               result.has_water ? "" : ": nothing moves, no masks written");
-  if (iou >= 0) std::printf("[masks] mean IoU vs %s: %.3f\n",
-                            FLAGS_truth.c_str(), iou);
+  if (!FLAGS_truth.empty())
+    std::printf("[masks] vs %s: mean IoU %.3f, precision %.3f, recall "
+                "%.3f\n", FLAGS_truth.c_str(),
+                json["mean_iou"].get<double>(),
+                json["mean_precision"].get<double>(),
+                json["mean_recall"].get<double>());
   std::printf("[masks] check sheet %s%s%s\n", sheet.c_str(),
               result.has_water ? ", masks " : "",
               result.has_water ? FLAGS_out.c_str() : "");

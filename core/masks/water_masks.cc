@@ -250,21 +250,6 @@ WaterMaskResult EstimateWaterMasks(
   return result;
 }
 
-double MaskIou(const cv::Mat& a, const cv::Mat& b) {
-  CHECK_EQ(a.size(), b.size());
-  auto binary = [](const cv::Mat& m) {
-    cv::Mat f, out;
-    m.convertTo(f, CV_32F, m.depth() == CV_8U ? 1.0 / 255 : 1.0);
-    cv::threshold(f, out, 0.5, 1, cv::THRESH_BINARY);
-    out.convertTo(out, CV_8U);
-    return out;
-  };
-  const cv::Mat x = binary(a), y = binary(b);
-  const int inter = cv::countNonZero(x & y);
-  const int uni = cv::countNonZero(x | y);
-  return uni == 0 ? 1.0 : static_cast<double>(inter) / uni;
-}
-
 cv::Mat WaterMaskSheet(const Scene& scene, const WaterMaskResult& result,
                        int count) {
   const int n = static_cast<int>(scene.frames.size());

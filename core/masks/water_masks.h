@@ -7,6 +7,7 @@
 #include <opencv2/core.hpp>
 
 #include "core/io/scene.h"
+#include "core/masks/mask_scores.h"
 #include "core/masks/residual_change.h"
 #include "core/masks/water_matting.h"
 #include "core/model/gaussians.h"
@@ -75,10 +76,6 @@ WaterMaskResult EstimateWaterMasks(
     const Scene& scene, const GaussianSet& static_model,
     const WaterMaskOptions& options,
     const std::function<void(int, int)>& progress = nullptr);
-
-// Intersection over union of two binary masks (> 0.5 of their range is
-// water); 1 when both are empty.
-double MaskIou(const cv::Mat& a, const cv::Mat& b);
 
 // A sheet a person can check masks with: `count` frames evenly spaced,
 // each as the frame with its water tinted and its region outlined, beside
