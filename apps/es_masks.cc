@@ -13,6 +13,7 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <sstream>
 #include <string>
 
 #include <gflags/gflags.h>
@@ -45,6 +46,21 @@ DEFINE_int32(change_gap, 4, "Video frames between the frames whose "
              "residuals against the static model are compared (3 on each "
              "side: gap, 2 gap, 3 gap); a few frames, so that water has "
              "changed (raise it for a high frame rate).");
+DEFINE_string(cues, "flow,change,misfit", "Cues the evidence takes, "
+              "comma-separated: flow (optical flow the camera's motion does "
+              "not explain), change (misfit that changes over time at a "
+              "surface point), misfit (a surface unlike the static fit's); "
+              "fewer, to measure what each brings.");
+DEFINE_int32(change_tolerance, 1, "Pixels of misregistration forgiven "
+             "when frames carried by the camera's motion are compared (fine "
+             "static texture must not look changed); 0: pixel to pixel.");
+DEFINE_double(misfit_blur, 0, "The misfit cue blurs the residual over "
+              "this radius (fraction of the width) first, so fine texture "
+              "that a short fit renders as its average is no misfit; 0: per "
+              "pixel.");
+DEFINE_bool(flow_needs_change, false, "The flow cue counts only as far as "
+            "the camera's motion fails to explain the next frame's colours "
+            "(optical flow goes wrong on fine repeating texture).");
 DEFINE_double(min_score, 2.0, "Evidence (in units of the static region's "
               "level) below which nothing is water.");
 DEFINE_double(min_water_fraction, 0.02, "Mean water fraction below which "
@@ -73,6 +89,24 @@ cv::Size StoredSize(const es::Scene& scene) {
         size = image.size();
       });
   return size;
+}
+
+// --cues as WaterCues; throws InputError naming a cue it does not know.
+es::WaterCues ParseCues(const std::string& list) {
+  es::WaterCues cues{false, false, false};
+  std::stringstream in(list);
+  std::string name;
+  while (std::getline(in, name, ',')) {
+    if (name == "flow") cues.flow = true;
+    else if (name == "change") cues.change = true;
+    else if (name == "misfit") cues.misfit = true;
+    else
+      throw es::InputError("--cues: unknown cue '" + name +
+                           "' (flow, change or misfit)");
+  }
+  if (!cues.flow && !cues.change && !cues.misfit)
+    throw es::InputError("--cues: name at least one cue");
+  return cues;
 }
 
 std::string MaskName(const std::string& image_name) {
@@ -126,6 +160,11 @@ int Main() {
   if (FLAGS_window < 0) throw es::InputError("--window must be >= 0");
   if (FLAGS_change_gap < 1)
     throw es::InputError("--change_gap must be >= 1");
+  if (FLAGS_change_tolerance < 0)
+    throw es::InputError("--change_tolerance must be >= 0");
+  if (!(FLAGS_misfit_blur >= 0))
+    throw es::InputError("--misfit_blur must be >= 0");
+  const es::WaterCues cues = ParseCues(FLAGS_cues);
   const std::string sheet =
       FLAGS_sheet.empty() ? FLAGS_out + "_sheet.png" : FLAGS_sheet;
   const std::string report =
@@ -139,6 +178,10 @@ int Main() {
   options.window = FLAGS_window;
   options.min_score = FLAGS_min_score;
   options.change.gap = FLAGS_change_gap;
+  options.change.tolerance = FLAGS_change_tolerance;
+  options.cues = cues;
+  options.misfit_blur = FLAGS_misfit_blur;
+  options.flow_needs_change = FLAGS_flow_needs_change;
   options.min_water_fraction = FLAGS_min_water_fraction;
   options.matting = FLAGS_matting;
   options.matting_options.calm_water = FLAGS_calm_water;
