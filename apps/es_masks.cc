@@ -6,13 +6,14 @@
 // frame (core/masks/water_masks.h, water_matting.h). Writes one PNG per
 // registered frame (same names as the images, .png; white = water) that a
 // person can inspect and edit, a sheet to check them with, and a report;
-// with --truth also the IoU against true masks.
+// with --truth also the IoU, precision and recall against true masks.
 //
 //   es_masks --scene DIR --static static.ply --out MASKS_DIR
 //            [--sheet FILE] [--report FILE] [--truth TRUE_MASKS_DIR]
 
 #include <cstdio>
 #include <filesystem>
+#include <sstream>
 #include <string>
 
 #include <gflags/gflags.h>
@@ -36,7 +37,7 @@ DEFINE_string(out, "", "Mask folder to write (must not exist; written "
 DEFINE_string(sheet, "", "Check sheet PNG (default: OUT_sheet.png).");
 DEFINE_string(report, "", "Report JSON (default: OUT_report.json).");
 DEFINE_string(truth, "", "Optional true masks (same names): adds the mean "
-              "per-frame IoU to the report.");
+              "per-frame IoU, precision and recall to the report.");
 DEFINE_double(image_scale, 1.0, "Work at this fraction of the frames' size "
               "(masks are written at full size).");
 DEFINE_int32(window, 2, "Frames on each side for temporal averaging and "
@@ -45,6 +46,21 @@ DEFINE_int32(change_gap, 4, "Video frames between the frames whose "
              "residuals against the static model are compared (3 on each "
              "side: gap, 2 gap, 3 gap); a few frames, so that water has "
              "changed (raise it for a high frame rate).");
+DEFINE_string(cues, "flow,change,misfit", "Cues the evidence takes, "
+              "comma-separated: flow (optical flow the camera's motion does "
+              "not explain), change (misfit that changes over time at a "
+              "surface point), misfit (a surface unlike the static fit's); "
+              "fewer, to measure what each brings.");
+DEFINE_int32(change_tolerance, 1, "Pixels of misregistration forgiven "
+             "when frames carried by the camera's motion are compared (fine "
+             "static texture must not look changed); 0: pixel to pixel.");
+DEFINE_double(misfit_blur, 0, "The misfit cue blurs the residual over "
+              "this radius (fraction of the width) first, so fine texture "
+              "that a short fit renders as its average is no misfit; 0: per "
+              "pixel.");
+DEFINE_bool(flow_needs_change, false, "The flow cue counts only as far as "
+            "the camera's motion fails to explain the next frame's colours "
+            "(optical flow goes wrong on fine repeating texture).");
 DEFINE_double(min_score, 2.0, "Evidence (in units of the static region's "
               "level) below which nothing is water.");
 DEFINE_double(min_water_fraction, 0.02, "Mean water fraction below which "
@@ -75,6 +91,24 @@ cv::Size StoredSize(const es::Scene& scene) {
   return size;
 }
 
+// --cues as WaterCues; throws InputError naming a cue it does not know.
+es::WaterCues ParseCues(const std::string& list) {
+  es::WaterCues cues{false, false, false};
+  std::stringstream in(list);
+  std::string name;
+  while (std::getline(in, name, ',')) {
+    if (name == "flow") cues.flow = true;
+    else if (name == "change") cues.change = true;
+    else if (name == "misfit") cues.misfit = true;
+    else
+      throw es::InputError("--cues: unknown cue '" + name +
+                           "' (flow, change or misfit)");
+  }
+  if (!cues.flow && !cues.change && !cues.misfit)
+    throw es::InputError("--cues: name at least one cue");
+  return cues;
+}
+
 std::string MaskName(const std::string& image_name) {
   return fs::path(image_name).replace_extension(".png").string();
 }
@@ -96,20 +130,25 @@ void WriteMasks(const es::Scene& scene, const es::WaterMaskResult& result,
   fs::rename(staging, out);
 }
 
-// Mean per-frame IoU against the masks in truth_dir (at the working size).
-double MeanIou(const es::Scene& scene, const es::WaterMaskResult& result,
-               const std::string& truth_dir) {
+// Mean per-frame scores against the masks in truth_dir (at the working
+// size).
+es::MaskScore MeanScore(const es::Scene& scene,
+                        const es::WaterMaskResult& result,
+                        const std::string& truth_dir) {
   std::vector<std::string> names;
   for (const es::Frame& f : scene.frames) names.push_back(f.camera.image_name);
   const std::vector<std::string> files = es::FindMaskFiles(truth_dir, names);
-  double sum = 0;
+  es::MaskScore mean{0, 0, 0};
   for (size_t i = 0; i < files.size(); ++i) {
     cv::Mat truth;
     cv::resize(es::ReadMask(files[i]), truth, result.masks[i].size(), 0, 0,
                cv::INTER_AREA);
-    sum += es::MaskIou(result.masks[i], truth);
+    const es::MaskScore s = es::ScoreMask(result.masks[i], truth);
+    mean.iou += s.iou / files.size();
+    mean.precision += s.precision / files.size();
+    mean.recall += s.recall / files.size();
   }
-  return sum / files.size();
+  return mean;
 }
 
 int Main() {
@@ -121,6 +160,11 @@ int Main() {
   if (FLAGS_window < 0) throw es::InputError("--window must be >= 0");
   if (FLAGS_change_gap < 1)
     throw es::InputError("--change_gap must be >= 1");
+  if (FLAGS_change_tolerance < 0)
+    throw es::InputError("--change_tolerance must be >= 0");
+  if (!(FLAGS_misfit_blur >= 0))
+    throw es::InputError("--misfit_blur must be >= 0");
+  const es::WaterCues cues = ParseCues(FLAGS_cues);
   const std::string sheet =
       FLAGS_sheet.empty() ? FLAGS_out + "_sheet.png" : FLAGS_sheet;
   const std::string report =
@@ -134,6 +178,10 @@ int Main() {
   options.window = FLAGS_window;
   options.min_score = FLAGS_min_score;
   options.change.gap = FLAGS_change_gap;
+  options.change.tolerance = FLAGS_change_tolerance;
+  options.cues = cues;
+  options.misfit_blur = FLAGS_misfit_blur;
+  options.flow_needs_change = FLAGS_flow_needs_change;
   options.min_water_fraction = FLAGS_min_water_fraction;
   options.matting = FLAGS_matting;
   options.matting_options.calm_water = FLAGS_calm_water;
@@ -152,15 +200,19 @@ int Main() {
         }
       });
   es::WriteImageAtomically(sheet, es::WaterMaskSheet(scene, result, 8));
-  const double iou =
-      FLAGS_truth.empty() ? -1 : MeanIou(scene, result, FLAGS_truth);
   nlohmann::ordered_json json;
   json["frames"] = scene.frames.size();
   json["has_water"] = result.has_water;
   json["water_fraction"] = result.water_fraction;
   json["threshold"] = result.threshold;
-  json["mean_iou"] =
-      iou < 0 ? nlohmann::ordered_json() : nlohmann::ordered_json(iou);
+  json["mean_iou"] = nullptr;
+  if (!FLAGS_truth.empty()) {
+    const es::MaskScore score = MeanScore(scene, result, FLAGS_truth);
+    json["mean_iou"] = score.iou;
+    json["mean_precision"] = score.precision;
+    json["mean_recall"] = score.recall;
+    json["truth"] = FLAGS_truth;
+  }
   // The report last: its presence means the masks are complete.
   if (result.has_water) WriteMasks(scene, result, FLAGS_out);
   es::WriteJsonFile(report, json);
@@ -169,8 +221,12 @@ int Main() {
               "the static level)%s\n",
               100 * result.water_fraction, result.threshold,
               result.has_water ? "" : ": nothing moves, no masks written");
-  if (iou >= 0) std::printf("[masks] mean IoU vs %s: %.3f\n",
-                            FLAGS_truth.c_str(), iou);
+  if (!FLAGS_truth.empty())
+    std::printf("[masks] vs %s: mean IoU %.3f, precision %.3f, recall "
+                "%.3f\n", FLAGS_truth.c_str(),
+                json["mean_iou"].get<double>(),
+                json["mean_precision"].get<double>(),
+                json["mean_recall"].get<double>());
   std::printf("[masks] check sheet %s%s%s\n", sheet.c_str(),
               result.has_water ? ", masks " : "",
               result.has_water ? FLAGS_out.c_str() : "");

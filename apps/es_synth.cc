@@ -2,7 +2,8 @@
 // exact COLMAP poses, a held-out split, the true velocity field on a grid
 // and per-frame depth. See docs/SYNTH.md.
 //
-//   es_synth --out DIR [--preset waterfall|stream|fountain|droplets|pathtraced]
+//   es_synth --out DIR
+//            [--preset waterfall|stream|fountain|droplets|pathtraced|planks]
 //            [--frames 120] [--width 320 --height 240] [--seed N]
 //            [--stochasticity S]
 
@@ -21,9 +22,10 @@
 
 DEFINE_string(out, "", "Output scene directory (created).");
 DEFINE_string(preset, "waterfall", "Scene: waterfall, stream, fountain, "
-              "droplets (a spray of small faint droplets) or pathtraced (that "
+              "droplets (a spray of small faint droplets), pathtraced (that "
               "spray filmed as a path tracer renders it: glints, motion "
-              "blur, sample noise).");
+              "blur, sample noise) or planks (pathtraced in front of walls "
+              "of fine vertical boards: a trap for automatic masks).");
 DEFINE_int32(frames, 120, "Number of frames.");
 DEFINE_int32(width, 320, "Image width in pixels.");
 DEFINE_int32(height, 240, "Image height in pixels.");
@@ -50,7 +52,7 @@ int main(int argc, char** argv) {
       argc, argv,
       "Generates a synthetic water scene with ground truth.\n"
       "  es_synth --out DIR "
-      "[--preset waterfall|stream|fountain|droplets|pathtraced]\n"
+      "[--preset waterfall|stream|fountain|droplets|pathtraced|planks]\n"
       "           [--frames 120]\n"
       "           [--width 320 --height 240] [--seed N] [--stochasticity S]",
       [] {

@@ -31,6 +31,12 @@ SceneryMaterial Hedge() {
   return {{0.20, 0.34, 0.16}, {0.10, 0.18, 0.10}, 2.0, 0.18};
 }
 
+SceneryMaterial Boards() {
+  SceneryMaterial m{{0.66, 0.52, 0.36}, {0.48, 0.34, 0.22}, 0.8, 0.10};
+  m.board_width = 0.15;
+  return m;
+}
+
 SceneryPlane Plane(const Vector3d& origin, const Vector3d& u,
                    const Vector3d& v, double bump,
                    const SceneryMaterial& material) {
@@ -261,10 +267,20 @@ void PathTraced(SynthRandom* r, SynthPreset* p) {
   p->effects.noise = 0.025;
 }
 
+// The trap for automatic masks: the path-traced spray in front of walls
+// of fine vertical boards (each a few pixels wide, dark seams between).
+// A short static fit renders them badly, and their misfit changes as the
+// hand-held camera moves, as water's does; yet they stand still.
+void Planks(SynthRandom* r, SynthPreset* p) {
+  PathTraced(r, p);
+  for (int wall : {0, 1}) p->scenery.planes[wall].material = Boards();
+}
+
 }  // namespace
 
 std::vector<std::string> SynthPresetNames() {
-  return {"waterfall", "stream", "fountain", "droplets", "pathtraced"};
+  return {"waterfall", "stream", "fountain", "droplets", "pathtraced",
+          "planks"};
 }
 
 SynthPreset MakeSynthPreset(const std::string& name, double detail,
@@ -286,10 +302,12 @@ SynthPreset MakeSynthPreset(const std::string& name, double detail,
     Droplets(&random, &p);
   } else if (name == "pathtraced") {
     PathTraced(&random, &p);
+  } else if (name == "planks") {
+    Planks(&random, &p);
   } else {
     throw InputError("unknown preset '" + name +
-                     "' (expected waterfall, stream, fountain, droplets or "
-                     "pathtraced)");
+                     "' (expected waterfall, stream, fountain, droplets, "
+                     "pathtraced or planks)");
   }
   // Fewer, larger Gaussians at low detail cover the same area.
   const double grow = 1.0 / std::sqrt(detail);

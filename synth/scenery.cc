@@ -59,9 +59,24 @@ class SceneryBuilder {
     c *= 0.6 + 0.8 * FractalNoise(q * 4.0, 3, seed_ + 23);
     const double crack = std::abs(ValueNoise(q * 2.5, seed_ + 37) - 0.5);
     if (crack < 0.035) c *= 0.45;
+    if (m.board_width > 0) c *= Boards(p, m.board_width);
     c *= 1.0 + m.speckle * random_.Normal();
     c *= 0.55 + 0.45 * std::max(0.0, n.dot(light_));
     return c.cwiseMax(0.02).cwiseMin(1.0);
+  }
+
+  // Brightness of vertical boards at p: a shade per board, grain along
+  // it, a dark seam over the board's last quarter.
+  double Boards(const Eigen::Vector3d& p, double width) const {
+    const double at = p.x() / width;
+    const double board = std::floor(at);
+    if (at - board > 0.75) return 0.2;
+    const double shade =
+        0.7 + 0.6 * ValueNoise(Eigen::Vector3d(board * 7.31, 0.5, 0.5),
+                               seed_ + 41);
+    const double grain = 0.85 + 0.3 * ValueNoise(
+        Eigen::Vector3d(p.x() * 60.0, p.y() * 3.0, p.z() * 60.0), seed_ + 43);
+    return shade * grain;
   }
 
   void AddDisc(const SurfacePoint& sp, const SceneryMaterial& material) {

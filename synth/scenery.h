@@ -18,6 +18,10 @@ struct SceneryMaterial {
   Eigen::Vector3d color_b{0.30, 0.28, 0.25};
   double frequency = 1.5;  // large-scale noise cycles per world unit
   double speckle = 0.12;   // relative per-Gaussian brightness noise
+  // > 0: vertical boards this wide (world units, along x), each its own
+  // shade, with dark seams between: fine, high-contrast texture that a
+  // short static fit renders badly (boards a few pixels wide).
+  double board_width = 0.0;
 };
 
 // The rectangle origin + s u + t v (s, t in [0, 1]), displaced along its

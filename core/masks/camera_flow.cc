@@ -1,5 +1,6 @@
 #include "core/masks/camera_flow.h"
 
+#include <algorithm>
 #include <limits>
 
 #include <opencv2/imgproc.hpp>
@@ -43,6 +44,24 @@ void CarryByCameraFlow(const cv::Mat& image, const cv::Mat& camera_flow,
     }
   cv::remap(image, *out, map, cv::noArray(), cv::INTER_LINEAR,
             cv::BORDER_REPLICATE);
+}
+
+cv::Mat TolerantDifference(const cv::Mat& image, const cv::Mat& other,
+                           int radius) {
+  cv::Mat lo = other, hi = other;
+  if (radius > 0) {
+    const cv::Mat square = cv::getStructuringElement(
+        cv::MORPH_RECT, cv::Size(2 * radius + 1, 2 * radius + 1));
+    cv::erode(other, lo, square, cv::Point(-1, -1), 1, cv::BORDER_REPLICATE);
+    cv::dilate(other, hi, square, cv::Point(-1, -1), 1,
+               cv::BORDER_REPLICATE);
+  }
+  cv::Mat above, below, out;
+  cv::subtract(image, hi, above);
+  cv::subtract(lo, image, below);
+  cv::transform(cv::max(above, 0.f) + cv::max(below, 0.f), out,
+                cv::Matx13f(1 / 3.f, 1 / 3.f, 1 / 3.f));
+  return out;
 }
 
 }  // namespace es

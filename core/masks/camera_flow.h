@@ -18,6 +18,14 @@ cv::Mat CameraFlow(const cv::Mat& depth, const Camera& a, const Camera& b);
 void CarryByCameraFlow(const cv::Mat& image, const cv::Mat& camera_flow,
                        cv::Mat* out, cv::Mat* known);
 
+// How far each pixel of `image` lies outside the range (per channel, min
+// to max) of `other` over a (2 radius + 1)^2 square around it, mean over
+// channels: 0 where `other` holds the same colour within radius pixels.
+// A difference that forgives misregistration by up to radius pixels
+// (radius 0: |image - other|). Both CV_32FC3; returns CV_32FC1.
+cv::Mat TolerantDifference(const cv::Mat& image, const cv::Mat& other,
+                           int radius);
+
 }  // namespace es
 
 #endif  // EULERSPLAT_CORE_MASKS_CAMERA_FLOW_H_

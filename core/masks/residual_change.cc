@@ -12,14 +12,14 @@
 namespace es {
 namespace {
 
-// |a - b carried back to a by camera_flow|, mean over channels; -1 where
-// the flow is unknown or leaves b.
+// |a - b carried back to a by camera_flow|, mean over channels, with
+// `tolerance` pixels of slack (TolerantDifference); -1 where the flow is
+// unknown or leaves b.
 cv::Mat CarriedDifference(const cv::Mat& a, const cv::Mat& b,
-                          const cv::Mat& camera_flow) {
-  cv::Mat carried, known, diff, out;
+                          const cv::Mat& camera_flow, int tolerance) {
+  cv::Mat carried, known;
   CarryByCameraFlow(b, camera_flow, &carried, &known);
-  cv::absdiff(a, carried, diff);
-  cv::transform(diff, out, cv::Matx13f(1 / 3.f, 1 / 3.f, 1 / 3.f));
+  cv::Mat out = TolerantDifference(a, carried, tolerance);
   out.setTo(-1, known == 0);
   return out;
 }
@@ -47,7 +47,7 @@ std::vector<cv::Mat> ResidualChange(const std::vector<ResidualFrame>& frames,
         const ResidualFrame& other = frames[it->second];
         diffs.push_back(CarriedDifference(
             f.residual, other.residual,
-            CameraFlow(f.depth, f.camera, other.camera)));
+            CameraFlow(f.depth, f.camera, other.camera), options.tolerance));
       }
     change[i] = cv::Mat(f.residual.size(), CV_32FC1, cv::Scalar(-1.f));
     for (int p = 0; p < static_cast<int>(change[i].total()); ++p) {

@@ -22,6 +22,11 @@ struct ResidualChangeOptions {
   int gap = 4;        // video frames between compared frames
   int partners = 3;   // compared frames on each side: gap, 2 gap, ...
   int min_partners = 2;  // fewer known comparisons: unknown
+  // Pixels of slack: a residual counts as unchanged when it lies within
+  // the range of the other frame's carried residual over this radius.
+  // Fine static texture (boards, gravel a few pixels wide) misregistered
+  // by a pixel would otherwise look changed; 0: compare pixel to pixel.
+  int tolerance = 1;
 };
 
 // How much each frame's residual differs from the same surface point's
@@ -34,6 +39,8 @@ struct ResidualChangeOptions {
 // median ignores a partner that sees something else there (a disocclusion,
 // a droplet passing). CV_32FC1 per frame; -1 where fewer than min_partners
 // comparisons are known (no depth, or the point leaves the other view).
+// With a tolerance, a comparison is the distance from the range of the
+// carried residual around the pixel (0 inside it).
 std::vector<cv::Mat> ResidualChange(const std::vector<ResidualFrame>& frames,
                                     const ResidualChangeOptions& options);
 

@@ -26,7 +26,8 @@ struct StaticFit {
 };
 
 StaticFit FitFrame(const Frame& frame, const SplatView& splats,
-                   const RenderOptions& options, Rasterizer* rasterizer) {
+                   const RenderOptions& options, double misfit_blur,
+                   Rasterizer* rasterizer) {
   RenderResult render;
   rasterizer->Forward(frame.camera, splats, options, &render);
   cv::Mat rgb;
@@ -34,7 +35,10 @@ StaticFit FitFrame(const Frame& frame, const SplatView& splats,
       .convertTo(rgb, CV_32FC3);
   StaticFit fit;
   fit.residual = frame.image - rgb;
-  cv::transform(cv::abs(fit.residual), fit.misfit,
+  cv::Mat blurred = fit.residual;
+  if (misfit_blur > 0)
+    cv::GaussianBlur(fit.residual, blurred, cv::Size(0, 0), misfit_blur);
+  cv::transform(cv::abs(blurred), fit.misfit,
                 cv::Matx13f(1 / 3.f, 1 / 3.f, 1 / 3.f));
   fit.depth = FloatImage(render, ExpectedDepth(render, 0.5));
   // At occluding edges the depth is a blend and the camera's flow there is
@@ -136,11 +140,12 @@ WaterMaskResult EstimateWaterMasks(
   const SplatView splats = SplatView::Of(static_model);
   Rasterizer rasterizer;
   OpticalFlow flow(FlowMethod::kDisMedium);
-  std::vector<cv::Mat> misfit(n), nonrigid(n), has_depth(n);
+  std::vector<cv::Mat> misfit(n), nonrigid(n), unexplained(n), has_depth(n);
   std::vector<ResidualFrame> residuals(n);
   for (int i = 0; i < n; ++i) {
     const StaticFit fit =
-        FitFrame(frames[i], splats, options.render, &rasterizer);
+        FitFrame(frames[i], splats, options.render,
+                 options.misfit_blur * frames[i].image.cols, &rasterizer);
     misfit[i] = fit.misfit;
     residuals[i] = {frames[i].camera, fit.residual, fit.depth,
                     frames[i].time_index};
@@ -154,11 +159,20 @@ WaterMaskResult EstimateWaterMasks(
         break;
       }
     }
-    nonrigid[i] = j < 0 ? cv::Mat(fit.depth.size(), CV_32FC1, cv::Scalar(0.f))
-                        : NonRigidFlow(flow.Compute(frames[i].image,
-                                                    frames[j].image),
-                                       CameraFlow(fit.depth, frames[i].camera,
-                                                  frames[j].camera));
+    nonrigid[i] = cv::Mat(fit.depth.size(), CV_32FC1, cv::Scalar(0.f));
+    if (j >= 0 && options.cues.flow) {
+      const cv::Mat camera_flow =
+          CameraFlow(fit.depth, frames[i].camera, frames[j].camera);
+      nonrigid[i] = NonRigidFlow(
+          flow.Compute(frames[i].image, frames[j].image), camera_flow);
+      if (options.flow_needs_change) {
+        cv::Mat carried, known;
+        CarryByCameraFlow(frames[j].image, camera_flow, &carried, &known);
+        unexplained[i] = TolerantDifference(frames[i].image, carried,
+                                            options.change.tolerance);
+        unexplained[i].setTo(0, known == 0);
+      }
+    }
     if (progress) progress(i + 1, 2 * n);
   }
 
@@ -167,8 +181,21 @@ WaterMaskResult EstimateWaterMasks(
   // moves must not find water in its noise.
   const double flow_level =
       std::max(Median(nonrigid, &has_depth), options.min_flow_level);
+  // The level of what the camera's motion leaves unexplained from one
+  // frame to the next: noise on static surfaces.
+  std::vector<cv::Mat> with_flow, flow_depth;
+  for (int i = 0; i < n; ++i)
+    if (!unexplained[i].empty()) {
+      with_flow.push_back(unexplained[i]);
+      flow_depth.push_back(has_depth[i]);
+    }
+  const double unexplained_level =
+      std::max(Median(with_flow, &flow_depth), options.min_misfit_level);
   const std::vector<cv::Mat> change =
-      ResidualChange(residuals, options.change);
+      options.cues.change ? ResidualChange(residuals, options.change)
+                          : std::vector<cv::Mat>(n, cv::Mat(misfit[0].size(),
+                                                           CV_32FC1,
+                                                           cv::Scalar(-1.f)));
   std::vector<cv::Mat> has_change(n);
   for (int i = 0; i < n; ++i)
     cv::threshold(change[i], has_change[i], -0.5, 1, cv::THRESH_BINARY);
@@ -181,11 +208,17 @@ WaterMaskResult EstimateWaterMasks(
     // A misfit alone cannot tell water from scenery the model has not
     // learned yet, so it counts at a fraction of its weight: only a
     // surface the model shows nothing like is water by misfit alone.
-    const cv::Mat change_cue = cv::max(change[i], 0.f) / change_level;
-    const cv::Mat misfit_cue =
-        misfit[i] * (options.misfit_weight / misfit_level);
-    cue[i] = cv::max(cv::max(nonrigid[i] / flow_level, change_cue),
-                     misfit_cue);
+    const cv::Mat zero(misfit[i].size(), CV_32FC1, cv::Scalar(0.f));
+    const cv::Mat change_cue = options.cues.change
+        ? cv::Mat(cv::max(change[i], 0.f) / change_level) : zero;
+    const cv::Mat misfit_cue = options.cues.misfit
+        ? cv::Mat(misfit[i] * (options.misfit_weight / misfit_level)) : zero;
+    // Motion the camera does not explain, and (when asked) only as far
+    // as colours it does not explain either.
+    cv::Mat flow_cue = nonrigid[i] / flow_level;
+    if (!unexplained[i].empty())
+      flow_cue = cv::min(flow_cue, unexplained[i] / unexplained_level);
+    cue[i] = cv::max(cv::max(flow_cue, change_cue), misfit_cue);
     cv::GaussianBlur(cue[i], cue[i], cv::Size(0, 0), 1.0);
   }
   const std::vector<std::vector<int>> near =
@@ -248,21 +281,6 @@ WaterMaskResult EstimateWaterMasks(
     progress(2 * n, 2 * n);
   }
   return result;
-}
-
-double MaskIou(const cv::Mat& a, const cv::Mat& b) {
-  CHECK_EQ(a.size(), b.size());
-  auto binary = [](const cv::Mat& m) {
-    cv::Mat f, out;
-    m.convertTo(f, CV_32F, m.depth() == CV_8U ? 1.0 / 255 : 1.0);
-    cv::threshold(f, out, 0.5, 1, cv::THRESH_BINARY);
-    out.convertTo(out, CV_8U);
-    return out;
-  };
-  const cv::Mat x = binary(a), y = binary(b);
-  const int inter = cv::countNonZero(x & y);
-  const int uni = cv::countNonZero(x | y);
-  return uni == 0 ? 1.0 : static_cast<double>(inter) / uni;
 }
 
 cv::Mat WaterMaskSheet(const Scene& scene, const WaterMaskResult& result,

@@ -7,6 +7,7 @@
 #include <opencv2/core.hpp>
 
 #include "core/io/scene.h"
+#include "core/masks/mask_scores.h"
 #include "core/masks/residual_change.h"
 #include "core/masks/water_matting.h"
 #include "core/model/gaussians.h"
@@ -35,12 +36,33 @@ namespace es {
 // dropped. These regions are smooth; the masks within them are per pixel:
 // where the water's share of the colour passes one half, plus the calm
 // water joined to them that is water-coloured in every frame (MatWater).
+// Which cues the evidence takes (all by default; the others for measuring
+// what each brings).
+struct WaterCues {
+  bool flow = true;
+  bool change = true;
+  bool misfit = true;
+};
+
 struct WaterMaskOptions {
+  WaterCues cues;
   int window = 2;            // frames on each side for averaging and voting
   double min_score = 2.0;    // evidence (x the median) that can be water
   double min_flow_level = 0.35;    // px per frame: optical flow noise
   double min_misfit_level = 0.02;  // [0, 1] range: fit noise (and change)
   double misfit_weight = 0.25;     // of the misfit cue, against the others
+  // The misfit is that of the residual blurred over this radius (fraction
+  // of the width): fine texture a short fit renders as its average leaves
+  // a residual that averages out, a surface of another colour does not.
+  // 0 (default): per pixel; blurring lowered the IoU on the sprays
+  // (docs/results/masks-2026-12-05.md).
+  double misfit_blur = 0;
+  // The flow cue counts only as far as the next frame, carried by the
+  // camera's motion, fails to explain the frame (with the change's
+  // tolerance): optical flow goes wrong on fine repeating texture, where
+  // the camera's motion still explains the colours. Off by default: a
+  // smooth stream's colours change too little and it is lost.
+  bool flow_needs_change = false;
   ResidualChangeOptions change;  // which frames the change compares
   double open_radius = 0.006;   // morphology radii, fraction of the width
   double close_radius = 0.015;
@@ -75,10 +97,6 @@ WaterMaskResult EstimateWaterMasks(
     const Scene& scene, const GaussianSet& static_model,
     const WaterMaskOptions& options,
     const std::function<void(int, int)>& progress = nullptr);
-
-// Intersection over union of two binary masks (> 0.5 of their range is
-// water); 1 when both are empty.
-double MaskIou(const cv::Mat& a, const cv::Mat& b);
 
 // A sheet a person can check masks with: `count` frames evenly spaced,
 // each as the frame with its water tinted and its region outlined, beside

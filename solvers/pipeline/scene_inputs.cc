@@ -219,6 +219,13 @@ PreparedScene PrepareMasks(const InputRequest& request, const fs::path& scene,
         (scene / "masks").string(), "--sheet",
         (request.out / "masks_sheet.png").string(), "--report",
         report.string()};
+    // A scene that brought masks of its own but was asked for auto ones
+    // (e.g. a synthetic one): its masks are the truth the report scores.
+    const fs::path own_masks = fs::path(request.scene) / "masks";
+    if (!request.scene.empty() && fs::is_directory(own_masks)) {
+      args.push_back("--truth");
+      args.push_back(own_masks.string());
+    }
     args.insert(args.end(), probe.mask_flags.begin(), probe.mask_flags.end());
     run("[masks]", "es_masks", args);
   } else {
