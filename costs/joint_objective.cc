@@ -47,7 +47,7 @@ const cv::Mat& JointObjective::WaterMask(const Frame& frame) const {
 double JointObjective::Evaluate(const LoopStructure& structure,
                                 double const* const* params, const Frame& frame,
                                 const Frame* partner, double water_scale,
-                                int64_t draw, double** gradients,
+                                int64_t iteration, double** gradients,
                                 char* const* triplane_chunks,
                                 JointObjectiveTerms* terms) {
   cost_.Reset(&frame, frame.time_index, structure);
@@ -55,7 +55,7 @@ double JointObjective::Evaluate(const LoopStructure& structure,
   if (partner != nullptr) {
     CHECK(pair_cost_) << "a partner frame needs a pair term";
     loss = PairLossGradient(structure, params, frame, *partner, water_scale,
-                            draw, gradients, triplane_chunks, terms);
+                            iteration, gradients, triplane_chunks, terms);
   } else {
     // AddLossGradient adds: the splats' rows are cleared here, the
     // fields' are zero already.
@@ -69,10 +69,43 @@ double JointObjective::Evaluate(const LoopStructure& structure,
   }
   terms->euler = cost_.last_euler_stats();
   if (loop_cost_) {
-    loss += LoopTextureGradient(structure, params, frame, water_scale, draw,
-                                gradients, triplane_chunks, terms);
+    loss += LoopTextureGradient(structure, params, frame, water_scale,
+                                iteration, gradients, triplane_chunks, terms);
+  }
+  if (flow_prior_) {
+    terms->flow_prior =
+        FlowPriorGradient(params, iteration, gradients, triplane_chunks);
+    loss += terms->flow_prior;
   }
   return loss;
+}
+
+void JointObjective::SetSceneFlowPrior(const MotionField& motion,
+                                       std::vector<SceneFlowSample> samples,
+                                       const FlowPriorOptions& options,
+                                       int64_t iterations, uint64_t seed) {
+  CHECK_GE(layout().motion_triplane(), 0)
+      << "a scene-flow prior needs the motion field";
+  UpdateSceneFlowPriorField(motion);
+  flow_prior_.emplace(&*prior_field_, std::move(samples), options);
+  prior_iterations_ = iterations;
+  prior_seed_ = seed;
+}
+
+void JointObjective::UpdateSceneFlowPriorField(const MotionField& motion) {
+  // Rebuilt in place: flow_prior_ keeps pointing at it.
+  prior_field_.emplace(motion);
+  prior_field_->SetDisplacementFactor(1.0);
+}
+
+double JointObjective::FlowPriorGradient(double const* const* params,
+                                         int64_t iteration, double** gradients,
+                                         char* const* triplane_chunks) {
+  const int v = layout().motion_triplane();
+  return flow_prior_->AddLossAndGradient(
+      {params[v], params[v + 1]}, iteration, prior_iterations_, prior_seed_,
+      {gradients[v], gradients[v + 1],
+       triplane_chunks != nullptr ? triplane_chunks[v] : nullptr});
 }
 
 double JointObjective::PairLossGradient(const LoopStructure& structure,

@@ -5,11 +5,13 @@
 #include <optional>
 #include <vector>
 
+#include "core/fields/motion_field.h"
 #include "core/io/scene.h"
 #include "core/loop/loop_model.h"
 #include "core/render/rasterizer.h"
 #include "costs/joint_objective_options.h"
 #include "costs/joint_render_cost.h"
+#include "costs/scene_flow_prior.h"
 #include "costs/water_energy_loss.h"
 #include "costs/water_texture_loss.h"
 
@@ -22,7 +24,8 @@ namespace es {
 //     is on): the mean of both frames' fits plus WaterEnergyLoss across
 //     them and the mean of both frames' WaterTextureLoss,
 //       0.5 (fit_i + fit_j + 2 energy + texture_i + texture_j);
-//   - plus the loop texture term of frame i (composed at cycle number 0).
+//   - plus the loop texture term of frame i (composed at cycle number 0);
+//   - plus, once set, Stage 2's scene-flow prior on V (SceneFlowPrior).
 // The water losses are scaled by the caller's ramp. Reuses its buffers:
 // not thread-safe.
 class JointObjective {
@@ -35,17 +38,30 @@ class JointObjective {
   const JointObjectiveOptions& options() const { return options_; }
   const JointBlockLayout& layout() const { return cost_.layout(); }
 
+  // From now on Evaluate adds Stage 2's scene-flow prior on V (the
+  // layout's motion blocks), its weight decaying over a run of
+  // `iterations` seeded `seed`. `motion` gives V's structure (box,
+  // layout); the prior scores V itself, not its warmed-up displacement.
+  void SetSceneFlowPrior(const MotionField& motion,
+                         std::vector<SceneFlowSample> samples,
+                         const FlowPriorOptions& options, int64_t iterations,
+                         uint64_t seed);
+  // V's structure changed (a restored checkpoint's box): the prior follows.
+  void UpdateSceneFlowPriorField(const MotionField& motion);
+  bool has_scene_flow_prior() const { return flow_prior_.has_value(); }
+
   // The loss of `frame` (and `partner`, nullable: no pair terms) of the
-  // model `structure` with the JointBlockLayout blocks `params`;
-  // `water_scale` ramps the water losses, `draw` picks the texture terms'
-  // directions. The gradient goes into `gradients` (layout order): the
+  // model `structure` with the JointBlockLayout blocks `params` at the
+  // run's iteration `iteration` (it picks the texture terms' directions
+  // and the prior's batch and weight); `water_scale` ramps the water
+  // losses. The gradient goes into `gradients` (layout order): the
   // splats' rows are overwritten, the fields' added to (+=; the caller
   // keeps them zero between steps), flagging written chunks in
   // `triplane_chunks` (nullable, as JointRenderCost::AddLossGradient).
   // `terms` receives the unweighted terms.
   double Evaluate(const LoopStructure& structure, double const* const* params,
                   const Frame& frame, const Frame* partner, double water_scale,
-                  int64_t draw, double** gradients,
+                  int64_t iteration, double** gradients,
                   char* const* triplane_chunks, JointObjectiveTerms* terms);
 
   // Frame `frame`'s fit alone, its gradient written into `gradients`
@@ -72,6 +88,8 @@ class JointObjective {
                              double water_scale, int64_t draw,
                              double** gradients, char* const* triplane_chunks,
                              JointObjectiveTerms* terms);
+  double FlowPriorGradient(double const* const* params, int64_t iteration,
+                           double** gradients, char* const* triplane_chunks);
   const cv::Mat& WaterMask(const Frame& frame) const;
 
   JointObjectiveOptions options_;
@@ -91,6 +109,11 @@ class JointObjective {
   std::optional<WaterTextureLoss> loop_texture_;
   std::vector<double> loop_grad_;
   cv::Mat no_mask_;
+  // The scene-flow prior, on a copy of V at full displacement.
+  std::optional<MotionField> prior_field_;
+  std::optional<SceneFlowPrior> flow_prior_;
+  int64_t prior_iterations_ = 0;
+  uint64_t prior_seed_ = 0;
 };
 
 }  // namespace es

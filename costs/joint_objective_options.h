@@ -65,6 +65,7 @@ struct JointObjectiveTerms {
   WaterEnergyTerms energy;
   double texture = 0;       // the pair's mean
   double loop_texture = 0;  // of the loop's frame
+  double flow_prior = 0;    // weighted (the prior's weight decays)
   EulerStats euler;         // the frame's composition
 };
 

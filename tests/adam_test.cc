@@ -5,7 +5,7 @@
 #include <cmath>
 #include <vector>
 
-#include "solvers/optim/lr_schedule.h"
+#include "core/base/lr_schedule.h"
 
 namespace es {
 namespace {

@@ -1,4 +1,4 @@
-#include "solvers/train/flow_prior.h"
+#include "costs/scene_flow_prior.h"
 
 #include <cmath>
 #include <random>

@@ -57,7 +57,8 @@ struct Fixture {
     JointObjectiveTerms terms;
     return objective->Evaluate(LoopStructure::Of(model), params.data(),
                                frames[5], &frames[6], water_scale,
-                               /*draw=*/3, rows.data(), nullptr, &terms);
+                               /*iteration=*/3, rows.data(), nullptr,
+                               &terms);
   }
 };
 
@@ -140,6 +141,64 @@ TEST(JointObjectiveTest, GradientMatchesCentralDifferences) {
     const double numeric = (at(h) - at(-h)) / (2 * h);
     EXPECT_NEAR(analytic, numeric, 1e-4 * std::abs(numeric) + 1e-10)
         << "block " << b;
+  }
+}
+
+// Once set, the scene-flow prior adds its own loss and gradient on V's
+// blocks, as SceneFlowPrior scores V at full displacement, and nothing
+// elsewhere.
+TEST(JointObjectiveTest, SceneFlowPriorAddsItsTermOnVOnly) {
+  Fixture f;
+  ASSERT_TRUE(f.model.motion);
+  // A warmed-up V: the prior must still score V itself.
+  f.model.motion->SetDisplacementFactor(0.5);
+  std::vector<SceneFlowSample> samples;
+  std::mt19937 rng(9);
+  std::normal_distribution<double> normal;
+  const std::vector<double>& means = f.model.gaussians.means;
+  for (size_t i = 0; i + 2 < means.size(); i += 3) {
+    SceneFlowSample s;
+    s.x = Eigen::Vector3d(means[i], means[i + 1], means[i + 2]);
+    s.v = Eigen::Vector3d(normal(rng), normal(rng), normal(rng));
+    samples.push_back(s);
+  }
+  FlowPriorOptions prior_options;
+  prior_options.weight = 2;
+  prior_options.batch_size = 16;
+  const int64_t iterations = 10;
+  const uint64_t seed = 7;
+
+  JointObjective without(&f.frames[0], LoopStructure::Of(f.model), f.options);
+  JointObjective with(&f.frames[0], LoopStructure::Of(f.model), f.options);
+  with.SetSceneFlowPrior(*f.model.motion, samples, prior_options, iterations,
+                         seed);
+  ASSERT_TRUE(with.has_scene_flow_prior());
+  std::vector<std::vector<double>> grad_without, grad_with;
+  const double loss_without = f.Evaluate(&without, 1.0, &grad_without);
+  const double loss_with = f.Evaluate(&with, 1.0, &grad_with);
+
+  MotionField unramped = *f.model.motion;
+  unramped.SetDisplacementFactor(1.0);
+  SceneFlowPrior prior(&unramped, samples, prior_options);
+  const JointBlockLayout& layout = with.layout();
+  const int v = layout.motion_triplane();
+  std::vector<double> prior_triplane(layout.sizes()[v], 0.0);
+  std::vector<double> prior_mlp(layout.sizes()[v + 1], 0.0);
+  const double prior_loss = prior.AddLossAndGradient(
+      unramped.params(), /*iteration=*/3, iterations, seed,
+      {prior_triplane.data(), prior_mlp.data(), nullptr});
+  ASSERT_GT(prior_loss, 0);
+  EXPECT_NEAR(loss_with - loss_without, prior_loss, 1e-9 * prior_loss);
+  for (int b = 0; b < layout.num_blocks(); ++b) {
+    const std::vector<double>* added =
+        b == v ? &prior_triplane : b == v + 1 ? &prior_mlp : nullptr;
+    const double scale =
+        std::max(MaxAbs(grad_without[b]), added ? MaxAbs(*added) : 0.0);
+    for (size_t k = 0; k < grad_with[b].size(); ++k) {
+      const double expected =
+          grad_without[b][k] + (added ? (*added)[k] : 0.0);
+      ASSERT_NEAR(grad_with[b][k], expected, 1e-9 * scale) << "block " << b;
+    }
   }
 }
 

@@ -37,7 +37,7 @@ double DeviceJointObjective::Evaluate(const LoopStructure& structure,
                                       double const* const* params,
                                       const DeviceObjectiveFrame& frame,
                                       const DeviceObjectiveFrame* partner,
-                                      double water_scale, int64_t draw,
+                                      double water_scale, int64_t iteration,
                                       double** gradients,
                                       JointObjectiveTerms* terms) {
   Reset(&cost_, frame, structure);
@@ -50,7 +50,7 @@ double DeviceJointObjective::Evaluate(const LoopStructure& structure,
   if (partner != nullptr) {
     CHECK(energy_) << "a partner frame needs a pair term";
     loss = PairLossGradient(structure, params, frame, *partner, water_scale,
-                            draw, gradients, terms);
+                            iteration, gradients, terms);
   } else {
     loss = cost_.AddLossGradient(params, gradients);
     terms->photometric = cost_.last_photometric();
@@ -59,10 +59,34 @@ double DeviceJointObjective::Evaluate(const LoopStructure& structure,
   }
   terms->euler = cost_.last_euler_stats();
   if (loop_cost_) {
-    loss += LoopTextureGradient(structure, params, frame, water_scale, draw,
-                                gradients, terms);
+    loss += LoopTextureGradient(structure, params, frame, water_scale,
+                                iteration, gradients, terms);
+  }
+  if (flow_prior_) {
+    const int v = cost_.layout().motion_triplane();
+    terms->flow_prior = flow_prior_->AddLossAndGradient(
+        {params[v], params[v + 1]}, iteration, prior_iterations_, prior_seed_,
+        {gradients[v], gradients[v + 1], nullptr});
+    loss += terms->flow_prior;
   }
   return loss;
+}
+
+void DeviceJointObjective::SetSceneFlowPrior(
+    const MotionField& motion, std::vector<SceneFlowSample> samples,
+    const FlowPriorOptions& options, int64_t iterations, uint64_t seed) {
+  UpdateSceneFlowPriorField(motion);
+  flow_prior_.emplace(&*prior_field_, std::move(samples), options);
+  prior_iterations_ = iterations;
+  prior_seed_ = seed;
+}
+
+void DeviceJointObjective::UpdateSceneFlowPriorField(
+    const MotionField& motion) {
+  // Rebuilt in place: flow_prior_ keeps pointing at it.
+  MotionField unramped = motion;
+  unramped.SetDisplacementFactor(1.0);
+  prior_field_.emplace(unramped);
 }
 
 double DeviceJointObjective::PairLossGradient(const LoopStructure& structure,

@@ -16,8 +16,11 @@
 #include "core/base/cuda/device_buffer.h"
 #include "core/io/scene.h"
 #include "core/loop/loop_model.h"
+#include "core/fields/cuda/device_motion_field.h"
+#include "core/fields/motion_field.h"
 #include "core/render/cuda/device_rasterizer.h"
 #include "costs/cuda/device_joint_render_cost.h"
+#include "costs/cuda/device_scene_flow_prior.h"
 #include "costs/cuda/device_water_energy_loss.h"
 #include "costs/joint_objective_options.h"
 #include "costs/water_texture_loss.h"
@@ -41,13 +44,22 @@ class DeviceJointObjective {
 
   const JointObjectiveOptions& options() const { return options_; }
 
+  // JointObjective's scene-flow prior, on the device.
+  void SetSceneFlowPrior(const MotionField& motion,
+                         std::vector<SceneFlowSample> samples,
+                         const FlowPriorOptions& options, int64_t iterations,
+                         uint64_t seed);
+  void UpdateSceneFlowPriorField(const MotionField& motion);
+  bool has_scene_flow_prior() const { return flow_prior_.has_value(); }
+
   // JointObjective::Evaluate on device blocks: the splats' gradient rows
   // are overwritten, the fields' added to (the caller keeps them zero
   // between steps). Only the terms' sums come back.
   double Evaluate(const LoopStructure& structure, double const* const* params,
                   const DeviceObjectiveFrame& frame,
                   const DeviceObjectiveFrame* partner, double water_scale,
-                  int64_t draw, double** gradients, JointObjectiveTerms* terms);
+                  int64_t iteration, double** gradients,
+                  JointObjectiveTerms* terms);
 
   // The frame's fit alone, its gradient added (+=) into `gradients`;
   // rasterizer() then holds its render's statistics (water
@@ -102,6 +114,11 @@ class DeviceJointObjective {
   std::vector<float> host_values_;
   std::vector<double> host_render_, host_grad_;
   DeviceBuffer<float> texture_grad_;
+  // The scene-flow prior, on a copy of V at full displacement.
+  std::optional<DeviceMotionField> prior_field_;
+  std::optional<DeviceSceneFlowPrior> flow_prior_;
+  int64_t prior_iterations_ = 0;
+  uint64_t prior_seed_ = 0;
 };
 
 }  // namespace cuda

@@ -7,7 +7,7 @@
 #include <glog/logging.h>
 
 #include "core/base/input_error.h"
-#include "solvers/optim/lr_schedule.h"
+#include "core/base/lr_schedule.h"
 #include "solvers/train/divergence_guard.h"
 
 namespace es {

@@ -24,7 +24,7 @@
 #include "solvers/eval/loop_evaluation.h"
 #include "solvers/eval/static_eval.h"
 #include "solvers/train/joint_training_steps.h"
-#include "solvers/train/flow_prior.h"
+#include "costs/scene_flow_prior.h"
 #include "solvers/train/training_history.h"
 
 namespace es {

@@ -21,7 +21,7 @@
 #include "costs/water_energy_loss.h"
 #include "costs/water_texture_loss.h"
 #include "solvers/checkpoint/joint_checkpoint.h"
-#include "solvers/train/flow_prior.h"
+#include "costs/scene_flow_prior.h"
 #include "solvers/train/splat_training.h"
 #include "solvers/train/water_densify.h"
 
@@ -132,8 +132,7 @@ struct JointTrainerOptions {
 struct JointIterationStats : JointObjectiveTerms {
   int frame = -1;
   double loss = 0;  // weighted total
-  double flow_prior = 0;  // weighted; included in loss
-  int pair_frame = -1;    // the neighbour rendered for the pair terms
+  int pair_frame = -1;  // the neighbour rendered for the pair terms
   int num_dynamic = 0;
   bool skipped = false;  // non-finite loss or gradient: no update
   WaterDensifyResult densified;  // after this step's update

@@ -14,7 +14,7 @@
 #include "core/base/stage_profile.h"
 #include "costs/splat_render_cost.h"
 #include "core/base/rng_state.h"
-#include "solvers/optim/lr_schedule.h"
+#include "core/base/lr_schedule.h"
 #include "solvers/train/densify.h"
 #include "solvers/train/joint_training_steps.h"
 #include "solvers/train/water_particles.h"
@@ -54,11 +54,9 @@ JointTrainer::JointTrainer(const std::vector<Frame>* frames,
 
 void JointTrainer::SetSceneFlowPrior(std::vector<SceneFlowSample> samples) {
   CHECK(model_.motion) << "a scene-flow prior needs the motion field";
-  // The prior scores V itself, not its warmed-up displacement.
-  prior_field_.emplace(*model_.motion);
-  prior_field_->SetDisplacementFactor(1.0);
-  flow_prior_.emplace(&*prior_field_, std::move(samples),
-                      options_.flow_prior);
+  objective_->SetSceneFlowPrior(*model_.motion, std::move(samples),
+                                options_.flow_prior, options_.iterations,
+                                options_.seed);
 }
 
 RenderOptions JointTrainer::render_options() const {
@@ -118,15 +116,6 @@ JointIterationStats JointTrainer::Step() {
       LoopStructure::Of(model_), params.data(), frame, partner,
       WaterLossRamp(options_, iteration_), iteration_, gradients.data(),
       chunks.data(), &out);
-  if (flow_prior_) {
-    // V's blocks come first among the field gradients.
-    out.flow_prior = flow_prior_->AddLossAndGradient(
-        model_.motion->params(), iteration_, options_.iterations,
-        options_.seed,
-        {field_grad_[0].data(), field_grad_[1].data(),
-         field_adam_[0].chunk_flags()});
-    out.loss += out.flow_prior;
-  }
   // Every writer of the triplanes' gradients (the costs, the flow prior)
   // flagged the chunks it wrote into their SparseAdam's flags, so only
   // those are read; the MLPs' small blocks are scanned whole.
@@ -231,6 +220,8 @@ void JointTrainer::Restore(const JointCheckpoint& c,
   }
   field_step_ = c.field_step;
   RestoreSamplerAndRng(c, source, &sampler_, &rng_);
+  if (objective_->has_scene_flow_prior())
+    objective_->UpdateSceneFlowPriorField(*model_.motion);
   grad_ = GaussianSet();
 }
 

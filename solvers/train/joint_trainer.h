@@ -15,7 +15,6 @@
 #include "solvers/optim/adam.h"
 #include "solvers/optim/sparse_adam.h"
 #include "solvers/train/divergence_guard.h"
-#include "solvers/train/flow_prior.h"
 #include "solvers/optim/frame_sampler.h"
 #include "solvers/train/joint_stage_trainer.h"
 #include "solvers/train/joint_training_steps.h"
@@ -24,8 +23,9 @@ namespace es {
 
 // Trains a looping model (Stage 3): one sampled training frame (and its
 // neighbour, for the pair terms) per iteration, scored by the
-// JointObjective (costs/joint_objective.h) into preallocated gradient
-// buffers, plus the scene-flow prior on V, then one Adam step per block.
+// JointObjective (costs/joint_objective.h, the scene-flow prior on V
+// included) into preallocated gradient buffers, then one Adam step per
+// block.
 // The dynamic set follows the learned probability every refresh_interval
 // iterations: Gaussians that stay keep their start time, new ones draw
 // theirs from the seeded RNG.
@@ -38,7 +38,9 @@ class JointTrainer : public JointStageTrainer {
                std::optional<MotionField> motion);
 
   void SetSceneFlowPrior(std::vector<SceneFlowSample> samples) override;
-  bool has_flow_prior() const override { return flow_prior_.has_value(); }
+  bool has_flow_prior() const override {
+    return objective_->has_scene_flow_prior();
+  }
 
   JointIterationStats Step() override;
 
@@ -87,8 +89,6 @@ class JointTrainer : public JointStageTrainer {
   std::mt19937_64 rng_;
   // The loss and gradient of a step (the sampled frame, its partner).
   std::optional<JointObjective> objective_;
-  std::optional<MotionField> prior_field_;  // V at full displacement
-  std::optional<SceneFlowPrior> flow_prior_;
   // Each training frame's neighbour for the pair terms (a frame index;
   // -1: none).
   std::vector<int> partner_;

@@ -9,7 +9,7 @@
 #include "core/loop/cycle_time.h"
 #include "core/model/dynamic_set.h"
 #include "core/base/rng_state.h"
-#include "solvers/optim/lr_schedule.h"
+#include "core/base/lr_schedule.h"
 #include "core/loop/frame_composer.h"
 #include "solvers/train/water_particles.h"
 

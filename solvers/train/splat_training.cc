@@ -4,7 +4,7 @@
 
 #include <algorithm>
 
-#include "solvers/optim/lr_schedule.h"
+#include "core/base/lr_schedule.h"
 
 namespace es {
 

@@ -13,8 +13,8 @@
 
 #include "core/fields/cuda/device_field_workspace.h"
 #include "core/fields/cuda/device_motion_field.h"
-#include "solvers/train/cuda/device_flow_prior.h"
-#include "solvers/train/flow_prior.h"
+#include "costs/cuda/device_scene_flow_prior.h"
+#include "costs/scene_flow_prior.h"
 #include "tests/central_differences.h"
 #include "tests/cuda/expect_twins_near.h"
 #include "tests/cuda/require_gpu.h"

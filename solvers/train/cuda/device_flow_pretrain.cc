@@ -11,7 +11,7 @@
 #include "core/base/input_error.h"
 #include "core/base/stage_profile.h"
 #include "solvers/optim/cuda/device_adam.h"
-#include "solvers/train/cuda/device_scene_flow_loss.h"
+#include "costs/cuda/device_scene_flow_loss.h"
 #include "solvers/train/cuda/training_kernels.h"
 #include "solvers/train/divergence_guard.h"
 #include "solvers/train/flow_pretrain_steps.h"

@@ -54,12 +54,9 @@ DeviceJointTrainer::DeviceJointTrainer(const std::vector<Frame>* frames,
 void DeviceJointTrainer::SetSceneFlowPrior(
     std::vector<SceneFlowSample> samples) {
   CHECK(model_.motion) << "a scene-flow prior needs the motion field";
-  // The prior scores V itself, not its warmed-up displacement.
-  MotionField unramped = *model_.motion;
-  unramped.SetDisplacementFactor(1.0);
-  prior_field_.emplace(unramped);
-  flow_prior_.emplace(&*prior_field_, std::move(samples),
-                      options_.flow_prior);
+  objective_.SetSceneFlowPrior(*model_.motion, std::move(samples),
+                               options_.flow_prior, options_.iterations,
+                               options_.seed);
 }
 
 RenderOptions DeviceJointTrainer::render_options() const {
@@ -101,14 +98,6 @@ JointIterationStats DeviceJointTrainer::Step() {
       Structure(), blocks.data(), frame,
       out.pair_frame >= 0 ? &partner : nullptr,
       WaterLossRamp(options_, iteration_), iteration_, gradients.data(), &out);
-  if (flow_prior_) {
-    // V's blocks come first among the fields.
-    out.flow_prior = flow_prior_->AddLossAndGradient(
-        {fields_[0].x.data(), fields_[1].x.data()}, iteration_,
-        options_.iterations, options_.seed,
-        {fields_[0].grad.data(), fields_[1].grad.data(), nullptr});
-    out.loss += out.flow_prior;
-  }
   const bool finite =
       std::isfinite(out.loss) && GradientsFinite();
   if (!guard_.Accept(iteration_ + 1, finite)) {
@@ -299,14 +288,9 @@ void DeviceJointTrainer::Restore(const JointCheckpoint& c,
   UpdateScaleBounds();
   field_step_ = c.field_step;
   RestoreSamplerAndRng(c, source, &sampler_, &rng_);
-  if (flow_prior_) {
-    // V's box may have changed: the prior's field is rebuilt in place
-    // (flow_prior_ keeps pointing at it; same type, no const members).
-    // The prior scores V itself, not its warmed-up displacement.
-  MotionField unramped = *model_.motion;
-  unramped.SetDisplacementFactor(1.0);
-  prior_field_.emplace(unramped);
-  }
+  // V's box may have changed: the prior follows.
+  if (objective_.has_scene_flow_prior())
+    objective_.UpdateSceneFlowPriorField(*model_.motion);
 }
 
 LoopModel DeviceJointTrainer::FinalModel(int* pruned) const {

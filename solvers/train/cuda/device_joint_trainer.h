@@ -27,7 +27,6 @@
 #include "core/base/cuda/device_buffer.h"
 #include "costs/cuda/device_joint_objective.h"
 #include "solvers/optim/cuda/device_adam.h"
-#include "solvers/train/cuda/device_flow_prior.h"
 #include "solvers/train/cuda/device_frame_images.h"
 #include "solvers/train/cuda/device_gaussians.h"
 #include "solvers/train/divergence_guard.h"
@@ -46,7 +45,9 @@ class DeviceJointTrainer : public JointStageTrainer {
                      std::optional<MotionField> motion);
 
   void SetSceneFlowPrior(std::vector<SceneFlowSample> samples) override;
-  bool has_flow_prior() const override { return flow_prior_.has_value(); }
+  bool has_flow_prior() const override {
+    return objective_.has_scene_flow_prior();
+  }
 
   JointIterationStats Step() override;
 
@@ -121,8 +122,6 @@ class DeviceJointTrainer : public JointStageTrainer {
   DeviceBuffer<unsigned long long> magnitude_bits_;
   // The loss and gradient of a step (the sampled frame, its partner).
   DeviceJointObjective objective_;
-  std::optional<DeviceMotionField> prior_field_;
-  std::optional<DeviceSceneFlowPrior> flow_prior_;
   // Each training frame's neighbour for the pair terms (-1: none).
   std::vector<int> partner_;
   int64_t iteration_ = 0;

@@ -1,5 +1,5 @@
-#ifndef EULERSPLAT_SOLVERS_TRAIN_FLOW_PRIOR_H_
-#define EULERSPLAT_SOLVERS_TRAIN_FLOW_PRIOR_H_
+#ifndef EULERSPLAT_COSTS_SCENE_FLOW_PRIOR_H_
+#define EULERSPLAT_COSTS_SCENE_FLOW_PRIOR_H_
 
 #include <cstdint>
 #include <vector>
@@ -22,7 +22,7 @@ struct FlowPriorOptions {
 // Iteration `iteration`'s mini-batch of a run seeded `seed`: each of
 // indices->size() entries drawn uniformly from [0, num_samples). A function
 // of (seed, iteration) alone, shared by SceneFlowPrior and its device twin
-// (solvers/train/cuda/device_flow_prior.h) so both train on the same batches.
+// (costs/cuda/device_scene_flow_prior.h) so both train on the same batches.
 void DrawFlowPriorBatch(uint64_t seed, int64_t iteration, int num_samples,
                         std::vector<int>* indices);
 
@@ -80,4 +80,4 @@ class SceneFlowPrior {
 
 }  // namespace es
 
-#endif  // EULERSPLAT_SOLVERS_TRAIN_FLOW_PRIOR_H_
+#endif  // EULERSPLAT_COSTS_SCENE_FLOW_PRIOR_H_

@@ -1,5 +1,5 @@
-#ifndef EULERSPLAT_SOLVERS_TRAIN_CUDA_DEVICE_SCENE_FLOW_LOSS_H_
-#define EULERSPLAT_SOLVERS_TRAIN_CUDA_DEVICE_SCENE_FLOW_LOSS_H_
+#ifndef EULERSPLAT_COSTS_CUDA_DEVICE_SCENE_FLOW_LOSS_H_
+#define EULERSPLAT_COSTS_CUDA_DEVICE_SCENE_FLOW_LOSS_H_
 
 // SceneFlowCost::Loss (costs/scene_flow_cost.h) on a CUDA device over
 // lifted samples uploaded once: the scene-flow loss of V on a batch of
@@ -52,4 +52,4 @@ class DeviceSceneFlowLoss {
 }  // namespace cuda
 }  // namespace es
 
-#endif  // EULERSPLAT_SOLVERS_TRAIN_CUDA_DEVICE_SCENE_FLOW_LOSS_H_
+#endif  // EULERSPLAT_COSTS_CUDA_DEVICE_SCENE_FLOW_LOSS_H_

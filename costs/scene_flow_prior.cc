@@ -1,4 +1,4 @@
-#include "solvers/train/flow_prior.h"
+#include "costs/scene_flow_prior.h"
 
 #include <algorithm>
 #include <random>
@@ -6,7 +6,7 @@
 #include <glog/logging.h>
 
 #include "core/fields/gradient_chunks.h"
-#include "solvers/optim/lr_schedule.h"
+#include "core/base/lr_schedule.h"
 
 namespace es {
 

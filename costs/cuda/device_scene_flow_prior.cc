@@ -1,4 +1,4 @@
-#include "solvers/train/cuda/device_flow_prior.h"
+#include "costs/cuda/device_scene_flow_prior.h"
 
 #include <algorithm>
 

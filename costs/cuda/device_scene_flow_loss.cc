@@ -1,9 +1,9 @@
-#include "solvers/train/cuda/device_scene_flow_loss.h"
+#include "costs/cuda/device_scene_flow_loss.h"
 
 #include <glog/logging.h>
 
 #include "costs/cuda/mean_loss_kernels.h"
-#include "solvers/train/cuda/flow_prior_kernels.h"
+#include "costs/cuda/scene_flow_loss_kernels.h"
 
 namespace es {
 namespace cuda {

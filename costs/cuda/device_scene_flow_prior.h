@@ -1,7 +1,7 @@
-#ifndef EULERSPLAT_SOLVERS_TRAIN_CUDA_DEVICE_FLOW_PRIOR_H_
-#define EULERSPLAT_SOLVERS_TRAIN_CUDA_DEVICE_FLOW_PRIOR_H_
+#ifndef EULERSPLAT_COSTS_CUDA_DEVICE_SCENE_FLOW_PRIOR_H_
+#define EULERSPLAT_COSTS_CUDA_DEVICE_SCENE_FLOW_PRIOR_H_
 
-// SceneFlowPrior (solvers/train/flow_prior.h) on a CUDA device: Stage 2's
+// SceneFlowPrior (costs/scene_flow_prior.h) on a CUDA device: Stage 2's
 // scene-flow loss of V kept during joint training,
 //   l = w(it) mean_s 0.5 |V(x_s) - V'(x_s)|^2 / mean_all |V'|^2,
 // over the same mini-batch as the CPU's for the same (seed, iteration)
@@ -12,8 +12,8 @@
 #include <vector>
 
 #include "core/fields/cuda/device_motion_field.h"
-#include "solvers/train/cuda/device_scene_flow_loss.h"
-#include "solvers/train/flow_prior.h"
+#include "costs/cuda/device_scene_flow_loss.h"
+#include "costs/scene_flow_prior.h"
 
 namespace es {
 namespace cuda {
@@ -48,4 +48,4 @@ class DeviceSceneFlowPrior {
 }  // namespace cuda
 }  // namespace es
 
-#endif  // EULERSPLAT_SOLVERS_TRAIN_CUDA_DEVICE_FLOW_PRIOR_H_
+#endif  // EULERSPLAT_COSTS_CUDA_DEVICE_SCENE_FLOW_PRIOR_H_

@@ -1,7 +1,7 @@
-#ifndef EULERSPLAT_SOLVERS_TRAIN_CUDA_FLOW_PRIOR_KERNELS_H_
-#define EULERSPLAT_SOLVERS_TRAIN_CUDA_FLOW_PRIOR_KERNELS_H_
+#ifndef EULERSPLAT_COSTS_CUDA_SCENE_FLOW_LOSS_KERNELS_H_
+#define EULERSPLAT_COSTS_CUDA_SCENE_FLOW_LOSS_KERNELS_H_
 
-// The device scene-flow prior's kernels (flow_prior.cu): plain types only,
+// The device scene-flow loss's kernels (scene_flow_loss.cu): plain types only,
 // device pointers.
 
 namespace es {
@@ -23,4 +23,4 @@ void ConstrainedDifference(int n, const double* target, const double* unseen,
 }  // namespace cuda
 }  // namespace es
 
-#endif  // EULERSPLAT_SOLVERS_TRAIN_CUDA_FLOW_PRIOR_KERNELS_H_
+#endif  // EULERSPLAT_COSTS_CUDA_SCENE_FLOW_LOSS_KERNELS_H_

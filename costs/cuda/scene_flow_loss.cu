@@ -2,7 +2,7 @@
 // uploaded samples, and V's residual against the lifted velocities.
 
 #include "core/base/cuda/cuda_check.h"
-#include "solvers/train/cuda/flow_prior_kernels.h"
+#include "costs/cuda/scene_flow_loss_kernels.h"
 
 namespace es {
 namespace cuda {

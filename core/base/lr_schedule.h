@@ -1,5 +1,5 @@
-#ifndef EULERSPLAT_SOLVERS_OPTIM_LR_SCHEDULE_H_
-#define EULERSPLAT_SOLVERS_OPTIM_LR_SCHEDULE_H_
+#ifndef EULERSPLAT_CORE_BASE_LR_SCHEDULE_H_
+#define EULERSPLAT_CORE_BASE_LR_SCHEDULE_H_
 
 #include <algorithm>
 #include <cmath>
@@ -18,4 +18,4 @@ inline double LogLinearLr(double initial, double final, int64_t step,
 
 }  // namespace es
 
-#endif  // EULERSPLAT_SOLVERS_OPTIM_LR_SCHEDULE_H_
+#endif  // EULERSPLAT_CORE_BASE_LR_SCHEDULE_H_
