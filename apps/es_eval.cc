@@ -35,6 +35,13 @@ DEFINE_int32(timing_frames, 0, "Frames timed for Alg. 1 vs Alg. 2; 0: 2 L.");
 DEFINE_int32(compare_frames, 4, "Frames of the realism video written to "
              "OUT/compare/ (rendered left, input right) to look at; 0: "
              "none.");
+DEFINE_double(input_noise, -1,
+              "Std (0..1) of the input frames' per-pixel noise, drawn onto "
+              "the renders before realism is measured (the input's detail "
+              "and frame-to-frame change include its noise, a render's do "
+              "not). -1: estimated from consecutive training frames as "
+              "es_train --input_noise -1 does (none on clean or 8-bit-only "
+              "input); 0: none.");
 DEFINE_bool(realism_breakdown, false, "Also measure realism on three "
             "variants of the model, to find where motion and detail are "
             "lost: 'training' (Alg. 1 at each frame's true time and cycle "
@@ -73,6 +80,7 @@ void CheckFlags() {
   es::RequirePositive("image_scale", FLAGS_image_scale);
   es::RequireAtLeast("anchor_frame", FLAGS_anchor_frame, -1);
   es::RequireAtLeast("timing_frames", FLAGS_timing_frames, 0);
+  es::RequireInRange("input_noise", FLAGS_input_noise, -1, 1);
   if (FLAGS_seam_cycles < 2) {
     throw es::InputError("--seam_cycles must be >= 2 (a boundary needs a "
                          "cycle on each side)");
@@ -96,6 +104,7 @@ es::EvalStageOptions OptionsFromFlags() {
   o.realism_breakdown = FLAGS_realism_breakdown;
   o.reference_motion = FLAGS_reference_motion;
   o.realism = es::RealismOptionsFromFlags();
+  o.input_noise = FLAGS_input_noise;
   o.device = FLAGS_device;
   return o;
 }

@@ -2,6 +2,7 @@
 #define EULERSPLAT_COSTS_WATER_INPUT_NOISE_H_
 
 #include <array>
+#include <cstdint>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -25,13 +26,39 @@ namespace es {
 // NaN without a usable block.
 double HaarNoiseSigma(const cv::Mat& channel, const cv::Mat& skip);
 
+// The noise std of one channel from two consecutive frames of it, `prev`
+// and `next` (CV_64FC1, same size; `skip` as above): noise is new each
+// frame and white, the scenery is neither.
+//  - In time: the frames' difference over sqrt(2) has the noise's std and
+//    none of the texture that stays put.
+//  - In scale: texture that moves with the camera still leaves detail in
+//    that difference, but about as much at twice the pixel size, while
+//    the noise's halves there (2 x 2 means of white noise). So with t1,
+//    t2 the HaarNoiseSigma of the difference at full and half size,
+//    noise^2 = (t1^2 - t2^2) * 4 / 3, and no noise where t2 >= t1.
+// Returns {t1, t2}; NaN where no block is usable.
+std::array<double, 2> TemporalHaarDetail(const cv::Mat& prev,
+                                         const cv::Mat& next,
+                                         const cv::Mat& skip);
+
 // The noise std on each opponent colour channel (kWaterOpponent's rows)
-// of frames[indices]: per channel the median over the frames of
-// HaarNoiseSigma on the pixels that are not water (masks > 0.5 and a
-// pixel beside them are skipped: the water's own texture is signal).
-// A frame with no usable block is passed over; all zeros if none has one.
+// of the frames[indices], from the pairs of them that follow each other
+// (indices k and k + 1): per channel, TemporalHaarDetail's two medians
+// over the pairs combined as above, and never above the median single-
+// frame HaarNoiseSigma. Pixels that are water (masks > 0.5 and a pixel
+// beside them, in either frame) are skipped: the water's own change is
+// signal. A channel's noise under one 8-bit grey level is 0 (rounding,
+// not noise the losses need). All zeros without such a pair: from single
+// frames, fine texture and noise cannot be told apart.
 std::array<double, 3> EstimateInputNoise(const std::vector<Frame>& frames,
                                          const std::vector<int>& indices);
+
+// Adds white noise of std sigma[c] along each opponent colour channel c
+// to `rgb` (CV_64FC3, 0..1), drawn from `seed`: a render then carries the
+// input's noise, so figures that measure detail and change (the realism
+// ratios) compare like with like. Nothing where every sigma is 0.
+void DrawInputNoise(const std::array<double, 3>& sigma, uint64_t seed,
+                    cv::Mat* rgb);
 
 }  // namespace es
 

@@ -167,14 +167,16 @@ DEFINE_double(loop_texture_weight, 3,
               "(docs/results/realism-2026-12-04.md: every "
               "preset's loop closer to the video). Its loss runs on the "
               "host, so on --device cuda it is off unless given.");
-DEFINE_double(input_noise, 0,
+DEFINE_double(input_noise, -1,
               "Std (0..1 of the pixel range) of the input frames' per-pixel "
               "noise (sensor or render-sample noise, new each frame), "
               "which the water losses then do not ask the render to paint: "
               "its expected share of the input's detail and change is "
               "added to the render's before they are compared. -1: "
-              "estimated from the training frames outside the water "
-              "(printed); 0: none.");
+              "estimated from consecutive training frames outside the "
+              "water (printed when found; clean or 8-bit-only input gives "
+              "none, and so do noise and camera motion that cannot be told "
+              "apart); 0: none.");
 DEFINE_double(water_loss_warmup, 0,
               "> 0: the water losses (energy, texture, the loop's texture) "
               "ramp in linearly from 0 over this fraction of the "

@@ -4,6 +4,7 @@
 // What es_eval's stage (eval_stage.h) is asked and what it measures,
 // shared with the eval.json and the table it writes (eval_report.h).
 
+#include <array>
 #include <optional>
 #include <string>
 #include <utility>
@@ -37,6 +38,11 @@ struct EvalStageOptions {
   // model's water Gaussians; empty: none.
   std::string reference_motion;
   RealismOptions realism;
+  // The input's per-pixel noise drawn onto the renders before realism is
+  // measured (costs/water_input_noise.h): < 0 estimated from the
+  // training frames, as es_train's --input_noise -1; >= 0 this std on
+  // every opponent channel (0: none).
+  double input_noise = -1;
   // Where the images render, as eval.json records it (--device: cpu or
   // cuda); off the CPU, device_description is printed with what runs where.
   std::string device = "cpu";
@@ -54,6 +60,7 @@ struct EvalStageResult {
   std::optional<MotionGtMetrics> reference_motion;
   std::vector<MotionGtPoint> reference_points;
   RealismMetrics realism;
+  std::array<double, 3> input_noise = {0, 0, 0};  // drawn for realism
   // realism_breakdown: (name, figures) per model variant.
   std::vector<std::pair<std::string, RealismMetrics>> breakdown;
   LoopSeamScore seam;

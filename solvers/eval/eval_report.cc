@@ -65,6 +65,7 @@ nlohmann::ordered_json EvalJson(const EvalStageOptions& o,
       {"training_water_psnr", TrainingWaterPsnrJson(e.training)},
       {"motion_gt", nullptr},
       {"realism", RealismJson(e.realism)},
+      {"realism_input_noise", e.input_noise},
       {"loop_seam",
        {{"anchor_frame", e.anchor_frame},
         {"cycles", o.seam_cycles},
@@ -130,6 +131,11 @@ void PrintEvalSummary(const EvalStageOptions& o, const LoopModel& model,
   }
   std::printf("  realism vs the input (ratios: 1 = like the input; "
               "distance: 0 = same statistics)\n");
+  if (e.input_noise[0] > 0 || e.input_noise[1] > 0 || e.input_noise[2] > 0) {
+    std::printf("  (the input's noise, std %.4f %.4f %.4f per opponent "
+                "channel, drawn onto the renders first)\n",
+                e.input_noise[0], e.input_noise[1], e.input_noise[2]);
+  }
   PrintRealismRow("  water", e.realism.water);
   PrintRealismRow("  static (control)", e.realism.static_region);
   PrintRealismRow("  whole frame", e.realism.frame);

@@ -11,6 +11,7 @@
 #include "core/fields/field_io.h"
 #include "core/io/json_file.h"
 #include "core/io/output_dir.h"
+#include "costs/water_input_noise.h"
 #include "solvers/eval/eval_report.h"
 #include "solvers/eval/realism_evaluation.h"
 
@@ -35,6 +36,13 @@ void Step(int k, const char* what,
                   std::chrono::steady_clock::now() - start)
                   .count());
   std::fflush(stdout);
+}
+
+// The noise drawn onto the renders for realism: `sigma` on every channel,
+// or for sigma < 0 as es_train estimates it.
+std::array<double, 3> RealismInputNoise(const Scene& scene, double sigma) {
+  if (sigma >= 0) return {sigma, sigma, sigma};
+  return EstimateInputNoise(scene.frames, scene.train);
 }
 
 }  // namespace
@@ -76,7 +84,8 @@ EvalStageResult EvaluateLoopStage(
        start);
   const std::vector<cv::Mat> rendered =
       RenderAtInputCameras(loop(model).get(), scene.frames);
-  e.realism = EvaluateRealism(rendered, scene.frames, o.realism);
+  e.input_noise = RealismInputNoise(scene, o.input_noise);
+  e.realism = EvaluateRealism(rendered, scene.frames, o.realism, e.input_noise);
   if (o.compare_frames > 0) {
     WriteComparisonFrames(rendered, scene.frames, o.compare_frames,
                           o.out_dir + "/compare");
@@ -86,12 +95,12 @@ EvalStageResult EvaluateLoopStage(
         "training",
         EvaluateRealism(RenderTrainingComposition(model, scene.frames,
                                                   rasterizer.get()),
-                        scene.frames, o.realism));
+                        scene.frames, o.realism, e.input_noise));
     const auto add_loop = [&](const char* name, const LoopModel& m) {
       e.breakdown.emplace_back(
           name, EvaluateRealism(
                     RenderAtInputCameras(loop(m).get(), scene.frames),
-                    scene.frames, o.realism));
+                    scene.frames, o.realism, e.input_noise));
     };
     LoopModel variant = model;
     variant.residual.reset();

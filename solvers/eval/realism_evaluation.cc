@@ -11,6 +11,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "core/base/atomic_file.h"
+#include "costs/water_input_noise.h"
 #include "solvers/eval/loop_evaluation.h"
 
 namespace es {
@@ -45,8 +46,15 @@ std::vector<cv::Mat> RenderTrainingComposition(
 
 RealismMetrics EvaluateRealism(const std::vector<cv::Mat>& rendered,
                                const std::vector<Frame>& frames,
-                               const RealismOptions& realism) {
+                               const RealismOptions& realism,
+                               const std::array<double, 3>& input_noise) {
   CHECK_GE(frames.size(), 2u);
+  CHECK_EQ(rendered.size(), frames.size());
+  std::vector<cv::Mat> noisy(rendered.size());
+  for (size_t i = 0; i < rendered.size(); ++i) {
+    noisy[i] = rendered[i].clone();
+    DrawInputNoise(input_noise, realism.seed * 1000003 + i, &noisy[i]);
+  }
   std::vector<cv::Mat> real, masks;
   bool has_masks = true;
   for (const Frame& f : frames) {
@@ -55,7 +63,7 @@ RealismMetrics EvaluateRealism(const std::vector<cv::Mat>& rendered,
     has_masks = has_masks && !f.mask.empty();
   }
   if (!has_masks) masks.clear();
-  return ComputeRealism(rendered, real, masks, realism);
+  return ComputeRealism(noisy, real, masks, realism);
 }
 
 void WriteComparisonFrames(const std::vector<cv::Mat>& rendered,

@@ -1,6 +1,7 @@
 #ifndef EULERSPLAT_SOLVERS_EVAL_REALISM_EVALUATION_H_
 #define EULERSPLAT_SOLVERS_EVAL_REALISM_EVALUATION_H_
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -31,10 +32,14 @@ std::vector<cv::Mat> RenderTrainingComposition(
 
 // core/metrics/realism.h of that video against the input frames, inside
 // the input's water masks (when the scene has them), the static rest and
-// the whole frame.
+// the whole frame. `input_noise` (per opponent channel,
+// costs/water_input_noise.h) is drawn onto a copy of each rendered frame
+// first (seeded by realism.seed and the frame): the input's detail and
+// change include its noise, a render's do not.
 RealismMetrics EvaluateRealism(const std::vector<cv::Mat>& rendered,
                                const std::vector<Frame>& frames,
-                               const RealismOptions& realism = {});
+                               const RealismOptions& realism = {},
+                               const std::array<double, 3>& input_noise = {});
 
 // Writes `count` frames spread over the video as DIR/frame_NNNNNN.png,
 // rendered (left) beside the input (right), 8-bit RGB: to look at.

@@ -85,6 +85,10 @@ void SetInputNoise(double sigma, const Scene& scene,
   trainer->water_energy.input_noise = noise;
   trainer->water_texture.input_noise = noise;
   if (sigma == 0) return;  // off: nothing to say
+  if (noise[0] == 0 && noise[1] == 0 && noise[2] == 0) {
+    std::printf("input noise: none found in the training frames\n");
+    return;
+  }
   std::printf("input noise, std per opponent channel: %.4f %.4f %.4f (%s)\n",
               noise[0], noise[1], noise[2],
               sigma < 0 ? "estimated from the training frames" : "given");
