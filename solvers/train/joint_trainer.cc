@@ -174,10 +174,14 @@ double JointTrainer::BatchGradient(double const* const* params,
   const std::vector<int> batch = DrawBatch(&sampler_, options_.batch_frames);
   out->frame = batch[0];
   if (PairLossOn(options_)) out->pair_frame = partner_[out->frame];
-  // Segments: the layout's blocks, then the loss and its terms.
-  const std::vector<int32_t>& block_sizes = objective_->layout().sizes();
-  const int num_blocks = static_cast<int>(block_sizes.size());
-  std::vector<size_t> sizes(block_sizes.begin(), block_sizes.end());
+  // Segments: the layout's blocks (the splats', then the fields'; sized
+  // from the buffers: the objective's layout follows a densification only
+  // at its next evaluation), then the loss and its terms.
+  std::vector<size_t> sizes = {grad_.means.size(), grad_.log_scales.size(),
+                               grad_.quats.size(), grad_.opacity_logits.size(),
+                               grad_.sh.size(), grad_.dynamic_logits.size()};
+  for (const std::vector<double>& g : field_grad_) sizes.push_back(g.size());
+  const int num_blocks = static_cast<int>(sizes.size());
   constexpr int kTerms = 8;
   sizes.push_back(kTerms);
   batch_sum_.Reset(sizes);

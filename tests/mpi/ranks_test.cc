@@ -96,6 +96,7 @@ TEST(RanksTest, JointTrainingOnRanksEqualsOneProcess) {
   options.iterations = 30;
   options.seed = 4;
   options.water_energy = WaterEnergyOptions();  // pairs of frames
+  options.water_densify.interval = 5;  // the water grows between steps
   options.batch_frames = BatchFrames();
   ASSERT_TRUE(PairLossOn(options));
   GaussianSet start = TrueCanonical();
@@ -112,6 +113,8 @@ TEST(RanksTest, JointTrainingOnRanksEqualsOneProcess) {
     }
   }
   LoopModel a = alone.model(), r = ranks.model();
+  ASSERT_GT(a.gaussians.size(), start.size()) << "no water densification";
+  ASSERT_EQ(r.gaussians.size(), a.gaussians.size());
   ExpectSameValues(SplatValues(r.gaussians), SplatValues(a.gaussians),
                    "splats");
   const std::vector<std::vector<double>*> fields_a = FieldParamBlocks(&a);
