@@ -127,6 +127,26 @@ TEST(RanksTest, JointTrainingOnRanksEqualsOneProcess) {
   ExpectRanksAgree(SplatValues(r.gaussians), "splats");
 }
 
+TEST(RanksTest, SplitMakesGroupsThatSumOnlyTheirOwnRanks) {
+  // Two groups, even and odd ranks (one scene each in a batch of scenes).
+  const int color = world->rank() % 2;
+  std::unique_ptr<Communicator> group = world->Split(color);
+  EXPECT_EQ(group->size(), (world->size() + 1 - color) / 2);
+  EXPECT_EQ(group->rank(), world->rank() / 2);
+  double sum[2] = {1, static_cast<double>(world->rank())};
+  group->AllreduceSum(sum, 2);
+  double expected = 0;
+  for (int r = color; r < world->size(); r += 2) expected += r;
+  EXPECT_EQ(sum[0], group->size());
+  EXPECT_EQ(sum[1], expected);
+  float f = 1;
+  group->AllreduceSum(&f, 1);
+  EXPECT_EQ(f, group->size());
+  double top = world->rank();
+  world->AllreduceMax(&top, 1);
+  EXPECT_EQ(top, world->size() - 1);
+}
+
 }  // namespace
 }  // namespace es
 
