@@ -15,6 +15,7 @@
 
 #include "apps/common/app_main.h"
 #include "apps/common/device_flag.h"
+#include "apps/common/world.h"
 #include "apps/common/flag_checks.h"
 #include "apps/common/splat_rate_flags.h"
 #include "solvers/train/static_stage.h"
@@ -79,6 +80,7 @@ DEFINE_double(max_world_scale, 0,
 DEFINE_int32(max_gaussians, 1000000, "Cap on the number of Gaussians.");
 DEFINE_bool(white_background, false, "Render on white instead of black.");
 DEFINE_string(device, "cpu", es::kDeviceFlagHelp);
+DEFINE_int32(batch_frames, 1, es::kBatchFramesHelp);
 DEFINE_bool(profile, false,
             "Print where the training iterations' wall time goes, per stage "
             "(projection, binning, tiles, losses, Adam, densification), "
@@ -89,10 +91,12 @@ int main(int argc, char** argv) {
       argc, argv,
       "Stage 1: static reconstruction.\n"
       "  es_static --scene DIR --out DIR [--iterations N] [--resume]\n"
-      "            [--device cpu|cuda]\n"
+      "            [--device cpu|cuda] [--batch_frames B]\n"
       "Writes OUT/static.ply, OUT/metrics.json, OUT/history.csv and "
       "OUT/checkpoint.bin.",
       [] {
+        es::AppWorld world;
+        return world.Run([&world] {
         es::RequirePositive("image_scale", FLAGS_image_scale);
         std::string device_name;
         const es::ComputeDevice device =
@@ -130,7 +134,12 @@ int main(int argc, char** argv) {
         if (FLAGS_white_background) t.background.setOnes();
         if (device == es::ComputeDevice::kCuda)
           std::printf("training on %s\n", device_name.c_str());
+        t.batch_frames = FLAGS_batch_frames;
+        t.comm = world.comm();
+        es::CheckBatchFramesFlag(t.batch_frames, *t.comm,
+                                 device == es::ComputeDevice::kCuda);
         es::RunStaticStage(o, es::StaticTrainerOn(device));
         return 0;
+        });
       });
 }

@@ -12,6 +12,7 @@
 
 #include "apps/common/app_main.h"
 #include "apps/common/joint_flags.h"
+#include "apps/common/world.h"
 #include "solvers/train/joint_stage.h"
 
 int main(int argc, char** argv) {
@@ -20,14 +21,18 @@ int main(int argc, char** argv) {
       "Stage 3: joint training of the looping model.\n"
       "  es_train --scene DIR --init DIR --out DIR "
       "[--iterations N] [--cycle_length L] [--resume]\n"
-      "           [--device cpu|cuda]\n"
+      "           [--device cpu|cuda] [--batch_frames B]\n"
       "Writes the model (loop.txt, canonical.ply, fields), "
       "<out>/metrics.json, <out>/history.csv and "
       "<out>/joint_checkpoint.bin.",
       [] {
+        es::AppWorld world;
+        return world.Run([&world] {
         es::ComputeDevice device;
-        const es::JointStageOptions options =
-            es::JointStageOptionsFromFlags(&device);
+        es::JointStageOptions options = es::JointStageOptionsFromFlags(&device);
+        options.trainer.comm = world.comm();
+        es::CheckBatchFramesFlag(options.trainer.batch_frames, *world.comm(),
+                                 device == es::ComputeDevice::kCuda);
         const es::JointStageResult r =
             es::RunJointStage(options, es::JointTrainerOn(device));
         std::printf("test PSNR %.3f SSIM %.4f (water PSNR %.3f SSIM %.4f, "
@@ -36,5 +41,6 @@ int main(int argc, char** argv) {
                     r.test.ssim_water, r.test.psnr_static, r.test.frames,
                     r.seconds);
         return 0;
+        });
       });
 }

@@ -7,7 +7,7 @@
 //
 //   eulersplat --video FILE --out DIR [--preset quick|paper]
 //   eulersplat --scene DIR --out DIR [--preset quick|paper]
-//              [--device cpu|cuda]
+//              [--device cpu|cuda] [--ranks N]
 //
 // OUT/scene/           the frames of --video, or a view of --scene that
 //                      adds what it lacks (poses, masks) without writing
@@ -53,6 +53,8 @@ int main(int argc, char** argv) {
                     "quick|paper] [--device cpu|cuda]\n"
                     "  eulersplat --scene DIR --out DIR [--preset "
                     "quick|paper] [--device cpu|cuda]\n"
+                    "  ... --ranks N: es_static and es_train on N MPI "
+                    "ranks (mpiexec)\n"
                     "Writes OUT/static, OUT/model, OUT/animate, "
                     "OUT/animate_fixed, OUT/eval, OUT/plots and "
                     "OUT/contact_sheet.png; a stage whose outputs exist is "

@@ -50,6 +50,30 @@ double JointObjective::Evaluate(const LoopStructure& structure,
                                 int64_t iteration, double** gradients,
                                 char* const* triplane_chunks,
                                 JointObjectiveTerms* terms) {
+  const double loss =
+      EvaluateFrame(structure, params, frame, partner, water_scale, iteration,
+                    gradients, triplane_chunks, terms);
+  return loss + AddSceneFlowPrior(params, iteration, gradients,
+                                  triplane_chunks, terms);
+}
+
+double JointObjective::AddSceneFlowPrior(double const* const* params,
+                                         int64_t iteration, double** gradients,
+                                         char* const* triplane_chunks,
+                                         JointObjectiveTerms* terms) {
+  if (!flow_prior_) return 0;
+  terms->flow_prior =
+      FlowPriorGradient(params, iteration, gradients, triplane_chunks);
+  return terms->flow_prior;
+}
+
+double JointObjective::EvaluateFrame(const LoopStructure& structure,
+                                     double const* const* params,
+                                     const Frame& frame, const Frame* partner,
+                                     double water_scale, int64_t iteration,
+                                     double** gradients,
+                                     char* const* triplane_chunks,
+                                     JointObjectiveTerms* terms) {
   cost_.Reset(&frame, frame.time_index, structure);
   double loss;
   if (partner != nullptr) {
@@ -71,11 +95,6 @@ double JointObjective::Evaluate(const LoopStructure& structure,
   if (loop_cost_) {
     loss += LoopTextureGradient(structure, params, frame, water_scale,
                                 iteration, gradients, triplane_chunks, terms);
-  }
-  if (flow_prior_) {
-    terms->flow_prior =
-        FlowPriorGradient(params, iteration, gradients, triplane_chunks);
-    loss += terms->flow_prior;
   }
   return loss;
 }

@@ -63,6 +63,19 @@ class JointObjective {
                   const Frame& frame, const Frame* partner, double water_scale,
                   int64_t iteration, double** gradients,
                   char* const* triplane_chunks, JointObjectiveTerms* terms);
+  // Evaluate's two parts: the frame's terms (all but the prior), and the
+  // prior added to the loss it returns and to `gradients` (terms->
+  // flow_prior set; 0 without a prior). A batch of frames sums the first
+  // over its frames and adds the second once.
+  double EvaluateFrame(const LoopStructure& structure,
+                       double const* const* params, const Frame& frame,
+                       const Frame* partner, double water_scale,
+                       int64_t iteration, double** gradients,
+                       char* const* triplane_chunks,
+                       JointObjectiveTerms* terms);
+  double AddSceneFlowPrior(double const* const* params, int64_t iteration,
+                           double** gradients, char* const* triplane_chunks,
+                           JointObjectiveTerms* terms);
 
   // Frame `frame`'s fit alone, its gradient written into `gradients`
   // (every non-null row); rasterizer() then holds its render's

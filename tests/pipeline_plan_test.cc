@@ -170,5 +170,33 @@ TEST(StageProcessRunnerTest, PassesDeviceToTheStagesThatTakeIt) {
   }
 }
 
+TEST(StageProcessRunnerTest, RunsTheTrainingStagesUnderMpiexec) {
+  std::vector<std::pair<std::string, Args>> launched;
+  StageProcessRunner runner(
+      "cpu", "/bin_dir", [&](const std::string& path, const Args& args) {
+        launched.emplace_back(path, args);
+        return 0;
+      });
+  RankLaunch ranks;
+  ranks.ranks = 2;
+  ranks.batch_frames = 4;
+  ranks.mpiexec = "/usr/bin/mpiexec";
+  ranks.threads_per_rank = 1;
+  runner.SetRanks(ranks);
+  runner.Run("es_static", {"--x"});
+  runner.Run("es_train", {"--batch_frames", "6"});  // the caller's batch
+  runner.Run("es_flowinit", {"--x"});  // not data-parallel: as before
+  ASSERT_EQ(launched.size(), 3u);
+  EXPECT_EQ(launched[0].first, "/usr/bin/mpiexec");
+  EXPECT_EQ(launched[0].second,
+            (Args{"-n", "2", "-x", "OMP_NUM_THREADS=1", "/bin_dir/es_static",
+                  "--x", "--device", "cpu", "--batch_frames", "4"}));
+  EXPECT_EQ(launched[1].second,
+            (Args{"-n", "2", "-x", "OMP_NUM_THREADS=1", "/bin_dir/es_train",
+                  "--batch_frames", "6", "--device", "cpu"}));
+  EXPECT_EQ(launched[2].first, "/bin_dir/es_flowinit");
+  EXPECT_EQ(launched[2].second, (Args{"--x", "--device", "cpu"}));
+}
+
 }  // namespace
 }  // namespace es

@@ -7,6 +7,7 @@
 
 #include "apps/common/device_flag.h"
 #include "apps/common/flag_checks.h"
+#include "apps/common/world.h"
 #include "core/base/input_error.h"
 #include "solvers/pipeline/stage_process.h"
 
@@ -72,6 +73,12 @@ DEFINE_string(train_flags, "", "Extra flags for es_train, space-separated, "
 DEFINE_bool(animate, true, "Render the looping videos and contact sheet "
             "(off: train and evaluate only).");
 DEFINE_string(device, "cpu", kDeviceHelp.c_str());
+DEFINE_int32(ranks, 1, "Train es_static and es_train on this many MPI ranks "
+             "(processes), started by mpiexec, which must be on PATH; each "
+             "renders its share of --batch_frames frames per iteration. "
+             "Needs a build with MPI (-DES_MPI) and --device cpu.");
+DEFINE_int32(batch_frames, -1, "Frames per iteration of es_static and "
+             "es_train (-1: one per rank, --ranks).");
 DEFINE_string(pose_script, "", "Run as `bash SCRIPT SCENE` instead of "
               "es_poses (COLMAP) when the scene has no sparse/0; it must "
               "write SCENE/sparse/0.");
@@ -97,8 +104,21 @@ void CheckFlags() {
     RequirePositive("image_scale", FLAGS_image_scale);
   }
   RequireInOpenRange("dynamic_threshold", FLAGS_dynamic_threshold, 0, 1);
+  RequireAtLeast("ranks", FLAGS_ranks, 1);
+  if (FLAGS_batch_frames != -1) {
+    RequireAtLeast("batch_frames", FLAGS_batch_frames, FLAGS_ranks);
+  }
+  if (FLAGS_ranks > 1 && !BuiltWithMpi()) {
+    throw InputError("--ranks " + std::to_string(FLAGS_ranks) +
+                     ": this build has no MPI (install libopenmpi-dev and "
+                     "openmpi-bin, configure with -DES_MPI=ON)");
+  }
   std::string name;
   if (ParseDeviceFlag(FLAGS_device, &name) != ComputeDevice::kCpu) {
+    if (FLAGS_ranks > 1 || FLAGS_batch_frames > 1) {
+      throw InputError("--ranks and --batch_frames train on the CPU only "
+                       "(--device cpu)");
+    }
     std::printf("[eulersplat] %s run on %s; the other stages on the CPU\n",
                 DeviceStageNames().c_str(), name.c_str());
   }
@@ -131,6 +151,8 @@ PipelineOptions DriverOptionsFromFlags() {
   o.animate = FLAGS_animate;
   o.device = FLAGS_device;
   o.pose_script = FLAGS_pose_script;
+  o.ranks = FLAGS_ranks;
+  o.batch_frames = FLAGS_batch_frames;
   return o;
 }
 

@@ -7,6 +7,7 @@
 
 #include "apps/common/flag_checks.h"
 #include "apps/common/splat_rate_flags.h"
+#include "apps/common/world.h"
 
 DEFINE_string(scene, "", "Scene directory (images/, masks/, sparse/0/).");
 DEFINE_string(init, "",
@@ -15,6 +16,7 @@ DEFINE_string(init, "",
 DEFINE_string(out, "", "Output model directory (created).");
 DEFINE_int32(iterations, 20000, "Joint training iterations.");
 DEFINE_string(device, "cpu", es::kDeviceFlagHelp);
+DEFINE_int32(batch_frames, 1, es::kBatchFramesHelp);
 DEFINE_bool(profile, false,
             "Print where the training iterations' wall time goes, per stage "
             "(projection, tiles, losses, Adam, fields, Euler chain, "
@@ -258,6 +260,7 @@ JointTrainerOptions TrainerOptionsFromFlags() {
   JointTrainerOptions o;
   o.iterations = FLAGS_iterations;
   o.seed = FLAGS_seed;
+  o.batch_frames = FLAGS_batch_frames;
   o.cycle_length = FLAGS_cycle_length;
   o.use_motion = !FLAGS_no_motion_field && !FLAGS_static_only;
   o.use_residual = !FLAGS_no_residual && !FLAGS_static_only;

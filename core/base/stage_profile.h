@@ -39,6 +39,8 @@ enum class Stage : int {
   kComposition,
   kSceneFlow,
   kOpticalFlow,
+  kRankWait,   // --profile with ranks: waiting for the slowest rank
+  kAllreduce,  // summing a batch's gradients over the ranks
   kNumStages
 };
 
@@ -50,7 +52,8 @@ inline const char* StageName(Stage s) {
       "loss: residual",     "loss: water energy",  "Adam",
       "densification stats", "densify + prune",    "fields forward",
       "fields backward",    "Euler chain",         "composition",
-      "scene-flow loss",    "optical flow + lifting"};
+      "scene-flow loss",    "optical flow + lifting", "waiting for ranks",
+      "allreduce"};
   static_assert(sizeof(kNames) / sizeof(kNames[0]) ==
                     static_cast<size_t>(Stage::kNumStages),
                 "one name per stage");

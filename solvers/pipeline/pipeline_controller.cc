@@ -1,9 +1,12 @@
 #include "solvers/pipeline/pipeline_controller.h"
 
+#include <algorithm>
 #include <chrono>
+#include <cstdlib>
 #include <cstdio>
 #include <optional>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "core/base/input_error.h"
@@ -31,10 +34,35 @@ InputRequest MakeInputRequest(const PipelineOptions& options) {
   return r;
 }
 
+// eulersplat --ranks / --batch_frames: how es_static and es_train start.
+RankLaunch RankLaunchOf(const PipelineOptions& o) {
+  RankLaunch r;
+  r.ranks = o.ranks;
+  r.batch_frames = o.batch_frames > 0 ? o.batch_frames : o.ranks;
+  if (o.ranks > 1) {
+    r.mpiexec = FindMpiexec();
+    if (r.mpiexec.empty()) {
+      throw InputError("--ranks " + std::to_string(o.ranks) +
+                       ": mpiexec is not on PATH (Debian: apt-get install "
+                       "openmpi-bin)");
+    }
+    // The machine's cores shared between the ranks, unless the caller
+    // set OMP_NUM_THREADS (mpiexec passes the environment on).
+    if (std::getenv("OMP_NUM_THREADS") == nullptr) {
+      r.threads_per_rank = std::max(
+          1, static_cast<int>(std::thread::hardware_concurrency()) / o.ranks);
+    }
+  }
+  return r;
+}
+
 }  // namespace
 
 PipelineController::PipelineController(const PipelineOptions& options)
-    : options_(options), plan_(options), runner_(options.device) {}
+    : options_(options), plan_(options), runner_(options.device) {
+  if (options.ranks > 1 || options.batch_frames > 1)
+    runner_.SetRanks(RankLaunchOf(options));
+}
 
 void PipelineController::RunStep(const StageStep& step, StageLog* log) const {
   log->Begin(step.title);

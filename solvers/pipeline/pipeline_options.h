@@ -31,6 +31,10 @@ struct PipelineOptions {
   bool animate = true;         // the videos and the contact sheet
   std::string device = "cpu";  // passed on as --device (device_stages.h)
   std::string pose_script;     // "": es_poses
+  // Ranks of es_static and es_train (mpiexec), and their --batch_frames
+  // (-1: one frame per rank).
+  int ranks = 1;
+  int batch_frames = -1;
 };
 
 }  // namespace es

@@ -1,6 +1,9 @@
 #include "solvers/pipeline/stage_process.h"
 
+#include <unistd.h>
+
 #include <algorithm>
+#include <cstdlib>
 #include <cstdio>
 #include <iterator>
 #include <utility>
@@ -19,7 +22,34 @@ std::string Join(const std::vector<std::string>& args) {
   return out;
 }
 
+bool IsRankStage(const std::string& binary) {
+  const std::string name = fs::path(binary).filename().string();
+  return std::find(std::begin(kRankStages), std::end(kRankStages), name) !=
+         std::end(kRankStages);
+}
+
+bool HasFlag(const std::vector<std::string>& args, const std::string& flag) {
+  return std::any_of(args.begin(), args.end(), [&](const std::string& a) {
+    return a == flag || a.rfind(flag + "=", 0) == 0;
+  });
+}
+
 }  // namespace
+
+std::string FindMpiexec() {
+  const char* path = std::getenv("PATH");
+  std::string dirs = path != nullptr ? path : "";
+  size_t begin = 0;
+  while (begin <= dirs.size()) {
+    const size_t end = std::min(dirs.find(':', begin), dirs.size());
+    const fs::path candidate =
+        fs::path(dirs.substr(begin, end - begin)) / "mpiexec";
+    if (end > begin && access(candidate.c_str(), X_OK) == 0)
+      return candidate.string();
+    begin = end + 1;
+  }
+  return "";
+}
 
 std::string DeviceStageNames() {
   std::string out;
@@ -59,11 +89,27 @@ int StageProcessRunner::Run(const std::string& binary,
   if (PassesDevice(binary, args)) {
     args.insert(args.end(), {"--device", device_});
   }
-  std::vector<std::string> all = {path};
+  std::string program = path;
+  if (ranks_.batch_frames > 1 && IsRankStage(binary) &&
+      !HasFlag(args, "--batch_frames")) {
+    args.insert(args.end(),
+                {"--batch_frames", std::to_string(ranks_.batch_frames)});
+  }
+  if (ranks_.ranks > 1 && IsRankStage(binary)) {
+    std::vector<std::string> mpi = {"-n", std::to_string(ranks_.ranks)};
+    if (ranks_.threads_per_rank > 0) {
+      mpi.insert(mpi.end(), {"-x", "OMP_NUM_THREADS=" +
+                                       std::to_string(ranks_.threads_per_rank)});
+    }
+    mpi.push_back(path);
+    args.insert(args.begin(), mpi.begin(), mpi.end());
+    program = ranks_.mpiexec;
+  }
+  std::vector<std::string> all = {program};
   all.insert(all.end(), args.begin(), args.end());
   std::printf("\n$ %s\n", Join(all).c_str());
   std::fflush(stdout);
-  return launch_(path, args);
+  return launch_(program, args);
 }
 
 void StageProcessRunner::RunOrThrow(

@@ -23,6 +23,22 @@ std::string DeviceStageNames();
 bool PassesDevice(const std::string& binary,
                   const std::vector<std::string>& args);
 
+// The stage binaries that train data-parallel over MPI ranks
+// (--batch_frames; solvers/train/data_parallel.h): with several ranks the
+// driver starts them under mpiexec.
+inline constexpr const char* kRankStages[] = {"es_static", "es_train"};
+
+// How the driver runs kRankStages (eulersplat --ranks).
+struct RankLaunch {
+  int ranks = 1;            // 1: as every other stage
+  int batch_frames = 1;     // passed on as --batch_frames unless given
+  std::string mpiexec;      // its path
+  int threads_per_rank = 0; // > 0: OMP_NUM_THREADS of each rank
+};
+
+// The path of mpiexec on PATH, or "" when there is none.
+std::string FindMpiexec();
+
 // Runs the stage binaries, each a process of its own, and prints each
 // command line first ("$ ..."), so every stage can be rerun alone with the
 // very same flags.
@@ -39,6 +55,10 @@ class StageProcessRunner {
   // The binaries next to the running one, started by RunChildProcess.
   explicit StageProcessRunner(std::string device);
 
+  // From now on kRankStages run on `ranks.ranks` ranks under mpiexec
+  // (when above 1) with --batch_frames (when above 1).
+  void SetRanks(RankLaunch ranks) { ranks_ = std::move(ranks); }
+
   // Runs `binary` with `args` (plus --device where it takes it) and
   // returns its exit status.
   int Run(const std::string& binary, std::vector<std::string> args) const;
@@ -52,6 +72,7 @@ class StageProcessRunner {
   std::string device_;
   std::filesystem::path binary_dir_;
   Launch launch_;
+  RankLaunch ranks_;
 };
 
 }  // namespace es

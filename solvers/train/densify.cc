@@ -60,6 +60,15 @@ void DensityStats::AddView(int width, int height, const std::vector<int>& radii,
   }
 }
 
+void DensityStats::Add(const DensityStats& views) {
+  CHECK_EQ(views.size(), size());
+  for (int i = 0; i < size(); ++i) {
+    grad_sum[i] += views.grad_sum[i];
+    count[i] += views.count[i];
+    max_radius[i] = std::max(max_radius[i], views.max_radius[i]);
+  }
+}
+
 void DensityStats::Filter(const std::vector<bool>& keep) {
   CHECK_EQ(static_cast<int>(keep.size()), size());
   auto compact = [&keep](std::vector<double>& v) {

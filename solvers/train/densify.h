@@ -41,6 +41,10 @@ class DensityStats {
   void AddView(int width, int height, const std::vector<int>& radii,
                const std::vector<double>& mean2d_grads);
 
+  // Adds the statistics of other views of the same Gaussians (a batch's,
+  // summed over the ranks): sums and counts add, radii take the largest.
+  void Add(const DensityStats& views);
+
   void Filter(const std::vector<bool>& keep);
   void AppendZeros(int count);
 

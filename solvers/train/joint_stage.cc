@@ -161,6 +161,11 @@ void SplitWater(const JointStageOptions& o, const Scene& scene,
               split.dynamic_after);
 }
 
+// Whether this process evaluates and writes: rank 0, or the only one.
+bool LeadRank(const JointTrainerOptions& o) {
+  return o.comm == nullptr || o.comm->rank() == 0;
+}
+
 // The history.csv columns after the iteration and time.
 const std::vector<std::string> kHistoryColumns = {
     "loss",      "photometric", "mask",      "residual",
@@ -196,6 +201,7 @@ TrainingOutcome Train(const JointStageOptions& o, const Scene& scene,
                       double seconds_before, TrainingHistory* history,
                       JointStageTrainer* trainer) {
   const JointTrainerOptions& options = o.trainer;
+  const bool lead = LeadRank(options);
   using Clock = std::chrono::steady_clock;
   const Clock::time_point start = Clock::now();
   double eval_seconds = 0;  // kept out of the training clock
@@ -240,7 +246,7 @@ TrainingOutcome Train(const JointStageOptions& o, const Scene& scene,
       outcome.final_loss = sums[0] / window;
       const double elapsed = training_seconds();
       LoopMetrics held_out;
-      if (eval) {
+      if (eval && lead) {
         const Clock::time_point eval_start = Clock::now();
         held_out = EvaluateLoopModel(trainer->model(), scene.frames,
                                      scene.test, trainer->render_options());
@@ -258,7 +264,7 @@ TrainingOutcome Train(const JointStageOptions& o, const Scene& scene,
           eval ? held_out.psnr_water : NAN};
       if (it < options.iterations) {
         history->Add(it, seconds_before + elapsed, row);
-        history->Write();
+        if (lead) history->Write();
       } else {
         outcome.final_row = row;  // completed with the final metrics
       }
@@ -286,8 +292,8 @@ TrainingOutcome Train(const JointStageOptions& o, const Scene& scene,
       counted = 0;
     }
     // Not right after a skipped (non-finite) step: keep the last good one.
-    if (o.checkpoint_interval > 0 && it % o.checkpoint_interval == 0 &&
-        trainer->last_step_ok()) {
+    if (lead && o.checkpoint_interval > 0 &&
+        it % o.checkpoint_interval == 0 && trainer->last_step_ok()) {
       WriteJointCheckpoint(trainer->Save(), checkpoint_path);
     }
   }
@@ -295,6 +301,13 @@ TrainingOutcome Train(const JointStageOptions& o, const Scene& scene,
   if (trainer->skipped_steps() > 0)
     std::printf("%lld step(s) skipped for a non-finite loss or gradient\n",
                 static_cast<long long>(trainer->skipped_steps()));
+  if (options.batch_frames > 1) {
+    std::printf("batches of %d frames on %d rank(s); allreduce %.2f MB per "
+                "iteration\n",
+                options.batch_frames,
+                options.comm != nullptr ? options.comm->size() : 1,
+                trainer->allreduce_bytes() / 1e6);
+  }
   StageProfile::Get().PrintAndStop(
       "es_train, " + std::to_string(trainer->iteration() - first) +
       " iterations, " + std::to_string(trainer->model().gaussians.size()) +
@@ -335,7 +348,10 @@ void RecordFinalMetrics(const LoopMetrics& metrics, int64_t iteration,
 
 JointStageResult RunJointStage(const JointStageOptions& options,
                                const JointTrainerFactory& make_trainer) {
-  PrepareOutputDirectory(options.out_dir, "out");
+  // With several ranks, rank 0 alone evaluates and writes (the others
+  // train the same model; their stdout is silenced by the app).
+  const bool lead = LeadRank(options.trainer);
+  if (lead) PrepareOutputDirectory(options.out_dir, "out");
   const Scene scene = LoadScene(options.scene_dir, options.scene);
   CheckScene(options, scene);
   JointStageOptions o = options;
@@ -347,7 +363,7 @@ JointStageResult RunJointStage(const JointStageOptions& options,
   std::printf("loaded %s: %d Gaussians, SH degree %d\n", static_ply.c_str(),
               initial.size(), initial.sh_degree);
   JointStageResult r;
-  if (o.eval_interval > 0 && !scene.test.empty()) {
+  if (lead && o.eval_interval > 0 && !scene.test.empty()) {
     // The same renders and figures as EvaluateLoopModel's for a model
     // without motion.
     const StaticMetrics stage1 = EvaluateStatic(
@@ -379,7 +395,7 @@ JointStageResult RunJointStage(const JointStageOptions& options,
   }
   TrainingHistory history(InDir(o.out_dir, "history.csv"), kHistoryColumns);
   const double seconds_before = history.Resume(trainer.iteration());
-  if (trainer.iteration() == 0 && o.eval_interval > 0 &&
+  if (lead && trainer.iteration() == 0 && o.eval_interval > 0 &&
       !scene.test.empty()) {
     RecordStart(r.stage1,
                 EvaluateLoopModel(trainer.model(), scene.frames, scene.test,
@@ -391,6 +407,7 @@ JointStageResult RunJointStage(const JointStageOptions& options,
   r.seconds = outcome.seconds;
   r.final_loss = outcome.final_loss;
   r.iterations = trainer.iteration();
+  if (!lead) return r;
 
   int pruned = 0;
   const LoopModel model = trainer.FinalModel(&pruned);

@@ -1,6 +1,7 @@
 #ifndef EULERSPLAT_SOLVERS_TRAIN_JOINT_STAGE_TRAINER_H_
 #define EULERSPLAT_SOLVERS_TRAIN_JOINT_STAGE_TRAINER_H_
 
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -10,6 +11,7 @@
 
 #include <Eigen/Core>
 
+#include "core/base/communicator.h"
 #include "core/fields/motion_field.h"
 #include "core/fields/residual_field.h"
 #include "core/io/scene.h"
@@ -125,6 +127,13 @@ struct JointTrainerOptions {
   // does any block (splats, fields) growing kRunawayGrowth times its
   // initial scale.
   int max_nonfinite_steps = 10;
+  // Frames per iteration (solvers/train/data_parallel.h): above 1, each
+  // step's gradient is the mean of that many sampled frames' (each with
+  // its partner when a pair term is on; the scene-flow prior once),
+  // rendered across the ranks of `comm` (nullptr: this process alone).
+  // The CPU trainer only.
+  int batch_frames = 1;
+  Communicator* comm = nullptr;
 };
 
 // One step: the objective's terms (JointObjectiveTerms, unweighted; the
@@ -167,6 +176,10 @@ class JointStageTrainer {
   virtual bool last_step_ok() const = 0;
   virtual bool uses_masks() const = 0;
   virtual RenderOptions render_options() const = 0;
+
+  // Bytes one step sums over the ranks (data-parallel batches), 0 for a
+  // one-frame step.
+  virtual size_t allreduce_bytes() const { return 0; }
 
   virtual JointCheckpoint Save() const = 0;
   // Continues from a checkpoint of a run with the same frames and options;

@@ -33,6 +33,8 @@ JointTrainer::JointTrainer(const std::vector<Frame>* frames,
       sampler_(train_, options.seed),
       rng_(options.seed + 1),
       guard_("Stage 3 training", options.max_nonfinite_steps) {
+  comm_ = options_.comm != nullptr ? options_.comm : &SingleProcess();
+  CheckBatchFrames(options_.batch_frames, *comm_);
   model_ = InitialLoopModel(options_, static_cast<int>(frames_->size()),
                             std::move(initial), std::move(motion), &rng_);
   UpdateScaleBounds();
@@ -99,32 +101,37 @@ JointIterationStats JointTrainer::Step() {
   ScopedStage timer(Stage::kIteration);
   if (DynamicSetRefreshDue(options_, iteration_)) RefreshDynamicSet();
   JointIterationStats out;
-  out.frame = sampler_.Next();
   out.num_dynamic = model_.num_dynamic();
   const int n = model_.gaussians.size();
   if (grad_.size() != n || grad_.sh_degree != model_.gaussians.sh_degree)
     grad_ = ZeroGaussians(n, model_.gaussians.sh_degree);
-  const Frame& frame = (*frames_)[out.frame];
-  if (PairLossOn(options_)) out.pair_frame = partner_[out.frame];
-  const Frame* partner =
-      out.pair_frame >= 0 ? &(*frames_)[out.pair_frame] : nullptr;
   std::vector<double*> params = JointBlocks(&model_);
   std::vector<double*> gradients = SplatRenderCost::Blocks(&grad_);
   for (std::vector<double>& g : field_grad_) gradients.push_back(g.data());
-  const std::vector<char*> chunks = TriplaneChunkFlags();
-  out.loss = objective_->Evaluate(
-      LoopStructure::Of(model_), params.data(), frame, partner,
-      WaterLossRamp(options_, iteration_), iteration_, gradients.data(),
-      chunks.data(), &out);
+  const bool batch = options_.batch_frames > 1;
+  if (batch) {
+    out.loss = BatchGradient(params.data(), gradients.data(), &out);
+  } else {
+    out.frame = sampler_.Next();
+    if (PairLossOn(options_)) out.pair_frame = partner_[out.frame];
+    const Frame* partner =
+        out.pair_frame >= 0 ? &(*frames_)[out.pair_frame] : nullptr;
+    const std::vector<char*> chunks = TriplaneChunkFlags();
+    out.loss = objective_->Evaluate(
+        LoopStructure::Of(model_), params.data(), (*frames_)[out.frame],
+        partner, WaterLossRamp(options_, iteration_), iteration_,
+        gradients.data(), chunks.data(), &out);
+  }
   // Every writer of the triplanes' gradients (the costs, the flow prior)
   // flagged the chunks it wrote into their SparseAdam's flags, so only
-  // those are read; the MLPs' small blocks are scanned whole.
+  // those are read; the MLPs' small blocks are scanned whole. A batch's
+  // gradient came dense from the sum over the ranks.
   bool finite = std::isfinite(out.loss) && AllFinite(grad_);
   for (size_t b = 0; b < field_grad_.size(); ++b) {
     SparseAdam& adam = field_adam_[b];
-    const bool triplane = b % 2 == 0;
-    finite = (triplane ? adam.ScanFlagged(field_grad_[b].data())
-                       : adam.ScanGradient(field_grad_[b].data())) &&
+    const bool flagged = b % 2 == 0 && !batch;
+    finite = (flagged ? adam.ScanFlagged(field_grad_[b].data())
+                      : adam.ScanGradient(field_grad_[b].data())) &&
              finite;
   }
   if (!guard_.Accept(iteration_ + 1, finite)) {
@@ -159,6 +166,72 @@ JointIterationStats JointTrainer::Step() {
   if (WaterDensifyDue(options_, iteration_, model_.num_dynamic()))
     out.densified = DensifyWaterNow();
   return out;
+}
+
+double JointTrainer::BatchGradient(double const* const* params,
+                                  double** gradients,
+                                  JointIterationStats* out) {
+  const std::vector<int> batch = DrawBatch(&sampler_, options_.batch_frames);
+  out->frame = batch[0];
+  if (PairLossOn(options_)) out->pair_frame = partner_[out->frame];
+  // Segments: the layout's blocks (the splats', then the fields'; sized
+  // from the buffers: the objective's layout follows a densification only
+  // at its next evaluation), then the loss and its terms.
+  std::vector<size_t> sizes = {grad_.means.size(), grad_.log_scales.size(),
+                               grad_.quats.size(), grad_.opacity_logits.size(),
+                               grad_.sh.size(), grad_.dynamic_logits.size()};
+  for (const std::vector<double>& g : field_grad_) sizes.push_back(g.size());
+  const int num_blocks = static_cast<int>(sizes.size());
+  constexpr int kTerms = 8;
+  sizes.push_back(kTerms);
+  batch_sum_.Reset(sizes);
+  frame_field_grad_.resize(field_grad_.size());
+  std::vector<double*> frame_gradients(gradients, gradients + num_blocks);
+  for (size_t f = 0; f < field_grad_.size(); ++f) {
+    frame_field_grad_[f].assign(field_grad_[f].size(), 0.0);
+    frame_gradients[kNumSplatBlocks + f] = frame_field_grad_[f].data();
+  }
+  const LoopStructure structure = LoopStructure::Of(model_);
+  const double ramp = WaterLossRamp(options_, iteration_);
+  EulerStats euler;
+  for (int k = 0; k < options_.batch_frames; ++k) {
+    if (!RendersBatchFrame(*comm_, k)) continue;
+    const int pair = PairLossOn(options_) ? partner_[batch[k]] : -1;
+    JointObjectiveTerms t;
+    const double loss = objective_->EvaluateFrame(
+        structure, params, (*frames_)[batch[k]],
+        pair >= 0 ? &(*frames_)[pair] : nullptr, ramp, iteration_,
+        frame_gradients.data(), nullptr, &t);
+    for (int b = 0; b < num_blocks; ++b) batch_sum_.Add(b, frame_gradients[b]);
+    for (std::vector<double>& g : frame_field_grad_)
+      std::fill(g.begin(), g.end(), 0.0);
+    const double terms[kTerms] = {loss,          t.photometric,  t.mask,
+                                  t.residual,    t.energy.motion,
+                                  t.energy.detail, t.texture,
+                                  t.loop_texture};
+    batch_sum_.Add(num_blocks, terms);
+    euler.velocity_evaluations += t.euler.velocity_evaluations;
+    euler.nonfinite_velocities += t.euler.nonfinite_velocities;
+    euler.clamped_steps += t.euler.clamped_steps;
+  }
+  batch_sum_.AllreduceSum(comm_);
+  for (int b = 0; b <= num_blocks; ++b) {
+    batch_sum_.Divide(b, options_.batch_frames);
+    if (b < num_blocks)
+      std::copy_n(batch_sum_.at(b), batch_sum_.size(b), gradients[b]);
+  }
+  const double* terms = batch_sum_.at(num_blocks);
+  out->photometric = terms[1];
+  out->mask = terms[2];
+  out->residual = terms[3];
+  out->energy.motion = terms[4];
+  out->energy.detail = terms[5];
+  out->texture = terms[6];
+  out->loop_texture = terms[7];
+  out->euler = euler;  // this rank's frames
+  return terms[0] +
+         objective_->AddSceneFlowPrior(params, iteration_, gradients, nullptr,
+                                       out);
 }
 
 WaterDensifyResult JointTrainer::DensifyWaterNow() {

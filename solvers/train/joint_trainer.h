@@ -14,6 +14,7 @@
 #include "costs/joint_objective.h"
 #include "solvers/optim/adam.h"
 #include "solvers/optim/sparse_adam.h"
+#include "solvers/train/data_parallel.h"
 #include "solvers/train/divergence_guard.h"
 #include "solvers/optim/frame_sampler.h"
 #include "solvers/train/joint_stage_trainer.h"
@@ -56,7 +57,22 @@ class JointTrainer : public JointStageTrainer {
   void Restore(const JointCheckpoint& checkpoint,
                const std::string& source) override;
 
+  // With batch_frames > 1: the last batch's mean gradient over the ranks
+  // (JointBlockLayout's blocks one after the other, without the scene-flow
+  // prior), then its mean loss terms.
+  const std::vector<double>& last_batch_gradient() const {
+    return batch_sum_.data();
+  }
+  size_t allreduce_bytes() const override {
+    return sizeof(double) * batch_sum_.data().size();
+  }
+
  private:
+  // Step's gradient with batch_frames > 1: the batch's mean over the ranks
+  // plus the prior, into `gradients` (the splats' rows overwritten, the
+  // fields' zero before); returns the loss, the terms into `out`.
+  double BatchGradient(double const* const* params, double** gradients,
+                       JointIterationStats* out);
   void RefreshDynamicSet();
   // Ranks the water Gaussians by their mean view-space gradient over
   // water_densify.views training frames and densifies the top fraction.
@@ -93,6 +109,11 @@ class JointTrainer : public JointStageTrainer {
   // -1: none).
   std::vector<int> partner_;
   int64_t iteration_ = 0;
+  Communicator* comm_;
+  PackedSum batch_sum_;  // a batch's gradients and loss terms
+  // One frame's field gradients in a batch (zero between frames): a pair's
+  // halving must not reach the other frames' sum.
+  std::vector<std::vector<double>> frame_field_grad_;
   DivergenceGuard guard_;
   // Splats then fields (GuardedJointBlocks), bounded at construction.
   std::vector<GuardedBlock> guarded_;

@@ -118,7 +118,10 @@ StaticMetrics EvaluateHeldOut(const StaticStageTrainer& trainer,
 StaticStageResult RunStaticStage(const StaticStageOptions& o,
                                  const StaticTrainerFactory& make_trainer) {
   Validate(o);
-  PrepareOutputDirectory(o.out_dir, "out");
+  // With several ranks, rank 0 alone evaluates and writes (the others
+  // train the same model; their stdout is silenced by the app).
+  const bool lead = o.trainer.comm == nullptr || o.trainer.comm->rank() == 0;
+  if (lead) PrepareOutputDirectory(o.out_dir, "out");
   const std::string checkpoint_path = o.out_dir + "/checkpoint.bin";
   Checkpoint checkpoint;
   if (o.resume) checkpoint = ReadCheckpoint(checkpoint_path);
@@ -191,7 +194,7 @@ StaticStageResult RunStaticStage(const StaticStageOptions& o,
       const int64_t window = it - last_log_iteration;
       const double n = counted > 0 ? counted : NAN;
       StaticMetrics held_out;
-      if (eval) {
+      if (eval && lead) {
         const auto eval_start = Clock::now();
         held_out = EvaluateHeldOut(trainer, scene);
         eval_seconds +=
@@ -206,7 +209,7 @@ StaticStageResult RunStaticStage(const StaticStageOptions& o,
           eval ? held_out.psnr : NAN, eval ? held_out.psnr_water : NAN};
       if (it < o.trainer.iterations) {
         history.Add(it, seconds_before + now, row);
-        history.Write();
+        if (lead) history.Write();
       } else {
         final_row = row;  // completed with the final metrics below
       }
@@ -237,13 +240,20 @@ StaticStageResult RunStaticStage(const StaticStageOptions& o,
     }
     // Never checkpoint right after a skipped (non-finite) step: the file on
     // disk stays the last good state.
-    if (o.checkpoint_every > 0 && it % o.checkpoint_every == 0 &&
+    if (lead && o.checkpoint_every > 0 && it % o.checkpoint_every == 0 &&
         trainer.last_step_ok())
       WriteCheckpoint(trainer.Save(), checkpoint_path);
   }
   if (trainer.skipped_steps() > 0)
     std::printf("%lld step(s) skipped for a non-finite loss or gradient\n",
                 static_cast<long long>(trainer.skipped_steps()));
+  if (o.trainer.batch_frames > 1) {
+    std::printf("batches of %d frames on %d rank(s); allreduce %.2f MB per "
+                "iteration\n",
+                o.trainer.batch_frames,
+                o.trainer.comm != nullptr ? o.trainer.comm->size() : 1,
+                trainer.allreduce_bytes() / 1e6);
+  }
   StageProfile::Get().PrintAndStop(
       "es_static, " + std::to_string(trainer.iteration() - first) +
       " iterations, " + std::to_string(trainer.gaussians().size()) +
@@ -253,6 +263,7 @@ StaticStageResult RunStaticStage(const StaticStageOptions& o,
   r.iterations_per_second =
       (trainer.iteration() - first) / std::max(r.seconds, 1e-9);
 
+  if (!lead) return r;
   const GaussianSet model = StaticModel(trainer);
   r.test =
       EvaluateStatic(model, scene.frames, scene.test, trainer.render_options());

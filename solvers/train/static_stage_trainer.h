@@ -1,6 +1,7 @@
 #ifndef EULERSPLAT_SOLVERS_TRAIN_STATIC_STAGE_TRAINER_H_
 #define EULERSPLAT_SOLVERS_TRAIN_STATIC_STAGE_TRAINER_H_
 
+#include <cstddef>
 #include <cstdint>
 
 #include "core/model/gaussians.h"
@@ -39,6 +40,10 @@ class StaticStageTrainer {
   virtual double scene_extent() const = 0;
   // How the model is rendered for evaluation.
   virtual RenderOptions render_options() const = 0;
+
+  // Bytes one step sums over the ranks (data-parallel batches), 0 for a
+  // one-frame step.
+  virtual size_t allreduce_bytes() const { return 0; }
 
   virtual Checkpoint Save() const = 0;
   // Continues from a checkpoint of a run with the same frames and options.

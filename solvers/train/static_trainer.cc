@@ -68,6 +68,8 @@ StaticTrainer::StaticTrainer(const std::vector<Frame>* frames,
             StaticLossTerms(options, use_masks_),
             StaticRenderOptions(options), &rasterizer_),
       guard_("Stage 1 training", options.max_nonfinite_steps) {
+  comm_ = options_.comm != nullptr ? options_.comm : &SingleProcess();
+  CheckBatchFrames(options_.batch_frames, *comm_);
   g_.CheckConsistent();
   CHECK_LE(g_.sh_degree, options_.max_sh_degree);
   guarded_ = GuardedSplatBlocks(g_, extent_, options_.splat_lr,
@@ -87,17 +89,23 @@ IterationStats StaticTrainer::Step() {
     adam_.SetShDegree(g_.sh_degree);
   }
   IterationStats out;
-  out.frame = sampler_.Next();
-  const Frame& frame = (*frames_)[out.frame];
   const int n = g_.size();
   if (grad_.size() != n || grad_.sh_degree != g_.sh_degree)
     grad_ = ZeroGaussians(n, g_.sh_degree);
-  cost_.Reset(&frame, n, g_.sh_degree);
-  std::vector<double*> params = SplatRenderCost::Blocks(&g_);
-  std::vector<double*> gradients = SplatRenderCost::Blocks(&grad_);
-  out.loss = EvaluateScalarLossGradient(cost_, params.data(), gradients.data());
-  out.photometric = cost_.last_photometric();
-  out.mask = cost_.last_mask();
+  const bool densifying = Densifying(options_, iteration_);
+  const bool batch = options_.batch_frames > 1;
+  if (batch) {
+    BatchGradient(densifying, &out);
+  } else {
+    out.frame = sampler_.Next();
+    cost_.Reset(&(*frames_)[out.frame], n, g_.sh_degree);
+    std::vector<double*> params = SplatRenderCost::Blocks(&g_);
+    std::vector<double*> gradients = SplatRenderCost::Blocks(&grad_);
+    out.loss =
+        EvaluateScalarLossGradient(cost_, params.data(), gradients.data());
+    out.photometric = cost_.last_photometric();
+    out.mask = cost_.last_mask();
+  }
   const bool finite = std::isfinite(out.loss) && AllFinite(grad_);
   if (!guard_.Accept(iteration_ + 1, finite)) {
     out.skipped = true;
@@ -105,11 +113,13 @@ IterationStats StaticTrainer::Step() {
     return out;
   }
 
-  const bool densifying = Densifying(options_, iteration_);
-  if (densifying) {
+  if (densifying && batch) {
+    stats_.Add(batch_stats_);
+  } else if (densifying) {
     ScopedStage stats_timer(Stage::kDensifyStats);
     // The cost's Backward ran on rasterizer_ with d loss / d image, so these
     // are this view's exact screen-space statistics.
+    const Frame& frame = (*frames_)[out.frame];
     rasterizer_.Radii(&radii_);
     rasterizer_.Mean2dGradients(&mean2d_grads_);
     stats_.AddView(frame.camera.width, frame.camera.height, radii_,
@@ -129,6 +139,66 @@ IterationStats StaticTrainer::Step() {
   if (densifying && OpacityResetDue(options_, iteration_))
     ResetOpacity(kStaticResetOpacity, &g_, &adam_);
   return out;
+}
+
+void StaticTrainer::BatchGradient(bool densifying, IterationStats* out) {
+  const std::vector<int> batch = DrawBatch(&sampler_, options_.batch_frames);
+  out->frame = batch[0];
+  const int n = g_.size();
+  std::vector<double*> params = SplatRenderCost::Blocks(&g_);
+  std::vector<double*> gradients = SplatRenderCost::Blocks(&grad_);
+  // Segments: the six splat blocks, the views' gradient sums and counts
+  // (when densifying), the loss terms.
+  std::vector<size_t> sizes = {grad_.means.size(),
+                               grad_.log_scales.size(),
+                               grad_.quats.size(),
+                               grad_.opacity_logits.size(),
+                               grad_.sh.size(),
+                               grad_.dynamic_logits.size()};
+  const int stats_segment = static_cast<int>(sizes.size());
+  const size_t stats_size = densifying ? n : 0;
+  sizes.insert(sizes.end(), {stats_size, stats_size, 3});
+  const int terms_segment = stats_segment + 2;
+  batch_sum_.Reset(sizes);
+  if (densifying) batch_stats_.Reset(n);
+  for (int k = 0; k < options_.batch_frames; ++k) {
+    if (!RendersBatchFrame(*comm_, k)) continue;
+    const Frame& frame = (*frames_)[batch[k]];
+    cost_.Reset(&frame, n, g_.sh_degree);
+    const double terms[3] = {
+        EvaluateScalarLossGradient(cost_, params.data(), gradients.data()),
+        cost_.last_photometric(), cost_.last_mask()};
+    for (int b = 0; b < stats_segment; ++b) batch_sum_.Add(b, gradients[b]);
+    batch_sum_.Add(terms_segment, terms);
+    if (densifying) {
+      ScopedStage stats_timer(Stage::kDensifyStats);
+      rasterizer_.Radii(&radii_);
+      rasterizer_.Mean2dGradients(&mean2d_grads_);
+      batch_stats_.AddView(frame.camera.width, frame.camera.height, radii_,
+                           mean2d_grads_);
+    }
+  }
+  if (densifying) {
+    batch_sum_.Add(stats_segment, batch_stats_.grad_sum.data());
+    batch_sum_.Add(stats_segment + 1, batch_stats_.count.data());
+  }
+  batch_sum_.AllreduceSum(comm_);
+  if (densifying) {
+    ScopedStage reduce_timer(Stage::kAllreduce);
+    comm_->AllreduceMax(batch_stats_.max_radius.data(), n);
+  }
+  for (int b = 0; b < stats_segment; ++b) {
+    batch_sum_.Divide(b, options_.batch_frames);
+    std::copy_n(batch_sum_.at(b), batch_sum_.size(b), gradients[b]);
+  }
+  batch_sum_.Divide(terms_segment, options_.batch_frames);
+  out->loss = batch_sum_.at(terms_segment)[0];
+  out->photometric = batch_sum_.at(terms_segment)[1];
+  out->mask = batch_sum_.at(terms_segment)[2];
+  if (densifying) {
+    std::copy_n(batch_sum_.at(stats_segment), n, batch_stats_.grad_sum.data());
+    std::copy_n(batch_sum_.at(stats_segment + 1), n, batch_stats_.count.data());
+  }
 }
 
 Checkpoint StaticTrainer::Save() const {

@@ -6,12 +6,14 @@
 #include <random>
 #include <vector>
 
+#include "core/base/communicator.h"
 #include "core/io/scene.h"
 #include "core/model/gaussians.h"
 #include "core/render/rasterizer.h"
 #include "costs/splat_render_cost.h"
 #include "solvers/checkpoint/checkpoint.h"
 #include "solvers/optim/adam.h"
+#include "solvers/train/data_parallel.h"
 #include "solvers/train/densify.h"
 #include "solvers/train/divergence_guard.h"
 #include "solvers/optim/frame_sampler.h"
@@ -37,6 +39,12 @@ struct StaticTrainerOptions {
   // This many non-finite steps in a row stop the run (DivergenceGuard), as
   // does any splat block growing kRunawayGrowth times its initial scale.
   int max_nonfinite_steps = 10;
+  // Frames per iteration (solvers/train/data_parallel.h): above 1, each
+  // step's gradient is the mean over that many sampled frames, rendered
+  // across the ranks of `comm` (nullptr: this process alone). 1 is the
+  // one-frame step of 3DGS.
+  int batch_frames = 1;
+  Communicator* comm = nullptr;
 };
 
 // Stage 1's loss terms, render options and schedule, shared by StaticTrainer
@@ -84,7 +92,19 @@ class StaticTrainer : public StaticStageTrainer {
   Checkpoint Save() const override;
   void Restore(const Checkpoint& checkpoint) override;
 
+  // The gradient of the last step that was not skipped (with batches: the
+  // batch's mean over every rank).
+  const GaussianSet& last_gradient() const { return grad_; }
+  size_t allreduce_bytes() const override {
+    return sizeof(double) * batch_sum_.data().size();
+  }
+
  private:
+  // Step's gradient with batch_frames > 1: the batch's mean over the ranks,
+  // into grad_; the views' densification statistics (when `densifying`)
+  // into stats_. Returns the batch's mean loss terms in `out`.
+  void BatchGradient(bool densifying, IterationStats* out);
+
   const std::vector<Frame>* frames_;
   std::vector<int> train_;
   StaticTrainerOptions options_;
@@ -100,6 +120,9 @@ class StaticTrainer : public StaticStageTrainer {
   SplatRenderCost cost_;
   std::vector<int> radii_;            // of the last view, reused
   std::vector<double> mean2d_grads_;  // of the last view, reused
+  Communicator* comm_;
+  PackedSum batch_sum_;       // a batch's gradients, stats and loss terms
+  DensityStats batch_stats_;  // a batch's views
   int64_t iteration_ = 0;
   DivergenceGuard guard_;
   std::vector<GuardedBlock> guarded_;  // the splat blocks, from `initial`
