@@ -10,8 +10,7 @@
 namespace es {
 
 JointBlockLayout::JointBlockLayout(const LoopStructure& s) {
-  const int n = s.count;
-  sizes_ = {3 * n, 3 * n, 4 * n, n, 3 * NumShCoeffs(s.sh_degree) * n, n};
+  sizes_ = SplatBlockSizes(s.count, s.sh_degree);
   if (s.motion != nullptr) {
     motion_ = num_blocks();
     sizes_.push_back(s.motion->triplane().num_params());
@@ -74,14 +73,8 @@ void JointRenderCost::Reset(const Frame* frame, int frame_index,
 LoopModelView JointRenderCost::View(double const* const* parameters) const {
   LoopModelView v;
   v.structure = structure_;
-  SplatView& c = v.canonical;
-  c.count = structure_.count;
-  c.sh_degree = structure_.sh_degree;
-  c.means = parameters[kMeansBlock];
-  c.log_scales = parameters[kLogScalesBlock];
-  c.quats = parameters[kQuatsBlock];
-  c.opacity_logits = parameters[kOpacityBlock];
-  c.sh = parameters[kShBlock];
+  ViewSplatBlocks(parameters, structure_.count, structure_.sh_degree,
+                  &v.canonical);
   if (structure_.motion != nullptr) {
     v.motion_params = {parameters[layout_.motion_triplane()],
                        parameters[layout_.motion_mlp()]};
@@ -183,11 +176,7 @@ void JointRenderCost::Backward(const LoopModelView& model,
   rasterizer_->Backward(image_loss_.ImageGradients(), &grads_);
 
   LoopModelGradients out;
-  out.means = jacobians[kMeansBlock];
-  out.log_scales = jacobians[kLogScalesBlock];
-  out.quats = jacobians[kQuatsBlock];
-  out.opacity_logits = jacobians[kOpacityBlock];
-  out.sh = jacobians[kShBlock];
+  PointAtSplatJacobians(jacobians, &out);
   auto chunks = [triplane_chunks](int block) {
     return triplane_chunks != nullptr ? triplane_chunks[block] : nullptr;
   };

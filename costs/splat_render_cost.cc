@@ -27,27 +27,27 @@ void SplatRenderCost::Reset(const Frame* frame, int count, int sh_degree) {
   frame_ = frame;
   count_ = count;
   sh_degree_ = sh_degree;
-  const int k = NumShCoeffs(sh_degree);
-  *mutable_parameter_block_sizes() = {3 * count, 3 * count,     4 * count,
-                                      count,     3 * k * count, count};
+  *mutable_parameter_block_sizes() = SplatBlockSizes(count, sh_degree);
+}
+
+std::vector<int32_t> SplatBlockSizes(int count, int sh_degree) {
+  std::vector<int32_t> sizes;
+  for (const GaussianArray& a : kGaussianArrays)
+    sizes.push_back(a.Width(NumShCoeffs(sh_degree)) * count);
+  return sizes;
 }
 
 std::vector<double*> SplatRenderCost::Blocks(GaussianSet* g) {
-  return {g->means.data(), g->log_scales.data(),
-          g->quats.data(), g->opacity_logits.data(),
-          g->sh.data(),    g->dynamic_logits.data()};
+  std::vector<double*> blocks;
+  for (const GaussianArray& a : kGaussianArrays)
+    blocks.push_back((g->*a.values).data());
+  return blocks;
 }
 
 bool SplatRenderCost::Evaluate(double const* const* parameters,
                                double* residuals, double** jacobians) const {
   SplatView view;
-  view.count = count_;
-  view.sh_degree = sh_degree_;
-  view.means = parameters[kMeansBlock];
-  view.log_scales = parameters[kLogScalesBlock];
-  view.quats = parameters[kQuatsBlock];
-  view.opacity_logits = parameters[kOpacityBlock];
-  view.sh = parameters[kShBlock];
+  ViewSplatBlocks(parameters, count_, sh_degree_, &view);
   loss_.AttachDynamicChannel(parameters[kDynamicBlock], &view);
   rasterizer_->Forward(frame_->camera, view, options_, &render_);
 

@@ -3,6 +3,7 @@
 
 #include <ceres/cost_function.h>
 
+#include <cstdint>
 #include <memory>
 #include <vector>
 
@@ -23,6 +24,48 @@ enum SplatBlock {
   kDynamicBlock,
   kNumSplatBlocks
 };
+// The splat costs (here, costs/joint_render_cost.h and their device twins)
+// take every GaussianSet array as a block, in kGaussianArrays order: an
+// array added to the table needs its block here and its Jacobian in their
+// Evaluate (through SplatView if the renderer reads it, else zero).
+static_assert(int{kMeansBlock} == kMeansArray &&
+                  int{kLogScalesBlock} == kLogScalesArray &&
+                  int{kQuatsBlock} == kQuatsArray &&
+                  int{kOpacityBlock} == kOpacityArray &&
+                  int{kShBlock} == kShArray &&
+                  int{kDynamicBlock} == kDynamicArray &&
+                  int{kNumSplatBlocks} == kNumGaussianArrays,
+              "the splat blocks are the GaussianSet arrays, in table order");
+
+// The sizes of the splat blocks of `count` Gaussians of `sh_degree`.
+std::vector<int32_t> SplatBlockSizes(int count, int sh_degree);
+
+// Points a view of the rendered arrays (SplatView, DeviceSplatView, on the
+// host or the device alike) at the splat blocks: where a rendered array's
+// block goes, once for every cost.
+template <typename View>
+void ViewSplatBlocks(double const* const* blocks, int count, int sh_degree,
+                     View* view) {
+  view->count = count;
+  view->sh_degree = sh_degree;
+  view->means = blocks[kMeansBlock];
+  view->log_scales = blocks[kLogScalesBlock];
+  view->quats = blocks[kQuatsBlock];
+  view->opacity_logits = blocks[kOpacityBlock];
+  view->sh = blocks[kShBlock];
+}
+
+// The same for the arrays a backward writes (LoopModelGradients,
+// DeviceSplatGradients, DeviceLoopModelGradients): the rendered blocks'
+// rows of `jacobians`.
+template <typename Gradients>
+void PointAtSplatJacobians(double* const* jacobians, Gradients* out) {
+  out->means = jacobians[kMeansBlock];
+  out->log_scales = jacobians[kLogScalesBlock];
+  out->quats = jacobians[kQuatsBlock];
+  out->opacity_logits = jacobians[kOpacityBlock];
+  out->sh = jacobians[kShBlock];
+}
 
 // Renders one frame from the splat parameter blocks once and scores it with
 // every enabled term (RenderedFrameLoss), sharing one rasterizer Forward and
@@ -47,7 +90,7 @@ class SplatRenderCost : public ceres::CostFunction {
   double last_photometric() const { return loss_.last_photometric(); }
   double last_mask() const { return loss_.last_mask(); }
 
-  // The blocks of a GaussianSet in SplatBlock order.
+  // The blocks of a GaussianSet in SplatBlock (kGaussianArrays) order.
   static std::vector<double*> Blocks(GaussianSet* g);
 
  private:

@@ -19,6 +19,7 @@
 #include "core/viz/video_writer.h"
 #include "core/viz/xt_slice.h"
 #include "solvers/eval/loop_evaluation.h"
+#include "tests/centered_camera.h"
 #include "tests/water_loop_fixture.h"
 
 namespace es {
@@ -27,13 +28,7 @@ namespace {
 constexpr int kL = 5;
 
 Camera TestCamera() {
-  Camera c;
-  c.width = 40;
-  c.height = 32;
-  c.fx = c.fy = 40;
-  c.cx = 20;
-  c.cy = 16;
-  return LookAt(c, {0, 0, -3}, {0, 0, 0}, {0, -1, 0});
+  return LookAt(CenteredCamera(40, 32, 40), {0, 0, -3}, {0, 0, 0}, {0, -1, 0});
 }
 
 // A few static and dynamic Gaussians around the origin, a motion field

@@ -66,10 +66,7 @@ TEST_P(MotionFieldGradientTest, MatchesCentralDifferences) {
 }
 
 INSTANTIATE_TEST_SUITE_P(AllCombinations, MotionFieldGradientTest,
-                         ::testing::Values(PlaneCombination::kSum,
-                                           PlaneCombination::kProduct,
-                                           PlaneCombination::kConcat),
-                         CombinationName);
+                         AllPlaneCombinations(), CombinationName);
 
 TEST(MotionFieldTest, DefaultFieldStartsNearlyStill) {
   MotionField field{MotionFieldOptions()};

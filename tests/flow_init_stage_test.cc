@@ -18,6 +18,7 @@
 #include "synth/scene.h"
 #include "synth/writer.h"
 #include "tests/temp_dir_test.h"
+#include "tests/tiny_synth_settings.h"
 
 namespace es {
 namespace {
@@ -34,14 +35,7 @@ class FlowInitStageTest : public TempDirTest {
   // A tiny synthetic scene with ground truth, and as Stage 1's model its
   // scenery plus the water of its first frame, marked dynamic.
   void WriteScene() {
-    SynthSettings s;
-    s.frames = 8;
-    s.width = 64;
-    s.height = 48;
-    s.detail = 0.03;
-    s.seed = 7;
-    s.grid_resolution = 8;
-    s.num_points = 200;
+    const SynthSettings s = TinySynthSettings("waterfall", 8);
     GaussianSet water;
     const SynthScene scene =
         GenerateSynthScene(s, [&water](int frame, const GaussianSet& g) {

@@ -9,19 +9,10 @@
 #include "core/base/input_error.h"
 #include "core/render/render_maps.h"
 #include "synth/random_texture.h"
+#include "tests/centered_camera.h"
 
 namespace es {
 namespace {
-
-Camera MakeCamera(int width, int height, double focal) {
-  Camera c;
-  c.width = width;
-  c.height = height;
-  c.fx = c.fy = focal;
-  c.cx = width / 2.0;
-  c.cy = height / 2.0;
-  return c;
-}
 
 // A plane n . X = offset (world), textured by its world x and y.
 struct Plane {
@@ -96,7 +87,7 @@ struct TwoViews {
 
 TwoViews MakeTwoViews(int width, int height, double focal) {
   TwoViews v;
-  v.a = MakeCamera(width, height, focal);
+  v.a = CenteredCamera(width, height, focal);
   v.b = v.a;
   v.b.q_cw = Eigen::AngleAxisd(0.04, Eigen::Vector3d::UnitY()) *
              Eigen::AngleAxisd(-0.02, Eigen::Vector3d::UnitX());
@@ -253,7 +244,7 @@ TEST(FlowLiftingTest, FacingPlaneRecoversMotionAcrossTheLineOfSight) {
 // square (depth 2) whose border pixels hold a blended depth (3), as a splat
 // renderer produces at an occluding edge.
 struct OcclusionScene {
-  Camera camera = MakeCamera(32, 24, 30);
+  Camera camera = CenteredCamera(32, 24, 30);
   cv::Mat depth;
   OcclusionScene() : depth(24, 32, CV_32FC1, cv::Scalar(4)) {
     depth(cv::Rect(10, 8, 12, 8)) = 2.0f;
@@ -288,7 +279,7 @@ TEST(FlowLiftingTest, RejectsDepthDiscontinuities) {
 }
 
 TEST(FlowLiftingTest, RejectsInconsistentFlowAtOcclusions) {
-  const Camera camera = MakeCamera(32, 24, 30);
+  const Camera camera = CenteredCamera(32, 24, 30);
   const cv::Mat depth(24, 32, CV_32FC1, cv::Scalar(4));
   const LiftingView view{&camera, depth, Ones(camera)};
   FlowPair flow = ConstantFlow(depth.size(), 2, 0);
@@ -313,7 +304,7 @@ TEST(FlowLiftingTest, RejectsInconsistentFlowAtOcclusions) {
 }
 
 TEST(FlowLiftingTest, RejectsFlowLeavingTheWater) {
-  const Camera camera = MakeCamera(32, 24, 30);
+  const Camera camera = CenteredCamera(32, 24, 30);
   const cv::Mat depth(24, 32, CV_32FC1, cv::Scalar(4));
   cv::Mat water_a = Ones(camera), water_b = Ones(camera);
   water_a.colRange(0, 4) = 0.0f;   // not candidates
@@ -334,7 +325,7 @@ TEST(FlowLiftingTest, RejectsFlowLeavingTheWater) {
 }
 
 TEST(FlowLiftingTest, PixelsWithoutSurfaceAreNotLifted) {
-  const Camera camera = MakeCamera(16, 12, 20);
+  const Camera camera = CenteredCamera(16, 12, 20);
   cv::Mat depth(12, 16, CV_32FC1, cv::Scalar(4));
   depth.rowRange(0, 6) = 0.0f;  // sky: alpha below threshold
   const LiftingView view{&camera, depth, Ones(camera)};

@@ -22,6 +22,7 @@
 #include "synth/scene.h"
 #include "synth/writer.h"
 #include "tests/temp_dir_test.h"
+#include "tests/tiny_synth_settings.h"
 
 namespace es {
 namespace {
@@ -34,15 +35,7 @@ class JointStageTest : public TempDirTest {
  protected:
   void SetUp() override {
     TempDirTest::SetUp();
-    SynthSettings s;  // built in well under a second
-    s.frames = 10;
-    s.width = 64;
-    s.height = 48;
-    s.detail = 0.03;
-    s.seed = 7;
-    s.grid_resolution = 8;
-    s.num_points = 200;
-    WriteSynthScene(GenerateSynthScene(s), Path("scene"));
+    WriteSynthScene(GenerateSynthScene(TinySynthSettings()), Path("scene"));
     // A static model with every third Gaussian water, so V and D have a
     // dynamic set to move.
     const Scene scene = LoadScene(Path("scene"), SceneOptions());

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "core/base/input_error.h"
+#include "tests/expect_same_gaussians.h"
 #include "tests/temp_dir_test.h"
 
 namespace es {
@@ -59,15 +60,7 @@ void ExpectSame(const LoopModel& a, const LoopModel& b) {
   EXPECT_EQ(a.cycle_length, b.cycle_length);
   EXPECT_EQ(a.dynamic_index, b.dynamic_index);
   EXPECT_EQ(a.start_times, b.start_times);
-  const GaussianSet& g = a.gaussians;
-  const GaussianSet& h = b.gaussians;
-  EXPECT_EQ(g.sh_degree, h.sh_degree);
-  EXPECT_EQ(g.means, h.means);
-  EXPECT_EQ(g.log_scales, h.log_scales);
-  EXPECT_EQ(g.quats, h.quats);
-  EXPECT_EQ(g.opacity_logits, h.opacity_logits);
-  EXPECT_EQ(g.sh, h.sh);
-  EXPECT_EQ(g.dynamic_logits, h.dynamic_logits);
+  ExpectSameGaussians(a.gaussians, b.gaussians);
   ASSERT_EQ(a.motion.has_value(), b.motion.has_value());
   ASSERT_EQ(a.residual.has_value(), b.residual.has_value());
   if (a.motion) {

@@ -23,6 +23,12 @@ inline std::string CombinationName(
   return "Unknown";
 }
 
+// Every plane combination, as the parameters of such tests.
+inline auto AllPlaneCombinations() {
+  return ::testing::Values(PlaneCombination::kSum, PlaneCombination::kProduct,
+                           PlaneCombination::kConcat);
+}
+
 }  // namespace es
 
 #endif  // EULERSPLAT_TESTS_PLANE_COMBINATION_NAME_H_

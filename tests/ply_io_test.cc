@@ -16,6 +16,7 @@
 #include <gtest/gtest.h>
 
 #include "core/base/input_error.h"
+#include "tests/expect_same_gaussians.h"
 #include "tests/temp_dir_test.h"
 
 namespace es {
@@ -38,23 +39,12 @@ GaussianSet RandomGaussians(int n, int degree, uint32_t seed) {
   return g;
 }
 
-void ExpectBitExact(const GaussianSet& a, const GaussianSet& b) {
-  ASSERT_EQ(a.sh_degree, b.sh_degree);
-  ASSERT_EQ(a.size(), b.size());
-  EXPECT_EQ(a.means, b.means);
-  EXPECT_EQ(a.log_scales, b.log_scales);
-  EXPECT_EQ(a.quats, b.quats);
-  EXPECT_EQ(a.opacity_logits, b.opacity_logits);
-  EXPECT_EQ(a.sh, b.sh);
-  EXPECT_EQ(a.dynamic_logits, b.dynamic_logits);
-}
-
 TEST_F(PlyIoTest, RoundTripIsBitExactForEveryShDegree) {
   for (int degree = 0; degree <= kMaxShDegree; ++degree) {
     const GaussianSet g = RandomGaussians(17, degree, 100 + degree);
     const std::string path = Path("g" + std::to_string(degree) + ".ply");
     WritePly(g, path);
-    ExpectBitExact(ReadPly(path), g);
+    ExpectSameGaussians(ReadPly(path), g);
   }
 }
 

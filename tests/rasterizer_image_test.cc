@@ -10,6 +10,7 @@
 
 #include "core/render/rasterizer.h"
 #include "core/render/render_maps.h"
+#include "tests/centered_camera.h"
 #include "tests/reference_rasterizer.h"
 
 namespace es {
@@ -18,16 +19,6 @@ namespace {
 using reference::TestScene;
 
 // Identity pose looking down +z; (0, 0, z) projects to (cx, cy).
-Camera FrontCamera(int w, int h, double f) {
-  Camera c;
-  c.width = w;
-  c.height = h;
-  c.fx = c.fy = f;
-  c.cx = 0.5 * w;
-  c.cy = 0.5 * h;
-  return c;
-}
-
 double DcFor(double color) { return (color - 0.5) / kShC0; }
 
 class RasterizerPrecisionTest : public ::testing::TestWithParam<bool> {
@@ -42,7 +33,7 @@ class RasterizerPrecisionTest : public ::testing::TestWithParam<bool> {
 
 TEST_P(RasterizerPrecisionTest, IsotropicGaussianMatchesClosedForm) {
   TestScene s;
-  s.camera = FrontCamera(48, 40, 40);
+  s.camera = CenteredCamera(48, 40, 40);
   const double scale = 0.25, z = 5, opacity = 0.8;
   // A mean off the pixel grid: (0.3, -0.2, 5) -> u = 26.4, v = 18.4.
   s.Add(Eigen::Vector3d(0.3, -0.2, z), Eigen::Vector3d::Constant(scale),
@@ -93,7 +84,7 @@ TEST_P(RasterizerPrecisionTest, IsotropicGaussianMatchesClosedForm) {
 
 TEST_P(RasterizerPrecisionTest, CompositesFrontToBackByDepth) {
   TestScene s;
-  s.camera = FrontCamera(32, 32, 30);
+  s.camera = CenteredCamera(32, 32, 30);
   // Listed back first: the sort must put the nearer (red) one in front.
   s.Add(Eigen::Vector3d(0, 0, 6), Eigen::Vector3d::Constant(1.0),
         Eigen::Vector4d(1, 0, 0, 0), Logit(0.7));
@@ -123,7 +114,7 @@ TEST_P(RasterizerPrecisionTest, CompositesFrontToBackByDepth) {
 
 TEST_P(RasterizerPrecisionTest, StopsBeforeTransmittanceFallsBelowLimit) {
   TestScene s;
-  s.camera = FrontCamera(16, 16, 20);
+  s.camera = CenteredCamera(16, 16, 20);
   // Ten wide layers of alpha ~0.95 at the center: T = 0.05, 2.5e-3,
   // 1.25e-4, then 6.25e-6 < 1e-4, so 3DGS stops before the fourth layer.
   const double opacity = 0.95;
@@ -152,7 +143,7 @@ TEST_P(RasterizerPrecisionTest, StopsBeforeTransmittanceFallsBelowLimit) {
 
 TEST_P(RasterizerPrecisionTest, ReportsRadiiAndViewSpaceGradients) {
   TestScene s;
-  s.camera = FrontCamera(48, 40, 40);
+  s.camera = CenteredCamera(48, 40, 40);
   // On the optical axis an isotropic Gaussian's footprint does not change
   // to first order when it moves sideways, so d loss / d x = fx / z *
   // d loss / d u exactly (SH degree 0: no view-dependent color).
@@ -204,7 +195,7 @@ TEST(RasterizerHardCases, NeverCrashesOrProducesNaN) {
   const double inf = std::numeric_limits<double>::infinity();
   for (bool use_double : {false, true}) {
     TestScene s;
-    s.camera = FrontCamera(40, 32, 35);
+    s.camera = CenteredCamera(40, 32, 35);
     s.num_extra = 1;
     const Eigen::Vector4d id(1, 0, 0, 0);
     s.Add({0, 0, -2}, {0.5, 0.5, 0.5}, id, 3);       // behind the camera

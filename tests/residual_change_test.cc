@@ -5,6 +5,7 @@
 // in the patch, and unknown where no partner frame sees the point.
 
 #include "core/masks/residual_change.h"
+#include "tests/centered_camera.h"
 
 #include <cmath>
 #include <random>
@@ -19,12 +20,7 @@ constexpr double kWallDepth = 2.0;
 constexpr double kStep = 0.02;  // camera slide per frame (0.6 px)
 
 Camera SlidCamera(int i) {
-  Camera c;
-  c.width = kWidth;
-  c.height = kHeight;
-  c.fx = c.fy = 60;
-  c.cx = kWidth / 2.0;
-  c.cy = kHeight / 2.0;
+  Camera c = CenteredCamera(kWidth, kHeight, 60);
   c.t_cw = Eigen::Vector3d(-kStep * i, 0, 0);  // center at (kStep i, 0, 0)
   return c;
 }

@@ -9,6 +9,7 @@
 #include <ceres/gradient_checker.h>
 #include <gtest/gtest.h>
 
+#include "tests/plane_combination_name.h"
 #include "tests/random_scene_flow_samples.h"
 
 namespace es {
@@ -174,9 +175,7 @@ TEST_P(SceneFlowCostTest, ProblemEvaluateReturnsTheLossGradient) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Combinations, SceneFlowCostTest,
-                         ::testing::Values(PlaneCombination::kSum,
-                                           PlaneCombination::kProduct,
-                                           PlaneCombination::kConcat));
+                         AllPlaneCombinations());
 
 // The checker must be able to fail: a cost whose Jacobian is 1% off.
 class SkewedSceneFlowCost : public SceneFlowCost {

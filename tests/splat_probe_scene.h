@@ -14,6 +14,7 @@
 #include "core/io/scene.h"
 #include "core/model/gaussians.h"
 #include "core/render/rasterizer.h"
+#include "tests/centered_camera.h"
 
 namespace es {
 namespace probe_scene {
@@ -24,11 +25,7 @@ constexpr int kWidth = 24, kHeight = 20;
 // mask whose lower half is water.
 inline Frame TinyFrame() {
   Frame f;
-  f.camera.width = kWidth;
-  f.camera.height = kHeight;
-  f.camera.fx = f.camera.fy = 20;
-  f.camera.cx = 12;
-  f.camera.cy = 10;
+  f.camera = CenteredCamera(kWidth, kHeight, 20);
   f.camera.q_cw = Eigen::Quaterniond(
       Eigen::AngleAxisd(0.1, Eigen::Vector3d(0.3, 1, 0).normalized()));
   f.camera.t_cw = {0.1, -0.05, 0.2};

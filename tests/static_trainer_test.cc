@@ -17,7 +17,10 @@
 #include "solvers/checkpoint/checkpoint.h"
 #include "solvers/eval/static_eval.h"
 #include "solvers/optim/frame_sampler.h"
+#include "tests/centered_camera.h"
+#include "tests/expect_same_gaussians.h"
 #include "tests/memory_limit.h"
+#include "tests/slab_scene.h"
 
 namespace es {
 namespace {
@@ -25,22 +28,7 @@ namespace {
 constexpr int kWidth = 64, kHeight = 48;
 
 Camera LookAt(const Eigen::Vector3d& center) {
-  Camera c;
-  c.width = kWidth;
-  c.height = kHeight;
-  c.fx = c.fy = 60;
-  c.cx = 32;
-  c.cy = 24;
-  const Eigen::Vector3d z = (-center).normalized();
-  const Eigen::Vector3d x = Eigen::Vector3d(0, 1, 0).cross(z).normalized();
-  const Eigen::Vector3d y = z.cross(x);
-  Eigen::Matrix3d r;
-  r.row(0) = x;
-  r.row(1) = y;
-  r.row(2) = z;
-  c.q_cw = Eigen::Quaterniond(r);
-  c.t_cw = -r * center;
-  return c;
+  return LookingAtOrigin(CenteredCamera(kWidth, kHeight, 60), center);
 }
 
 // A slab of ~300 opaque Gaussians seen from 10 cameras on an arc; the
@@ -57,19 +45,7 @@ struct SyntheticScene {
     std::normal_distribution<double> noise(0, 1);
     truth.Resize(300);
     for (int i = 0; i < 300; ++i) {
-      truth.means[3 * i] = 1.2 * u(rng);
-      truth.means[3 * i + 1] = 0.9 * u(rng);
-      truth.means[3 * i + 2] = 0.2 * u(rng);
-      for (int a = 0; a < 3; ++a)
-        truth.log_scales[3 * i + a] = std::log(0.12) + 0.3 * u(rng);
-      for (int a = 0; a < 4; ++a)
-        truth.quats[4 * i + a] = (a == 0) + 0.5 * u(rng);
-      truth.opacity_logits[i] = Logit(0.8);
-      Eigen::Vector3d color;
-      for (int c = 0; c < 3; ++c) {
-        color[c] = 0.5 + 0.4 * u(rng);
-        truth.sh[3 * i + c] = (color[c] - 0.5) / kShC0;
-      }
+      const Eigen::Vector3d color = DrawSlabGaussian(0.12, i, &rng, &truth);
       points.emplace_back(
           Eigen::Vector3d::Map(&truth.means[3 * i]) +
           0.03 * Eigen::Vector3d(noise(rng), noise(rng), noise(rng)));
@@ -84,14 +60,10 @@ struct SyntheticScene {
     RenderResult render;
     for (int k = 0; k < 10; ++k) {
       const double angle = -0.5 + k * 0.11;
-      Frame f;
-      f.camera = LookAt(4.0 * Eigen::Vector3d(std::sin(angle), 0.15 * u(rng),
-                                              -std::cos(angle)));
-      rasterizer.Forward(f.camera, view, RenderOptions(), &render);
-      cv::Mat(kHeight, kWidth, CV_64FC3, render.rgb.data())
-          .convertTo(f.image, CV_32F);
-      cv::Mat(kHeight, kWidth, CV_64FC1, render.extra.data())
-          .convertTo(f.mask, CV_32F);
+      Frame f = RenderedFrame(
+          LookAt(4.0 * Eigen::Vector3d(std::sin(angle), 0.15 * u(rng),
+                                       -std::cos(angle))),
+          view, &rasterizer, &render);
       cv::threshold(f.mask, f.mask, 0.5, 1.0, cv::THRESH_BINARY);
       frames.push_back(f);
       (k == 3 || k == 7 ? test : train).push_back(k);
@@ -179,12 +151,7 @@ TEST(StaticTrainerTest, ResumeFromCheckpointIsBitExact) {
   const GaussianSet& b = resumed.gaussians();
   EXPECT_NE(a.size(), init.size());  // densification happened
   EXPECT_EQ(a.sh_degree, 2 > o.max_sh_degree ? o.max_sh_degree : 2);
-  EXPECT_EQ(a.means, b.means);
-  EXPECT_EQ(a.log_scales, b.log_scales);
-  EXPECT_EQ(a.quats, b.quats);
-  EXPECT_EQ(a.opacity_logits, b.opacity_logits);
-  EXPECT_EQ(a.sh, b.sh);
-  EXPECT_EQ(a.dynamic_logits, b.dynamic_logits);
+  ExpectSameGaussians(a, b);
 }
 
 double MaxOpacity(const GaussianSet& g) {

@@ -17,6 +17,7 @@
 #include "solvers/train/divergence_guard.h"
 #include "solvers/train/joint_trainer.h"
 #include "solvers/train/static_trainer.h"
+#include "tests/centered_camera.h"
 #include "tests/temp_dir_test.h"
 
 namespace es {
@@ -25,12 +26,7 @@ namespace {
 constexpr int kWidth = 32, kHeight = 24;
 
 Camera CameraAt(double x) {
-  Camera c;
-  c.width = kWidth;
-  c.height = kHeight;
-  c.fx = c.fy = 30;
-  c.cx = 16;
-  c.cy = 12;
+  Camera c = CenteredCamera(kWidth, kHeight, 30);
   c.t_cw = Eigen::Vector3d(-x, 0, 3);  // looking down +z at the origin
   return c;
 }

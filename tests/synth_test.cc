@@ -22,25 +22,12 @@
 #include "synth/velocity_grid.h"
 #include "synth/water.h"
 #include "synth/writer.h"
+#include "tests/tiny_synth_settings.h"
 
 namespace es {
 namespace {
 
 namespace fs = std::filesystem;
-
-// A scene small enough to build in well under a second.
-SynthSettings TinySettings(const std::string& preset = "waterfall") {
-  SynthSettings s;
-  s.preset = preset;
-  s.frames = 10;
-  s.width = 64;
-  s.height = 48;
-  s.detail = 0.03;
-  s.seed = 7;
-  s.grid_resolution = 8;
-  s.num_points = 200;
-  return s;
-}
 
 fs::path TempDir(const std::string& name) {
   const fs::path dir = fs::path(ES_BINARY_DIR) / "synth_test" / name;
@@ -61,24 +48,24 @@ std::map<std::string, std::string> ReadTree(const fs::path& root) {
 
 TEST(SynthTest, SameSeedGivesSameBytes) {
   const fs::path a = TempDir("same_a"), b = TempDir("same_b");
-  WriteSynthScene(GenerateSynthScene(TinySettings()), a.string());
-  WriteSynthScene(GenerateSynthScene(TinySettings()), b.string());
+  WriteSynthScene(GenerateSynthScene(TinySynthSettings()), a.string());
+  WriteSynthScene(GenerateSynthScene(TinySynthSettings()), b.string());
   const auto files_a = ReadTree(a), files_b = ReadTree(b);
   ASSERT_GT(files_a.size(), 30u);  // 10 images, 10 masks, 10 depths, ...
   EXPECT_EQ(files_a, files_b);
 
-  SynthSettings other = TinySettings();
+  SynthSettings other = TinySynthSettings();
   other.seed = 8;
   const SynthScene changed = GenerateSynthScene(other);
-  const SynthScene same = GenerateSynthScene(TinySettings());
+  const SynthScene same = GenerateSynthScene(TinySynthSettings());
   EXPECT_GT(cv::norm(changed.images[0], same.images[0], cv::NORM_L1), 0.0);
 }
 
 // Another water seed re-draws the water alone: the scenery and the cameras
 // stay, and the water pixels change.
 TEST(SynthTest, WaterSeedChangesOnlyTheWater) {
-  const SynthScene base = GenerateSynthScene(TinySettings());
-  SynthSettings other = TinySettings();
+  const SynthScene base = GenerateSynthScene(TinySynthSettings());
+  SynthSettings other = TinySynthSettings();
   other.water_seed = 99;
   const SynthScene redrawn = GenerateSynthScene(other);
   EXPECT_EQ(base.scenery.means, redrawn.scenery.means);
@@ -165,7 +152,7 @@ TEST(SynthTest, StochasticityPerturbsParticles) {
 }
 
 TEST(SynthTest, VelocityGridIsTheFieldAndRoundTrips) {
-  const SynthScene scene = GenerateSynthScene(TinySettings());
+  const SynthScene scene = GenerateSynthScene(TinySynthSettings());
   const VelocityGrid& grid = scene.velocity;
   EXPECT_EQ(grid.resolution.maxCoeff(), 8);
   EXPECT_TRUE(grid.box.contains(scene.preset.water.source.center()));
@@ -202,7 +189,7 @@ TEST(SynthTest, VelocityGridIsTheFieldAndRoundTrips) {
 TEST(SynthTest, MasksMatchTheRenderedWater) {
   std::vector<GaussianSet> waters;
   const SynthScene scene = GenerateSynthScene(
-      TinySettings(),
+      TinySynthSettings(),
       [&waters](int, const GaussianSet& water) { waters.push_back(water); });
   ASSERT_EQ(waters.size(), scene.images.size());
   Rasterizer rasterizer;
@@ -250,7 +237,7 @@ TEST(SynthTest, MasksMatchTheRenderedWater) {
 }
 
 TEST(SynthTest, SceneLoadsBackWithExactPoses) {
-  const SynthScene synth = GenerateSynthScene(TinySettings());
+  const SynthScene synth = GenerateSynthScene(TinySynthSettings());
   const fs::path dir = TempDir("load");
   WriteSynthScene(synth, dir.string());
 
@@ -304,7 +291,7 @@ TEST(SynthTest, SceneLoadsBackWithExactPoses) {
 TEST(SynthTest, EveryPresetFramesItsWater) {
   for (const std::string& name : SynthPresetNames()) {
     SCOPED_TRACE(name);
-    SynthSettings s = TinySettings(name);
+    SynthSettings s = TinySynthSettings(name);
     s.frames = 3;
     const SynthScene scene = GenerateSynthScene(s);
     // A spray of few tiny droplets (at the test's low detail) is thin by
@@ -359,7 +346,7 @@ TEST(SynthTest, GlintsAreNarrowAndFollowTheEye) {
 // noise's std alone (8-bit levels; median statistics, as faint droplets
 // below the masks' threshold still differ).
 TEST(SynthTest, PathTracedFramesAddSampleNoiseToTheScenery) {
-  SynthSettings settings = TinySettings("droplets");
+  SynthSettings settings = TinySynthSettings("droplets");
   settings.frames = 2;
   settings.width = 96;
   settings.height = 72;

@@ -17,6 +17,7 @@
 #include "core/model/gaussians.h"
 #include "core/render/rasterizer.h"
 #include "solvers/train/joint_stage_trainer.h"
+#include "tests/centered_camera.h"
 
 namespace es {
 namespace tiny_loop {
@@ -30,12 +31,7 @@ constexpr int kNumStatic = 6, kNumDynamic = 4;
 inline const Eigen::Vector3d kVelocity(0.06, 0.02, 0.0);
 
 inline Camera TinyCamera(int i) {
-  Camera c;
-  c.width = kWidth;
-  c.height = kHeight;
-  c.fx = c.fy = 30;
-  c.cx = kWidth / 2.0;
-  c.cy = kHeight / 2.0;
+  Camera c = CenteredCamera(kWidth, kHeight, 30);
   c.t_cw = {0.02 * std::sin(i), 0.01 * std::cos(i), 0.0};
   return c;
 }

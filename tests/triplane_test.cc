@@ -89,10 +89,7 @@ TEST_P(TriplaneGradientTest, MatchesCentralDifferences) {
 }
 
 INSTANTIATE_TEST_SUITE_P(AllCombinations, TriplaneGradientTest,
-                         ::testing::Values(PlaneCombination::kSum,
-                                           PlaneCombination::kProduct,
-                                           PlaneCombination::kConcat),
-                         CombinationName);
+                         AllPlaneCombinations(), CombinationName);
 
 TEST(TriplaneTest, LargeBatchesAccumulateLikeSmallOnes) {
   // Above the parallel threshold each thread has its own gradient buffer.

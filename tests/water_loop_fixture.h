@@ -8,6 +8,7 @@
 #include "core/model/camera.h"
 #include "core/loop/loop_model.h"
 #include "core/viz/camera_path.h"
+#include "tests/centered_camera.h"
 
 namespace es {
 
@@ -40,14 +41,9 @@ inline ResidualFieldOptions SmallResidualFieldOptions(int cycle_length) {
 constexpr int kWaterLoopLength = 6;
 
 inline Camera WaterLoopCamera() {
-  Camera c;
-  c.width = 192;
-  c.height = 128;
-  c.fx = c.fy = 160;
-  c.cx = 96;
-  c.cy = 64;
   // Not aimed at the origin, where viewers like to point a camera.
-  return LookAt(c, {0.4, -0.3, -3.2}, {0.2, 0.1, 0}, {0, -1, 0});
+  return LookAt(CenteredCamera(192, 128, 160), {0.4, -0.3, -3.2}, {0.2, 0.1, 0},
+                {0, -1, 0});
 }
 
 inline LoopModel WaterLoopModel(int sh_degree = 1) {

@@ -5,6 +5,7 @@
 // water that hides its scenery in every frame and is water throughout.
 
 #include "core/masks/water_matting.h"
+#include "tests/centered_camera.h"
 
 #include <random>
 
@@ -30,12 +31,7 @@ struct Clip {
 Clip MakeClip() {
   std::mt19937 rng(7);
   std::uniform_real_distribution<float> u(0, 1);
-  Camera camera;
-  camera.width = kWidth;
-  camera.height = kHeight;
-  camera.fx = camera.fy = 60;
-  camera.cx = kWidth / 2.0;
-  camera.cy = kHeight / 2.0;
+  const Camera camera = CenteredCamera(kWidth, kHeight, 60);
   cv::Mat scenery(kHeight, kWidth, CV_32FC3);
   for (int p = 0; p < static_cast<int>(scenery.total()); ++p) {
     const float v = 0.2f * u(rng);

@@ -4,18 +4,15 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/centered_camera.h"
+
 namespace es {
 namespace {
 
 // One camera at the origin looking down +z with fx = 100.
 std::vector<Frame> OneCamera() {
   std::vector<Frame> frames(1);
-  Camera& c = frames[0].camera;
-  c.width = 200;
-  c.height = 100;
-  c.fx = c.fy = 100;
-  c.cx = 100;
-  c.cy = 50;
+  frames[0].camera = CenteredCamera(200, 100, 100);
   return frames;
 }
 

@@ -63,6 +63,4 @@ BENCHMARK(BM_CudaJointStep)
 }  // namespace cuda
 }  // namespace es
 
-int main(int argc, char** argv) {
-  return es::cuda::RunCudaBenchmarks("bench_cuda_joint", argc, argv);
-}
+ES_CUDA_BENCHMARK_MAIN("bench_cuda_joint")

@@ -159,6 +159,4 @@ BENCHMARK(BM_CudaAlg1ForwardBackward)
 }  // namespace cuda
 }  // namespace es
 
-int main(int argc, char** argv) {
-  return es::cuda::RunCudaBenchmarks("bench_cuda_loop", argc, argv);
-}
+ES_CUDA_BENCHMARK_MAIN("bench_cuda_loop")

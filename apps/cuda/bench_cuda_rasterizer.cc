@@ -84,6 +84,4 @@ BENCHMARK(BM_CudaForwardBackward)->Apply(Sizes);
 }  // namespace cuda
 }  // namespace es
 
-int main(int argc, char** argv) {
-  return es::cuda::RunCudaBenchmarks("bench_cuda_rasterizer", argc, argv);
-}
+ES_CUDA_BENCHMARK_MAIN("bench_cuda_rasterizer")

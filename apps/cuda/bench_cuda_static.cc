@@ -56,6 +56,4 @@ BENCHMARK(BM_CudaStaticStep)
 }  // namespace cuda
 }  // namespace es
 
-int main(int argc, char** argv) {
-  return es::cuda::RunCudaBenchmarks("bench_cuda_static", argc, argv);
-}
+ES_CUDA_BENCHMARK_MAIN("bench_cuda_static")

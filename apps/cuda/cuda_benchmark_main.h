@@ -31,4 +31,11 @@ inline int RunCudaBenchmarks(const char* name, int argc, char** argv) {
 }  // namespace cuda
 }  // namespace es
 
+// Defines main() as RunCudaBenchmarks(name, ...), as BENCHMARK_MAIN() does
+// for Google Benchmark's own.
+#define ES_CUDA_BENCHMARK_MAIN(name)                        \
+  int main(int argc, char** argv) {                         \
+    return ::es::cuda::RunCudaBenchmarks(name, argc, argv); \
+  }
+
 #endif  // EULERSPLAT_APPS_CUDA_CUDA_BENCHMARK_MAIN_H_

@@ -1,7 +1,9 @@
 #ifndef EULERSPLAT_CORE_MODEL_GAUSSIANS_H_
 #define EULERSPLAT_CORE_MODEL_GAUSSIANS_H_
 
+#include <array>
 #include <cmath>
+#include <cstddef>
 #include <vector>
 
 namespace es {
@@ -44,6 +46,54 @@ struct GaussianSet {
   // Checks the array sizes agree with size() and sh_degree (CHECK on failure).
   void CheckConsistent() const;
 };
+
+// One per-Gaussian array of GaussianSet, as every loop over the set's
+// arrays (resize, append, filter, checkpoints, optimisers, guards, device
+// copies) sees it. A new attribute is a member above and a row in
+// kGaussianArrays below; those loops then carry it without an edit.
+struct GaussianArray {
+  std::vector<double> GaussianSet::*values;
+  // Values per Gaussian; with per_sh_coeff, per Gaussian and SH coefficient
+  // (the SH array: 3 colour channels times sh_coeffs()).
+  int width;
+  bool per_sh_coeff;
+  // The first value of a Gaussian that Resize adds; its other values start
+  // at 0 (1 for the quaternion: the identity rotation).
+  double first_value;
+  const char* name;
+
+  int Width(int sh_coeffs) const {
+    return per_sh_coeff ? width * sh_coeffs : width;
+  }
+};
+
+// Indices into kGaussianArrays, in the order of checkpoints and of the
+// splat costs' parameter blocks (costs/splat_render_cost.h).
+enum GaussianArrayIndex {
+  kMeansArray = 0,
+  kLogScalesArray,
+  kQuatsArray,
+  kOpacityArray,
+  kShArray,
+  kDynamicArray,
+  kNumGaussianArrays
+};
+
+inline constexpr std::array<GaussianArray, kNumGaussianArrays>
+    kGaussianArrays = {{
+        {&GaussianSet::means, 3, false, 0.0, "means"},
+        {&GaussianSet::log_scales, 3, false, 0.0, "log_scales"},
+        {&GaussianSet::quats, 4, false, 1.0, "quats"},
+        {&GaussianSet::opacity_logits, 1, false, 0.0, "opacity_logits"},
+        {&GaussianSet::sh, 3, true, 0.0, "sh"},
+        {&GaussianSet::dynamic_logits, 1, false, 0.0, "dynamic_logits"},
+    }};
+
+// Every array member, from `means` on, has its row: a member added without
+// one fails here instead of being dropped by the loops.
+static_assert(sizeof(GaussianSet) - offsetof(GaussianSet, means) ==
+                  kNumGaussianArrays * sizeof(std::vector<double>),
+              "a GaussianSet array without a row in kGaussianArrays");
 
 // SH degree-0 basis constant: color = kShC0 * f_dc + 0.5.
 constexpr double kShC0 = 0.28209479177387814;

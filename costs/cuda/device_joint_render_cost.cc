@@ -46,13 +46,7 @@ DeviceLoopModelView DeviceJointRenderCost::View(
     double const* const* parameters, bool attach) const {
   DeviceLoopModelView v;
   DeviceSplatView& c = v.canonical;
-  c.count = structure_.count;
-  c.sh_degree = structure_.sh_degree;
-  c.means = parameters[kMeansBlock];
-  c.log_scales = parameters[kLogScalesBlock];
-  c.quats = parameters[kQuatsBlock];
-  c.opacity_logits = parameters[kOpacityBlock];
-  c.sh = parameters[kShBlock];
+  ViewSplatBlocks(parameters, structure_.count, structure_.sh_degree, &c);
   if (attach && mask_on()) {
     probability_.Resize(c.count);
     SigmoidArray(c.count, parameters[kDynamicBlock], probability_.data());
@@ -123,11 +117,7 @@ void DeviceJointRenderCost::Backward(double const* const* parameters,
   rasterizer_->BackwardDevice(image_grads, grads);
 
   DeviceLoopModelGradients out;
-  out.means = gradients[kMeansBlock];
-  out.log_scales = gradients[kLogScalesBlock];
-  out.quats = gradients[kQuatsBlock];
-  out.opacity_logits = gradients[kOpacityBlock];
-  out.sh = gradients[kShBlock];
+  PointAtSplatJacobians(gradients, &out);
   if (layout_.motion_triplane() >= 0) {
     out.motion = {gradients[layout_.motion_triplane()],
                   gradients[layout_.motion_mlp()]};

@@ -33,22 +33,14 @@ void DeviceSplatRenderCost::Reset(const Camera& camera, const float* image,
   mask_ = mask;
   count_ = count;
   sh_degree_ = sh_degree;
-  const int k = NumShCoeffs(sh_degree);
-  *mutable_parameter_block_sizes() = {3 * count, 3 * count,     4 * count,
-                                      count,     3 * k * count, count};
+  *mutable_parameter_block_sizes() = SplatBlockSizes(count, sh_degree);
 }
 
 bool DeviceSplatRenderCost::Evaluate(double const* const* parameters,
                                      double* residuals,
                                      double** jacobians) const {
   DeviceSplatView view;
-  view.count = count_;
-  view.sh_degree = sh_degree_;
-  view.means = parameters[kMeansBlock];
-  view.log_scales = parameters[kLogScalesBlock];
-  view.quats = parameters[kQuatsBlock];
-  view.opacity_logits = parameters[kOpacityBlock];
-  view.sh = parameters[kShBlock];
+  ViewSplatBlocks(parameters, count_, sh_degree_, &view);
   if (mask_on()) {  // RenderedFrameLoss::AttachDynamicChannel
     probability_.Resize(count_);
     SigmoidArray(count_, parameters[kDynamicBlock], probability_.data());
@@ -90,11 +82,7 @@ bool DeviceSplatRenderCost::Evaluate(double const* const* parameters,
     CHECK(jacobians[b] != nullptr)
         << "the device cost fills every Jacobian block";
   DeviceSplatGradients grads;
-  grads.means = jacobians[kMeansBlock];
-  grads.log_scales = jacobians[kLogScalesBlock];
-  grads.quats = jacobians[kQuatsBlock];
-  grads.opacity_logits = jacobians[kOpacityBlock];
-  grads.sh = jacobians[kShBlock];
+  PointAtSplatJacobians(jacobians, &grads);
   if (mask_on()) {
     d_probability_.Resize(count_);
     grads.extra = d_probability_.data();

@@ -5,6 +5,7 @@
 // a loss does not depend on the order blocks finish in.
 
 #include "core/base/cuda/cuda_check.h"
+#include "core/base/cuda/kernel_grid.h"
 #include "costs/cuda/mean_loss_kernels.h"
 #include "costs/mask_bce_terms.h"
 
@@ -13,24 +14,6 @@ namespace cuda {
 namespace {
 
 constexpr int kThreads = 256;
-
-int Blocks(long long count) {
-  return static_cast<int>((count + kThreads - 1) / kThreads);
-}
-
-// Block b's sum of v into partials[b] (a tree over shared memory; every
-// thread of the block calls it).
-__device__ void BlockSum(double v, double* partials) {
-  __shared__ double s[kThreads];
-  const int t = threadIdx.x;
-  s[t] = v;
-  __syncthreads();
-  for (int half = kThreads / 2; half > 0; half /= 2) {
-    if (t < half) s[t] += s[t + half];
-    __syncthreads();
-  }
-  if (t == 0) partials[blockIdx.x] = s[0];
-}
 
 __global__ void MaskBceKernel(long long n, const float* extra, int num_extra,
                               int channel, const float* mask,
@@ -60,7 +43,7 @@ __global__ void MaskBceKernel(long long n, const float* extra, int num_extra,
           p == raw ? grad_scale * ((1 - t) / (1 - p) - t / p) : 0.0);
     }
   }
-  BlockSum(term, partials);
+  BlockSum<kThreads>(term, partials);
 }
 
 __global__ void ResidualL2Kernel(long long n, const double* residuals,
@@ -74,7 +57,7 @@ __global__ void ResidualL2Kernel(long long n, const double* residuals,
     square = r * r;
     if (d != nullptr) d[i] = grad_scale * r;
   }
-  BlockSum(square, partials);
+  BlockSum<kThreads>(square, partials);
 }
 
 __global__ void SumPartialsKernel(int blocks, const double* partials,
@@ -86,20 +69,20 @@ __global__ void SumPartialsKernel(int blocks, const double* partials,
 
 }  // namespace
 
-int MeanLossBlocks(long long n) { return Blocks(n); }
+int MeanLossBlocks(long long n) { return GridBlocks(n, kThreads); }
 
 void MaskBceTerms(long long n, const float* extra, int num_extra,
                   int channel, const float* mask, double grad_scale,
                   float* d_extra, double* partials) {
-  MaskBceKernel<<<Blocks(n), kThreads>>>(n, extra, num_extra, channel, mask,
-                                         grad_scale, d_extra, partials);
+  MaskBceKernel<<<GridBlocks(n, kThreads), kThreads>>>(
+      n, extra, num_extra, channel, mask, grad_scale, d_extra, partials);
   ES_CUDA_CHECK_LAUNCH("MaskBceKernel");
 }
 
 void ResidualL2Terms(long long n, const double* residuals, double grad_scale,
                      double* d, double* partials) {
-  ResidualL2Kernel<<<Blocks(n), kThreads>>>(n, residuals, grad_scale, d,
-                                            partials);
+  ResidualL2Kernel<<<GridBlocks(n, kThreads), kThreads>>>(
+      n, residuals, grad_scale, d, partials);
   ES_CUDA_CHECK_LAUNCH("ResidualL2Kernel");
 }
 

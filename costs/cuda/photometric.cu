@@ -6,6 +6,7 @@
 
 #include "core/metrics/ssim_kernels.h"
 #include "core/base/cuda/cuda_check.h"
+#include "core/base/cuda/kernel_grid.h"
 #include "costs/cuda/photometric_kernels.h"
 
 namespace es {
@@ -15,10 +16,6 @@ namespace {
 constexpr int kThreads = 256;
 constexpr float kC1 = static_cast<float>(kSsimC1);
 constexpr float kC2 = static_cast<float>(kSsimC2);
-
-int Blocks(long long count) {
-  return static_cast<int>((count + kThreads - 1) / kThreads);
-}
 
 // Block b's sums of a and b into partials[2 b], [2 b + 1] (a tree over
 // shared memory; every thread of the block calls it).
@@ -187,11 +184,11 @@ __global__ void SumPartialsKernel(int blocks, const double* partials,
 
 }  // namespace
 
-int PhotometricBlocks(long long n) { return Blocks(n); }
+int PhotometricBlocks(long long n) { return GridBlocks(n, kThreads); }
 
 void SsimProducts(long long n, const float* x, const float* y,
                   float* planes) {
-  ProductsKernel<<<Blocks(n), kThreads>>>(n, x, y, planes);
+  ProductsKernel<<<GridBlocks(n, kThreads), kThreads>>>(n, x, y, planes);
   ES_CUDA_CHECK_LAUNCH("ProductsKernel");
 }
 
@@ -199,33 +196,33 @@ void SsimBlur(int count, int rows, int row_len, int channels,
               const SsimWindow& window, const float* planes, float* scratch,
               float* out) {
   const long long values = static_cast<long long>(count) * rows * row_len;
-  BlurRowsKernel<<<Blocks(values), kThreads>>>(count, rows, row_len,
-                                               channels, window, planes,
-                                               scratch);
+  BlurRowsKernel<<<GridBlocks(values, kThreads), kThreads>>>(
+      count, rows, row_len, channels, window, planes, scratch);
   ES_CUDA_CHECK_LAUNCH("BlurRowsKernel");
-  BlurColumnsKernel<<<Blocks(values), kThreads>>>(count, rows, row_len,
-                                                  window, scratch, out);
+  BlurColumnsKernel<<<GridBlocks(values, kThreads), kThreads>>>(
+      count, rows, row_len, window, scratch, out);
   ES_CUDA_CHECK_LAUNCH("BlurColumnsKernel");
 }
 
 void SsimTerms(long long n, const float* blurred, const float* x,
                const float* y, float* terms, double* partials) {
-  SsimTermsKernel<<<Blocks(n), kThreads>>>(n, blurred, x, y, terms,
-                                           partials);
+  SsimTermsKernel<<<GridBlocks(n, kThreads), kThreads>>>(n, blurred, x, y,
+                                                         terms, partials);
   ES_CUDA_CHECK_LAUNCH("SsimTermsKernel");
 }
 
 void SsimGradient(long long n, const float* blurred_terms, const float* x,
                   const float* y, double ssim_scale, double l1_scale,
                   float* d) {
-  SsimGradientKernel<<<Blocks(n), kThreads>>>(n, blurred_terms, x, y,
-                                              ssim_scale, l1_scale, d);
+  SsimGradientKernel<<<GridBlocks(n, kThreads), kThreads>>>(
+      n, blurred_terms, x, y, ssim_scale, l1_scale, d);
   ES_CUDA_CHECK_LAUNCH("SsimGradientKernel");
 }
 
 void L1Terms(long long n, const float* x, const float* y, double l1_scale,
              float* d, double* partials) {
-  L1Kernel<<<Blocks(n), kThreads>>>(n, x, y, l1_scale, d, partials);
+  L1Kernel<<<GridBlocks(n, kThreads), kThreads>>>(n, x, y, l1_scale, d,
+                                                  partials);
   ES_CUDA_CHECK_LAUNCH("L1Kernel");
 }
 

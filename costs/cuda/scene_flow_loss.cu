@@ -2,6 +2,7 @@
 // uploaded samples, and V's residual against the lifted velocities.
 
 #include "core/base/cuda/cuda_check.h"
+#include "core/base/cuda/kernel_grid.h"
 #include "costs/cuda/scene_flow_loss_kernels.h"
 
 namespace es {
@@ -9,10 +10,6 @@ namespace cuda {
 namespace {
 
 constexpr int kThreads = 256;
-
-int Blocks(long long count) {
-  return static_cast<int>((count + kThreads - 1) / kThreads);
-}
 
 __global__ void GatherKernel(int n, const int* indices,
                              const double* samples_x,
@@ -49,20 +46,21 @@ void GatherSceneFlowBatch(int n, const int* indices, const double* samples_x,
                           const double* samples_v,
                           const double* samples_unseen, double* x,
                           double* target, double* unseen) {
-  GatherKernel<<<Blocks(3LL * n), kThreads>>>(n, indices, samples_x,
-                                              samples_v, samples_unseen, x,
-                                              target, unseen);
+  GatherKernel<<<GridBlocks(3LL * n, kThreads), kThreads>>>(
+      n, indices, samples_x, samples_v, samples_unseen, x, target, unseen);
   ES_CUDA_CHECK_LAUNCH("GatherKernel");
 }
 
 void ConstrainedDifference(int n, const double* target,
                            const double* unseen, double* v) {
-  ProjectOutUnseenKernel<<<Blocks(n), kThreads>>>(n, target, unseen, v);
+  ProjectOutUnseenKernel<<<GridBlocks(n, kThreads), kThreads>>>(n, target,
+                                                                unseen, v);
   ES_CUDA_CHECK_LAUNCH("ProjectOutUnseenKernel");
 }
 
 void ProjectOutUnseen(int n, const double* unseen, double* d) {
-  ProjectOutUnseenKernel<<<Blocks(n), kThreads>>>(n, nullptr, unseen, d);
+  ProjectOutUnseenKernel<<<GridBlocks(n, kThreads), kThreads>>>(n, nullptr,
+                                                                unseen, d);
   ES_CUDA_CHECK_LAUNCH("ProjectOutUnseenKernel");
 }
 

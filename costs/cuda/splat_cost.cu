@@ -2,6 +2,7 @@
 // with the CPU costs' arithmetic in double.
 
 #include "core/base/cuda/cuda_check.h"
+#include "core/base/cuda/kernel_grid.h"
 #include "costs/cuda/splat_cost_kernels.h"
 
 namespace es {
@@ -9,10 +10,6 @@ namespace cuda {
 namespace {
 
 constexpr int kThreads = 256;
-
-int Blocks(long long n) {
-  return static_cast<int>((n + kThreads - 1) / kThreads);
-}
 
 __global__ void SigmoidKernel(int n, const double* logits,
                               double* probability) {
@@ -52,7 +49,7 @@ __global__ void AverageIntoKernel(long long n, const double* b, double* a) {
 
 void SigmoidArray(int n, const double* logits, double* probability) {
   if (n == 0) return;
-  SigmoidKernel<<<Blocks(n), kThreads>>>(n, logits, probability);
+  SigmoidKernel<<<GridBlocks(n, kThreads), kThreads>>>(n, logits, probability);
   ES_CUDA_CHECK_LAUNCH("SigmoidKernel");
 }
 
@@ -60,8 +57,8 @@ void DynamicLogitGradient(int n, const double* d_probability,
                           const double* probability, double scale,
                           double* out) {
   if (n == 0) return;
-  LogitGradientKernel<<<Blocks(n), kThreads>>>(n, d_probability, probability,
-                                               scale, false, out);
+  LogitGradientKernel<<<GridBlocks(n, kThreads), kThreads>>>(
+      n, d_probability, probability, scale, false, out);
   ES_CUDA_CHECK_LAUNCH("LogitGradientKernel");
 }
 
@@ -69,26 +66,26 @@ void AddDynamicLogitGradient(int n, const double* d_probability,
                              const double* probability, double scale,
                              double* out) {
   if (n == 0) return;
-  LogitGradientKernel<<<Blocks(n), kThreads>>>(n, d_probability, probability,
-                                               scale, true, out);
+  LogitGradientKernel<<<GridBlocks(n, kThreads), kThreads>>>(
+      n, d_probability, probability, scale, true, out);
   ES_CUDA_CHECK_LAUNCH("LogitGradientKernel");
 }
 
 void ScaleArray(long long n, double scale, double* x) {
   if (n == 0) return;
-  ScaleKernel<<<Blocks(n), kThreads>>>(n, scale, x);
+  ScaleKernel<<<GridBlocks(n, kThreads), kThreads>>>(n, scale, x);
   ES_CUDA_CHECK_LAUNCH("ScaleKernel");
 }
 
 void AddFloatArray(long long n, const float* from, float* to) {
   if (n == 0) return;
-  AddFloatKernel<<<Blocks(n), kThreads>>>(n, from, to);
+  AddFloatKernel<<<GridBlocks(n, kThreads), kThreads>>>(n, from, to);
   ES_CUDA_CHECK_LAUNCH("AddFloatKernel");
 }
 
 void AverageInto(long long n, const double* b, double* a) {
   if (n == 0) return;
-  AverageIntoKernel<<<Blocks(n), kThreads>>>(n, b, a);
+  AverageIntoKernel<<<GridBlocks(n, kThreads), kThreads>>>(n, b, a);
   ES_CUDA_CHECK_LAUNCH("AverageIntoKernel");
 }
 

@@ -8,6 +8,7 @@
 // does not depend on the order blocks finish in.
 
 #include "core/base/cuda/cuda_check.h"
+#include "core/base/cuda/kernel_grid.h"
 #include "costs/cuda/water_energy_kernels.h"
 
 namespace es {
@@ -17,28 +18,6 @@ namespace {
 // Small blocks: most passes are light, and a small image still fills
 // many of them.
 constexpr int kThreads = 128;
-
-int Blocks(long long count) {
-  return static_cast<int>((count + kThreads - 1) / kThreads);
-}
-
-__device__ inline long long Index() {
-  return static_cast<long long>(blockIdx.x) * blockDim.x + threadIdx.x;
-}
-
-// Block b's sum of v into partials[b] (a tree over shared memory; every
-// thread of the block calls it).
-__device__ void BlockSum(double v, double* partials) {
-  __shared__ double s[kThreads];
-  const int t = threadIdx.x;
-  s[t] = v;
-  __syncthreads();
-  for (int half = kThreads / 2; half > 0; half /= 2) {
-    if (t < half) s[t] += s[t + half];
-    __syncthreads();
-  }
-  if (t == 0) partials[blockIdx.x] = s[0];
-}
 
 __device__ inline int Clamp(int i, int n) {
   return i < 0 ? 0 : (i >= n ? n - 1 : i);
@@ -59,13 +38,13 @@ __global__ void WaterKernel(long long pixels, int blocks, const float* mask_a,
     v = (plane == 0 ? a : (plane == 1 ? b : a || b)) ? 1.0 : 0.0;
     water[plane * pixels + p] = v;
   }
-  BlockSum(v, partials);
+  BlockSum<kThreads>(v, partials);
 }
 
 __global__ void OpponentKernel(long long pixels, OpponentBasis basis,
                                const float* ra, const float* rb,
                                const float* ia, const float* ib, double* y) {
-  const long long p = Index();
+  const long long p = GridIndex();
   if (p >= pixels) return;
   const float* images[4] = {ra, rb, ia, ib};
   for (int f = 0; f < 4; ++f) {
@@ -80,7 +59,7 @@ __global__ void OpponentKernel(long long pixels, OpponentBasis basis,
 
 __global__ void MotionDifferencesKernel(long long pixels, const double* y,
                                         double* diff, double* square) {
-  const long long i = Index();
+  const long long i = GridIndex();
   if (i >= 6 * pixels) return;
   // Value i of [renders (3 planes) | inputs (3 planes)]: y's frame A of
   // the same kind is 3 planes further for inputs, B 3 planes after A.
@@ -92,7 +71,7 @@ __global__ void MotionDifferencesKernel(long long pixels, const double* y,
 
 __global__ void BlurRowsKernel(long long n, int width, const double* taps,
                                int radius, const double* in, double* out) {
-  const long long i = Index();
+  const long long i = GridIndex();
   if (i >= n) return;
   const int x = static_cast<int>(i % width);
   const double* row = in + (i - x);
@@ -105,7 +84,7 @@ __global__ void BlurRowsKernel(long long n, int width, const double* taps,
 __global__ void BlurColumnsKernel(long long n, int width, int height,
                                   const double* taps, int radius,
                                   const double* in, double* out) {
-  const long long i = Index();
+  const long long i = GridIndex();
   if (i >= n) return;
   const int y = static_cast<int>(i / width % height);
   const double* column = in + (i - static_cast<long long>(y) * width);
@@ -142,7 +121,7 @@ __device__ double GatherAdjoint(const double* line, int i, int len,
 __global__ void BlurRowsAdjointKernel(long long n, int width,
                                       const double* taps, int radius,
                                       const double* g_out, double* g_in) {
-  const long long i = Index();
+  const long long i = GridIndex();
   if (i >= n) return;
   const int x = static_cast<int>(i % width);
   g_in[i] = GatherAdjoint(g_out + (i - x), x, width, 1, taps, radius);
@@ -151,7 +130,7 @@ __global__ void BlurRowsAdjointKernel(long long n, int width,
 __global__ void BlurColumnsAdjointKernel(long long n, int width, int height,
                                          const double* taps, int radius,
                                          const double* g_out, double* g_in) {
-  const long long i = Index();
+  const long long i = GridIndex();
   if (i >= n) return;
   const int y = static_cast<int>(i / width % height);
   g_in[i] = GatherAdjoint(g_out + (i - static_cast<long long>(y) * width), y,
@@ -161,7 +140,7 @@ __global__ void BlurColumnsAdjointKernel(long long n, int width, int height,
 __global__ void BandAndSquareKernel(long long n, const double* fine,
                                     const double* coarse, double* high,
                                     double* square) {
-  const long long i = Index();
+  const long long i = GridIndex();
   if (i >= n) return;
   const double h = fine[i] - coarse[i];
   high[i] = h;
@@ -193,12 +172,12 @@ __global__ void AmplitudeKernel(long long pixels, int blocks,
     }
     if (d_e != nullptr) d_e[i] = d;
   }
-  BlockSum(term, partials);
+  BlockSum<kThreads>(term, partials);
 }
 
 __global__ void AddMotionGradientKernel(long long pixels, const double* diff,
                                         const double* g, double* dy) {
-  const long long i = Index();
+  const long long i = GridIndex();
   if (i >= 3 * pixels) return;
   const double t = 2 * diff[i] * g[i];
   dy[3 * pixels + i] += t;
@@ -207,20 +186,20 @@ __global__ void AddMotionGradientKernel(long long pixels, const double* diff,
 
 __global__ void ScaleByTwiceKernel(long long n, const double* high,
                                    double* g) {
-  const long long i = Index();
+  const long long i = GridIndex();
   if (i < n) g[i] *= 2 * high[i];
 }
 
 __global__ void AddBandGradientKernel(long long n, const double* fine,
                                       const double* coarse, double* dy) {
-  const long long i = Index();
+  const long long i = GridIndex();
   if (i < n) dy[i] += fine[i] - coarse[i];
 }
 
 __global__ void AddRgbGradientsKernel(long long pixels, OpponentBasis basis,
                                       const double* dy, float* d_a,
                                       float* d_b) {
-  const long long p = Index();
+  const long long p = GridIndex();
   if (p >= pixels) return;
   float* out[2] = {d_a, d_b};
   for (int f = 0; f < 2; ++f) {
@@ -237,7 +216,7 @@ __global__ void AddRgbGradientsKernel(long long pixels, OpponentBasis basis,
 
 __global__ void SumSegmentsKernel(int segments, int blocks,
                                   const double* partials, double* sums) {
-  const int s = static_cast<int>(Index());
+  const int s = static_cast<int>(GridIndex());
   if (s >= segments) return;
   double sum = 0;
   for (int b = 0; b < blocks; ++b)
@@ -247,11 +226,11 @@ __global__ void SumSegmentsKernel(int segments, int blocks,
 
 }  // namespace
 
-int WaterEnergyBlocks(long long pixels) { return Blocks(pixels); }
+int WaterEnergyBlocks(long long pixels) { return GridBlocks(pixels, kThreads); }
 
 void WaterPlanes(long long pixels, const float* mask_a, const float* mask_b,
                  double* water, double* partials) {
-  const int blocks = Blocks(pixels);
+  const int blocks = GridBlocks(pixels, kThreads);
   WaterKernel<<<3 * blocks, kThreads>>>(pixels, blocks, mask_a, mask_b,
                                         water, partials);
   ES_CUDA_CHECK_LAUNCH("WaterKernel");
@@ -260,26 +239,26 @@ void WaterPlanes(long long pixels, const float* mask_a, const float* mask_b,
 void OpponentPlanes(long long pixels, const OpponentBasis& basis,
                     const float* rendered_a, const float* rendered_b,
                     const float* input_a, const float* input_b, double* y) {
-  OpponentKernel<<<Blocks(pixels), kThreads>>>(
+  OpponentKernel<<<GridBlocks(pixels, kThreads), kThreads>>>(
       pixels, basis, rendered_a, rendered_b, input_a, input_b, y);
   ES_CUDA_CHECK_LAUNCH("OpponentKernel");
 }
 
 void MotionDifferences(long long pixels, const double* y, double* diff,
                        double* square) {
-  MotionDifferencesKernel<<<Blocks(6 * pixels), kThreads>>>(pixels, y, diff,
-                                                            square);
+  MotionDifferencesKernel<<<GridBlocks(6 * pixels, kThreads), kThreads>>>(
+      pixels, y, diff, square);
   ES_CUDA_CHECK_LAUNCH("MotionDifferencesKernel");
 }
 
 void ClampedBlur(int planes, int width, int height, const double* taps,
                  int radius, const double* in, double* scratch, double* out) {
   const long long n = static_cast<long long>(planes) * width * height;
-  BlurRowsKernel<<<Blocks(n), kThreads>>>(n, width, taps, radius, in,
-                                          scratch);
+  BlurRowsKernel<<<GridBlocks(n, kThreads), kThreads>>>(n, width, taps, radius,
+                                                        in, scratch);
   ES_CUDA_CHECK_LAUNCH("BlurRowsKernel");
-  BlurColumnsKernel<<<Blocks(n), kThreads>>>(n, width, height, taps, radius,
-                                             scratch, out);
+  BlurColumnsKernel<<<GridBlocks(n, kThreads), kThreads>>>(
+      n, width, height, taps, radius, scratch, out);
   ES_CUDA_CHECK_LAUNCH("BlurColumnsKernel");
 }
 
@@ -287,18 +266,18 @@ void ClampedBlurAdjoint(int planes, int width, int height,
                         const double* taps, int radius, const double* g_out,
                         double* scratch, double* g_in) {
   const long long n = static_cast<long long>(planes) * width * height;
-  BlurColumnsAdjointKernel<<<Blocks(n), kThreads>>>(n, width, height, taps,
-                                                    radius, g_out, scratch);
+  BlurColumnsAdjointKernel<<<GridBlocks(n, kThreads), kThreads>>>(
+      n, width, height, taps, radius, g_out, scratch);
   ES_CUDA_CHECK_LAUNCH("BlurColumnsAdjointKernel");
-  BlurRowsAdjointKernel<<<Blocks(n), kThreads>>>(n, width, taps, radius,
-                                                 scratch, g_in);
+  BlurRowsAdjointKernel<<<GridBlocks(n, kThreads), kThreads>>>(
+      n, width, taps, radius, scratch, g_in);
   ES_CUDA_CHECK_LAUNCH("BlurRowsAdjointKernel");
 }
 
 void BandAndSquare(long long n, const double* fine, const double* coarse,
                    double* high, double* square) {
-  BandAndSquareKernel<<<Blocks(n), kThreads>>>(n, fine, coarse, high,
-                                               square);
+  BandAndSquareKernel<<<GridBlocks(n, kThreads), kThreads>>>(n, fine, coarse,
+                                                             high, square);
   ES_CUDA_CHECK_LAUNCH("BandAndSquareKernel");
 }
 
@@ -306,7 +285,7 @@ void AmplitudeTerms(int planes, int planes_per_mask, long long pixels,
                     const double* e_r, const double* e_i, const double* water,
                     const double* counts, ChannelFloors floors, double eps,
                     double scale, double* d_e, double* partials) {
-  const int blocks = Blocks(pixels);
+  const int blocks = GridBlocks(pixels, kThreads);
   AmplitudeKernel<<<planes * blocks, kThreads>>>(
       pixels, blocks, planes_per_mask, e_r, e_i, water, counts, floors, eps,
       scale, d_e, partials);
@@ -315,33 +294,34 @@ void AmplitudeTerms(int planes, int planes_per_mask, long long pixels,
 
 void AddMotionGradient(long long pixels, const double* diff, const double* g,
                        double* dy) {
-  AddMotionGradientKernel<<<Blocks(3 * pixels), kThreads>>>(pixels, diff, g,
-                                                            dy);
+  AddMotionGradientKernel<<<GridBlocks(3 * pixels, kThreads), kThreads>>>(
+      pixels, diff, g, dy);
   ES_CUDA_CHECK_LAUNCH("AddMotionGradientKernel");
 }
 
 void ScaleByTwice(long long n, const double* high, double* g) {
-  ScaleByTwiceKernel<<<Blocks(n), kThreads>>>(n, high, g);
+  ScaleByTwiceKernel<<<GridBlocks(n, kThreads), kThreads>>>(n, high, g);
   ES_CUDA_CHECK_LAUNCH("ScaleByTwiceKernel");
 }
 
 void AddBandGradient(long long n, const double* fine, const double* coarse,
                      double* dy) {
-  AddBandGradientKernel<<<Blocks(n), kThreads>>>(n, fine, coarse, dy);
+  AddBandGradientKernel<<<GridBlocks(n, kThreads), kThreads>>>(n, fine, coarse,
+                                                               dy);
   ES_CUDA_CHECK_LAUNCH("AddBandGradientKernel");
 }
 
 void AddRgbGradients(long long pixels, const OpponentBasis& basis,
                      const double* dy, float* d_a, float* d_b) {
-  AddRgbGradientsKernel<<<Blocks(pixels), kThreads>>>(pixels, basis, dy, d_a,
-                                                      d_b);
+  AddRgbGradientsKernel<<<GridBlocks(pixels, kThreads), kThreads>>>(
+      pixels, basis, dy, d_a, d_b);
   ES_CUDA_CHECK_LAUNCH("AddRgbGradientsKernel");
 }
 
 void SumSegments(int segments, int blocks, const double* partials,
                  double* sums) {
-  SumSegmentsKernel<<<Blocks(segments), kThreads>>>(segments, blocks,
-                                                    partials, sums);
+  SumSegmentsKernel<<<GridBlocks(segments, kThreads), kThreads>>>(
+      segments, blocks, partials, sums);
   ES_CUDA_CHECK_LAUNCH("SumSegmentsKernel");
 }
 

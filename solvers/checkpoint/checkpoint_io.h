@@ -38,9 +38,7 @@ class CheckpointWriter {
   }
   void Gaussians(const GaussianSet& g) {
     Pod<int32_t>(g.sh_degree);
-    for (const auto* v : {&g.means, &g.log_scales, &g.quats, &g.opacity_logits,
-                          &g.sh, &g.dynamic_logits})
-      Vector(*v);
+    for (const GaussianArray& a : kGaussianArrays) Vector(g.*a.values);
   }
   void Adam(const GaussianAdamState& a) {
     Gaussians(a.m);
@@ -99,14 +97,12 @@ class CheckpointReader {
     GaussianSet g;
     g.sh_degree = Pod<int32_t>();
     if (g.sh_degree < 0 || g.sh_degree > kMaxShDegree) Fail("bad SH degree");
-    for (auto* v : {&g.means, &g.log_scales, &g.quats, &g.opacity_logits, &g.sh,
-                    &g.dynamic_logits})
-      *v = Vector<double>();
-    const size_t n = g.opacity_logits.size();
-    if (g.means.size() != 3 * n || g.log_scales.size() != 3 * n ||
-        g.quats.size() != 4 * n || g.sh.size() != 3 * n * g.sh_coeffs() ||
-        g.dynamic_logits.size() != n)
-      Fail("inconsistent Gaussian arrays");
+    for (const GaussianArray& a : kGaussianArrays)
+      g.*a.values = Vector<double>();
+    const size_t n = g.size();
+    for (const GaussianArray& a : kGaussianArrays)
+      if ((g.*a.values).size() != a.Width(g.sh_coeffs()) * n)
+        Fail("inconsistent Gaussian arrays");
     return g;
   }
   GaussianAdamState Adam() {

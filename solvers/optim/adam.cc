@@ -62,7 +62,8 @@ GaussianSet ZeroGaussians(int n, int sh_degree) {
   GaussianSet g;
   g.sh_degree = sh_degree;
   g.Resize(n);
-  std::fill(g.quats.begin(), g.quats.end(), 0.0);
+  for (const GaussianArray& a : kGaussianArrays)
+    std::fill((g.*a.values).begin(), (g.*a.values).end(), 0.0);
   return g;
 }
 
@@ -82,21 +83,16 @@ void GaussianAdam::Step(const GaussianLearningRates& lr,
   CHECK_EQ(m_.size(), params->size()) << "moments out of sync";
   CHECK_EQ(m_.sh_degree, params->sh_degree) << "moments out of sync";
   ++step_;
-  auto update = [this](double rate, const std::vector<double>& g,
-                       std::vector<double>* mm, std::vector<double>* vv,
-                       std::vector<double>* x) {
-    if (rate == 0 || x->empty()) return;
-    AdamUpdate(options_, step_, rate, static_cast<int>(x->size()), g.data(),
-               mm->data(), vv->data(), x->data());
-  };
-  update(lr.means, grad.means, &m_.means, &v_.means, &params->means);
-  update(lr.log_scales, grad.log_scales, &m_.log_scales, &v_.log_scales,
-         &params->log_scales);
-  update(lr.quats, grad.quats, &m_.quats, &v_.quats, &params->quats);
-  update(lr.opacity_logits, grad.opacity_logits, &m_.opacity_logits,
-         &v_.opacity_logits, &params->opacity_logits);
-  update(lr.dynamic_logits, grad.dynamic_logits, &m_.dynamic_logits,
-         &v_.dynamic_logits, &params->dynamic_logits);
+  for (int k = 0; k < kNumGaussianArrays; ++k) {
+    if (k == kShArray) continue;  // below: two rates
+    std::vector<double> GaussianSet::*const values = kGaussianArrays[k].values;
+    std::vector<double>& x = params->*values;
+    const double rate = lr.*kArrayLearningRates[k];
+    if (rate == 0 || x.empty()) continue;
+    AdamUpdate(options_, step_, rate, static_cast<int>(x.size()),
+               (grad.*values).data(), (m_.*values).data(), (v_.*values).data(),
+               x.data());
+  }
   // SH: DC and the higher bands interleave per Gaussian ([n][k][rgb]).
   // The bias corrections once per step, not once per Gaussian.
   const int width = 3 * params->sh_coeffs();

@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <iterator>
 #include <vector>
 
 #include "core/model/gaussians.h"
@@ -36,8 +37,8 @@ struct AdamStep {
   double beta1, beta2, eps, step, inv_sqrt_bc2;
 };
 
-// Learning rates of the six GaussianSet parameter blocks; the SH block has
-// one rate for its DC coefficients and one for the higher bands.
+// Learning rates of the GaussianSet arrays; the SH array has one rate for
+// its DC coefficients and one for the higher bands.
 struct GaussianLearningRates {
   double means = 0;
   double log_scales = 0;
@@ -47,6 +48,19 @@ struct GaussianLearningRates {
   double sh_rest = 0;
   double dynamic_logits = 0;
 };
+
+// Each GaussianSet array's rate, in kGaussianArrays order; the SH array's
+// is its DC rate (the higher bands take sh_rest).
+inline constexpr double GaussianLearningRates::*kArrayLearningRates[] = {
+    &GaussianLearningRates::means,
+    &GaussianLearningRates::log_scales,
+    &GaussianLearningRates::quats,
+    &GaussianLearningRates::opacity_logits,
+    &GaussianLearningRates::sh_dc,
+    &GaussianLearningRates::dynamic_logits,
+};
+static_assert(std::size(kArrayLearningRates) == kNumGaussianArrays,
+              "one learning rate per GaussianSet array (kGaussianArrays)");
 
 // GaussianAdam's whole state, as checkpoints store it.
 struct GaussianAdamState {

@@ -26,10 +26,8 @@ bool AllFinite(const double* values, size_t n) {
 }
 
 bool AllFinite(const GaussianSet& g) {
-  for (const std::vector<double>* v : {&g.means, &g.log_scales, &g.quats,
-                                       &g.opacity_logits, &g.sh,
-                                       &g.dynamic_logits})
-    if (!AllFinite(*v)) return false;
+  for (const GaussianArray& a : kGaussianArrays)
+    if (!AllFinite(g.*a.values)) return false;
   return true;
 }
 

@@ -83,7 +83,7 @@ std::vector<double> FieldLearningRates(const JointTrainerOptions& o,
                                        const LoopModel& model);
 // The fields' parameter arrays in the same order.
 std::vector<std::vector<double>*> FieldParamBlocks(LoopModel* model);
-// The blocks DivergenceGuard watches: the six splat blocks
+// The blocks DivergenceGuard watches: the splat blocks
 // (GuardedSplatBlocks), then the fields' in FieldParamBlocks' order, each
 // bounded by its values in `model` (the one a trainer starts from).
 std::vector<GuardedBlock> GuardedJointBlocks(const JointTrainerOptions& o,

@@ -64,9 +64,10 @@ std::vector<GuardedBlock> GuardedSplatBlocks(
 }
 
 std::vector<double> SplatMagnitudes(const GaussianSet& g) {
-  return {MaxMagnitude(g.means),          MaxMagnitude(g.log_scales),
-          MaxMagnitude(g.quats),          MaxMagnitude(g.opacity_logits),
-          MaxMagnitude(g.sh),             MaxMagnitude(g.dynamic_logits)};
+  std::vector<double> magnitudes;
+  for (const GaussianArray& a : kGaussianArrays)
+    magnitudes.push_back(MaxMagnitude(g.*a.values));
+  return magnitudes;
 }
 
 }  // namespace es

@@ -54,7 +54,7 @@ struct SplatLearningRateFlags {
   std::string dynamic = "--lr_dynamic";
 };
 
-// The six splat blocks (GaussianSet order: means, log-scales, quaternions,
+// The splat blocks (kGaussianArrays order: means, log-scales, quaternions,
 // opacity logits, SH, dynamic logits) as DivergenceGuard watches them,
 // bounded by `initial`'s values: the means at least by the scene extent,
 // the others at least by 1.
@@ -62,7 +62,7 @@ std::vector<GuardedBlock> GuardedSplatBlocks(
     const GaussianSet& initial, double extent,
     const SplatLearningRateOptions& rates,
     const SplatLearningRateFlags& flags);
-// MaxMagnitude of each of g's six blocks, in that order.
+// MaxMagnitude of each of g's arrays, in kGaussianArrays order.
 std::vector<double> SplatMagnitudes(const GaussianSet& g);
 
 }  // namespace es

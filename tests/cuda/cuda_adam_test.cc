@@ -6,6 +6,7 @@
 // is present.
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <random>
 #include <string>
@@ -71,45 +72,39 @@ TEST(DeviceAdam, UpdateMatchesCpu) {
 
 // A GaussianSet's arrays on the device.
 struct DeviceSet {
-  DeviceBuffer<double> means, log_scales, quats, opacity_logits, sh,
-      dynamic_logits;
+  std::array<DeviceBuffer<double>, kNumGaussianArrays> arrays;
   int count = 0, sh_degree = 0;
 
   void Upload(const GaussianSet& s) {
     count = s.size();
     sh_degree = s.sh_degree;
-    means.Upload(s.means);
-    log_scales.Upload(s.log_scales);
-    quats.Upload(s.quats);
-    opacity_logits.Upload(s.opacity_logits);
-    sh.Upload(s.sh);
-    dynamic_logits.Upload(s.dynamic_logits);
+    for (int k = 0; k < kNumGaussianArrays; ++k)
+      arrays[k].Upload(s.*kGaussianArrays[k].values);
+  }
+  GaussianSet Download() const {
+    GaussianSet s;
+    s.sh_degree = sh_degree;
+    for (int k = 0; k < kNumGaussianArrays; ++k)
+      s.*kGaussianArrays[k].values = arrays[k].Download();
+    return s;
   }
   DeviceGaussianBlocks Blocks() {
-    return {count,      sh_degree,         means.data(),
-            log_scales.data(), quats.data(), opacity_logits.data(),
-            sh.data(),  dynamic_logits.data()};
+    DeviceGaussianBlocks b{count, sh_degree, {}};
+    for (int k = 0; k < kNumGaussianArrays; ++k) b.arrays[k] = arrays[k].data();
+    return b;
   }
 };
 
 void RandomSet(GaussianSet* s, std::mt19937* rng, double scale) {
-  for (std::vector<double>* a :
-       {&s->means, &s->log_scales, &s->quats, &s->opacity_logits, &s->sh,
-        &s->dynamic_logits}) {
-    Fill(a, rng, scale);
-  }
+  for (const GaussianArray& a : kGaussianArrays)
+    Fill(&(s->*a.values), rng, scale);
 }
 
 void ExpectSetsClose(const GaussianSet& got, const GaussianSet& want,
                      const std::string& what) {
-  ExpectClose(got.means, want.means, what + ".means");
-  ExpectClose(got.log_scales, want.log_scales, what + ".log_scales");
-  ExpectClose(got.quats, want.quats, what + ".quats");
-  ExpectClose(got.opacity_logits, want.opacity_logits,
-              what + ".opacity_logits");
-  ExpectClose(got.sh, want.sh, what + ".sh");
-  ExpectClose(got.dynamic_logits, want.dynamic_logits,
-              what + ".dynamic_logits");
+  ASSERT_EQ(got.sh_degree, want.sh_degree) << what;
+  for (const GaussianArray& a : kGaussianArrays)
+    ExpectClose(got.*a.values, want.*a.values, what + "." + a.name);
 }
 
 TEST(DeviceAdam, GaussianStepMatchesCpu) {
@@ -141,14 +136,7 @@ TEST(DeviceAdam, GaussianStepMatchesCpu) {
     device.Step(lr, dgrad.Blocks(), dparams.Blocks());
   }
   EXPECT_EQ(device.step(), cpu.step());
-  GaussianSet got = ZeroGaussians(n, degree);
-  got.means = dparams.means.Download();
-  got.log_scales = dparams.log_scales.Download();
-  got.quats = dparams.quats.Download();
-  got.opacity_logits = dparams.opacity_logits.Download();
-  got.sh = dparams.sh.Download();
-  got.dynamic_logits = dparams.dynamic_logits.Download();
-  ExpectSetsClose(got, params, "params");
+  ExpectSetsClose(dparams.Download(), params, "params");
   GaussianSet m, v;
   device.Download(&m, &v);
   ExpectSetsClose(m, cpu.m(), "m");

@@ -100,10 +100,7 @@ TEST_P(DeviceTriplaneTest, SampleAndBackwardMatchCpuTwin) {
 }
 
 INSTANTIATE_TEST_SUITE_P(AllCombinations, DeviceTriplaneTest,
-                         ::testing::Values(PlaneCombination::kSum,
-                                           PlaneCombination::kProduct,
-                                           PlaneCombination::kConcat),
-                         CombinationName);
+                         AllPlaneCombinations(), CombinationName);
 
 struct MlpShape {
   int depth, width, batch;
@@ -223,10 +220,7 @@ TEST_P(DeviceMotionFieldTest, EvaluateAndBackwardMatchCpuTwin) {
 }
 
 INSTANTIATE_TEST_SUITE_P(AllCombinations, DeviceMotionFieldTest,
-                         ::testing::Values(PlaneCombination::kSum,
-                                           PlaneCombination::kProduct,
-                                           PlaneCombination::kConcat),
-                         CombinationName);
+                         AllPlaneCombinations(), CombinationName);
 
 }  // namespace
 }  // namespace cuda

@@ -23,6 +23,7 @@
 #include "core/base/cuda/device_buffer.h"
 #include "core/render/cuda/device_splats.h"
 #include "tests/cuda/expect_twins_near.h"
+#include "tests/cuda/host_arrays.h"
 #include "tests/cuda/require_gpu.h"
 #include "tests/cuda/tiny_loop_model.h"
 
@@ -33,16 +34,6 @@ namespace {
 constexpr int kCycle = 4;
 constexpr double kTolerance = 1e-9;
 constexpr int kFrames[] = {1, 6, 13};
-
-std::vector<double> Fetch(const double* device, size_t count) {
-  std::vector<double> host(count);
-  CopyToHost(host.data(), device, count * sizeof(double));
-  return host;
-}
-
-std::vector<double> Copy(const double* host, size_t count) {
-  return std::vector<double>(host, host + count);
-}
 
 std::vector<double> Random(size_t count, double scale, std::mt19937* rng) {
   std::uniform_real_distribution<double> u(-scale, scale);

@@ -29,6 +29,7 @@
 #include "costs/joint_render_cost.h"
 #include "costs/scalar_loss.h"
 #include "costs/splat_render_cost.h"
+#include "tests/centered_camera.h"
 #include "tests/cuda/expect_twins_near.h"
 #include "tests/cuda/require_gpu.h"
 #include "tests/cuda/tiny_loop_model.h"
@@ -58,15 +59,7 @@ struct JointCase {
   bool every_frame = false;  // all of kFrames, else the last one only
 };
 
-Camera TinyCamera() {
-  Camera c;
-  c.width = kWidth;
-  c.height = kHeight;
-  c.fx = c.fy = 40;
-  c.cx = kWidth / 2.0;
-  c.cy = kHeight / 2.0;
-  return c;
-}
+Camera TinyCamera() { return CenteredCamera(kWidth, kHeight, 40); }
 
 // TinyLoopModel with random start times and dynamic logits.
 LoopModel Model(const JointCase& c) {

@@ -13,6 +13,7 @@
 
 #include "core/loop/cuda/device_loop_frames.h"
 #include "core/loop/loop_frames.h"
+#include "tests/centered_camera.h"
 #include "tests/cuda/expect_frames_close.h"
 #include "tests/cuda/require_gpu.h"
 #include "tests/cuda/tiny_loop_model.h"
@@ -23,15 +24,7 @@ namespace {
 
 constexpr int kCycle = 3;
 
-Camera TestCamera() {
-  Camera c;
-  c.width = 32;
-  c.height = 24;
-  c.fx = c.fy = 36;
-  c.cx = 16;
-  c.cy = 12;
-  return c;
-}
+Camera TestCamera() { return CenteredCamera(32, 24, 36); }
 
 TEST(CudaLoopFramesTest, DeviceFramesAreTheCpuFrames) {
   ES_REQUIRE_GPU("device path of es_animate");

@@ -17,7 +17,9 @@
 #include "core/model/gaussians.h"
 #include "core/base/cuda/device_buffer.h"
 #include "core/render/cuda/device_rasterizer.h"
+#include "tests/centered_camera.h"
 #include "tests/cuda/expect_twins_near.h"
+#include "tests/cuda/host_arrays.h"
 #include "tests/cuda/require_gpu.h"
 #include "tests/cuda/tiny_loop_model.h"
 
@@ -27,16 +29,6 @@ namespace {
 
 constexpr int kCycle = 4;
 constexpr double kTolerance = 1e-9;
-
-std::vector<double> Fetch(const double* device, size_t count) {
-  std::vector<double> host(count);
-  CopyToHost(host.data(), device, count * sizeof(double));
-  return host;
-}
-
-std::vector<double> Copy(const double* host, size_t count) {
-  return std::vector<double>(host, host + count);
-}
 
 class DeviceLoopRendererTest
     : public ::testing::TestWithParam<TinyLoopModelCase> {};
@@ -76,12 +68,7 @@ TEST_P(DeviceLoopRendererTest, ComposesAndRendersAsCpuTwin) {
   }
 
   // The frame itself: the device rasterizer on the CPU-composed splats.
-  Camera camera;
-  camera.width = 40;
-  camera.height = 30;
-  camera.fx = camera.fy = 40;
-  camera.cx = 20;
-  camera.cy = 15;
+  const Camera camera = CenteredCamera(40, 30, 40);
   const Eigen::Vector3d background(0.1, 0.2, 0.3);
   RenderOptions options;
   options.background = background;

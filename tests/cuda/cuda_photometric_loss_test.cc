@@ -17,6 +17,7 @@
 
 #include "core/metrics/ssim_target.h"
 #include "core/base/cuda/cuda_error.h"
+#include "tests/cuda/host_arrays.h"
 #include "tests/cuda/require_gpu.h"
 #include "core/base/cuda/device_buffer.h"
 #include "costs/cuda/device_photometric_loss.h"
@@ -86,17 +87,6 @@ std::vector<float> RandomImage(int width, int height, std::mt19937* rng) {
   std::vector<float> image(3 * static_cast<size_t>(width) * height);
   for (float& v : image) v = uni(*rng);
   return image;
-}
-
-// The largest |got - want| over the largest |want|.
-double RelativeError(const std::vector<double>& got,
-                     const std::vector<double>& want) {
-  EXPECT_EQ(got.size(), want.size());
-  double scale = 0, err = 0;
-  for (double v : want) scale = std::max(scale, std::abs(v));
-  for (size_t i = 0; i < want.size(); ++i)
-    err = std::max(err, std::abs(got[i] - want[i]));
-  return err / scale;
 }
 
 // (width, height, SSIM weight)

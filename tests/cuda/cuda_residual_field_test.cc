@@ -99,10 +99,7 @@ TEST_P(DeviceResidualFieldTest, EvaluateAndBackwardMatchCpuTwin) {
 }
 
 INSTANTIATE_TEST_SUITE_P(AllCombinations, DeviceResidualFieldTest,
-                         ::testing::Values(PlaneCombination::kSum,
-                                           PlaneCombination::kProduct,
-                                           PlaneCombination::kConcat),
-                         CombinationName);
+                         AllPlaneCombinations(), CombinationName);
 
 }  // namespace
 }  // namespace cuda

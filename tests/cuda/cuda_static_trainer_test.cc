@@ -26,8 +26,10 @@
 #include "solvers/train/cuda/device_gaussians.h"
 #include "solvers/train/cuda/device_static_trainer.h"
 #include "solvers/train/static_trainer.h"
+#include "tests/centered_camera.h"
 #include "tests/cuda/expect_twins_near.h"
 #include "tests/cuda/require_gpu.h"
+#include "tests/slab_scene.h"
 
 namespace es {
 namespace cuda {
@@ -38,22 +40,7 @@ constexpr int kWidth = 16, kHeight = 12;
 constexpr int kGaussians = 30;
 
 Camera LookAt(const Eigen::Vector3d& center) {
-  Camera c;
-  c.width = kWidth;
-  c.height = kHeight;
-  c.fx = c.fy = 16;
-  c.cx = 8;
-  c.cy = 6;
-  const Eigen::Vector3d z = (-center).normalized();
-  const Eigen::Vector3d x = Eigen::Vector3d(0, 1, 0).cross(z).normalized();
-  const Eigen::Vector3d y = z.cross(x);
-  Eigen::Matrix3d r;
-  r.row(0) = x;
-  r.row(1) = y;
-  r.row(2) = z;
-  c.q_cw = Eigen::Quaterniond(r);
-  c.t_cw = -r * center;
-  return c;
+  return LookingAtOrigin(CenteredCamera(kWidth, kHeight, 16), center);
 }
 
 // A slab of Gaussians seen from four cameras on an arc; those with x > 0
@@ -70,19 +57,7 @@ struct TinyScene {
     truth.Resize(kGaussians);
     std::vector<double> water(kGaussians);
     for (int i = 0; i < kGaussians; ++i) {
-      truth.means[3 * i] = 1.2 * u(rng);
-      truth.means[3 * i + 1] = 0.9 * u(rng);
-      truth.means[3 * i + 2] = 0.2 * u(rng);
-      for (int a = 0; a < 3; ++a)
-        truth.log_scales[3 * i + a] = std::log(0.2) + 0.3 * u(rng);
-      for (int a = 0; a < 4; ++a)
-        truth.quats[4 * i + a] = (a == 0) + 0.5 * u(rng);
-      truth.opacity_logits[i] = Logit(0.8);
-      Eigen::Vector3d color;
-      for (int c = 0; c < 3; ++c) {
-        color[c] = 0.5 + 0.4 * u(rng);
-        truth.sh[3 * i + c] = (color[c] - 0.5) / kShC0;
-      }
+      const Eigen::Vector3d color = DrawSlabGaussian(0.2, i, &rng, &truth);
       water[i] = truth.means[3 * i] > 0;
       points.push_back(Eigen::Vector3d::Map(&truth.means[3 * i]) +
                        0.05 * Eigen::Vector3d(u(rng), u(rng), u(rng)));
@@ -95,15 +70,10 @@ struct TinyScene {
     RenderResult render;
     for (int k = 0; k < 4; ++k) {
       const double angle = -0.3 + 0.2 * k;
-      Frame f;
-      f.camera = LookAt(4.0 * Eigen::Vector3d(std::sin(angle), 0.1 * u(rng),
-                                              -std::cos(angle)));
-      rasterizer.Forward(f.camera, view, RenderOptions(), &render);
-      cv::Mat(kHeight, kWidth, CV_64FC3, render.rgb.data())
-          .convertTo(f.image, CV_32F);
-      cv::Mat(kHeight, kWidth, CV_64FC1, render.extra.data())
-          .convertTo(f.mask, CV_32F);
-      frames.push_back(f);
+      frames.push_back(RenderedFrame(
+          LookAt(4.0 * Eigen::Vector3d(std::sin(angle), 0.1 * u(rng),
+                                       -std::cos(angle))),
+          view, &rasterizer, &render));
     }
   }
 

@@ -23,6 +23,7 @@
 #include "costs/cuda/device_water_energy_loss.h"
 #include "costs/water_energy_loss.h"
 #include "tests/cuda/expect_twins_near.h"
+#include "tests/cuda/host_arrays.h"
 #include "tests/cuda/require_gpu.h"
 
 namespace es {
@@ -142,17 +143,6 @@ Result DeviceLoss(const Pair& p, const WaterEnergyOptions& options,
   EXPECT_EQ(terms.motion, r.terms.motion);
   EXPECT_EQ(terms.detail, r.terms.detail);
   return r;
-}
-
-// The largest |got - want| over the largest |want|.
-double RelativeError(const std::vector<double>& got,
-                     const std::vector<double>& want) {
-  EXPECT_EQ(got.size(), want.size());
-  double scale = 0, err = 0;
-  for (double v : want) scale = std::max(scale, std::abs(v));
-  for (size_t i = 0; i < want.size(); ++i)
-    err = std::max(err, std::abs(got[i] - want[i]));
-  return err / scale;
 }
 
 double Largest(const std::vector<double>& v) {

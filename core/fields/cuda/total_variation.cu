@@ -6,16 +6,13 @@
 
 #include "core/fields/cuda/field_kernels.h"
 #include "core/base/cuda/cuda_check.h"
+#include "core/base/cuda/kernel_grid.h"
 
 namespace es {
 namespace cuda {
 namespace {
 
 constexpr int kThreads = 256;
-
-int Blocks(long long count) {
-  return static_cast<int>((count + kThreads - 1) / kThreads);
-}
 
 __global__ void TermsKernel(int r, int c, const double* params,
                             double grad_scale, double* d_params,
@@ -65,14 +62,16 @@ __global__ void SumKernel(int blocks, const double* partials, double* sum) {
 
 }  // namespace
 
-int TotalVariationBlocks(long long num_params) { return Blocks(num_params); }
+int TotalVariationBlocks(long long num_params) {
+  return GridBlocks(num_params, kThreads);
+}
 
 void TotalVariationKernel(int resolution, int channels, const double* params,
                           double grad_scale, double* d_params,
                           double* partials) {
   const long long n = 3LL * resolution * resolution * channels;
-  TermsKernel<<<Blocks(n), kThreads>>>(resolution, channels, params,
-                                       grad_scale, d_params, partials);
+  TermsKernel<<<GridBlocks(n, kThreads), kThreads>>>(
+      resolution, channels, params, grad_scale, d_params, partials);
   ES_CUDA_CHECK_LAUNCH("TotalVariationTermsKernel");
 }
 

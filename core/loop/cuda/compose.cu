@@ -4,6 +4,7 @@
 
 #include "core/loop/cuda/compose_kernels.h"
 #include "core/base/cuda/cuda_check.h"
+#include "core/base/cuda/kernel_grid.h"
 
 namespace es {
 namespace cuda {
@@ -77,10 +78,6 @@ __global__ void AddKernel(long long count, const double* from, double* to) {
   if (i < count) to[i] += from[i];
 }
 
-int Blocks(long long n) {
-  return static_cast<int>((n + kThreads - 1) / kThreads);
-}
-
 }  // namespace
 
 void ComposeDynamicKernel(int m, const int* dynamic, const double* positions,
@@ -89,7 +86,7 @@ void ComposeDynamicKernel(int m, const int* dynamic, const double* positions,
                           int offset_coeffs, double* means,
                           double* opacity_logits, double* sh) {
   if (m == 0) return;
-  ComposeKernel<<<Blocks(m), kThreads>>>(
+  ComposeKernel<<<GridBlocks(m, kThreads), kThreads>>>(
       m, dynamic, positions, residuals, layout, coeffs, offset_coeffs, means,
       opacity_logits, sh);
   ES_CUDA_CHECK_LAUNCH("ComposeDynamicKernel");
@@ -98,7 +95,8 @@ void ComposeDynamicKernel(int m, const int* dynamic, const double* positions,
 void GatherDynamicMeansKernel(int m, const int* dynamic, const double* means,
                               double* x0) {
   if (m == 0) return;
-  GatherMeansKernel<<<Blocks(m), kThreads>>>(m, dynamic, means, x0);
+  GatherMeansKernel<<<GridBlocks(m, kThreads), kThreads>>>(m, dynamic, means,
+                                                           x0);
   ES_CUDA_CHECK_LAUNCH("GatherDynamicMeansKernel");
 }
 
@@ -108,7 +106,7 @@ void ComposeBackwardKernel(int m, const int* dynamic, const double* d_means,
                            int offset_coeffs, const double* extra_d_residuals,
                            double* d_positions, double* d_residuals) {
   if (m == 0) return;
-  BackwardKernel<<<Blocks(m), kThreads>>>(
+  BackwardKernel<<<GridBlocks(m, kThreads), kThreads>>>(
       m, dynamic, d_means, d_opacity, d_sh, layout, coeffs, offset_coeffs,
       extra_d_residuals, d_positions, d_residuals);
   ES_CUDA_CHECK_LAUNCH("ComposeBackwardKernel");
@@ -117,14 +115,14 @@ void ComposeBackwardKernel(int m, const int* dynamic, const double* d_means,
 void AddMeansGradientKernel(int count, const int* slot, const double* d_means,
                             const double* d_x0, double* out) {
   if (count == 0) return;
-  MeansGradientKernel<<<Blocks(count), kThreads>>>(count, slot, d_means, d_x0,
-                                                   out);
+  MeansGradientKernel<<<GridBlocks(count, kThreads), kThreads>>>(
+      count, slot, d_means, d_x0, out);
   ES_CUDA_CHECK_LAUNCH("AddMeansGradientKernel");
 }
 
 void AddDoublesKernel(long long count, const double* from, double* to) {
   if (count == 0) return;
-  AddKernel<<<Blocks(count), kThreads>>>(count, from, to);
+  AddKernel<<<GridBlocks(count, kThreads), kThreads>>>(count, from, to);
   ES_CUDA_CHECK_LAUNCH("AddDoublesKernel");
 }
 

@@ -7,6 +7,7 @@
 #include <cub/device/device_scan.cuh>
 
 #include "core/base/cuda/cuda_check.h"
+#include "core/base/cuda/kernel_grid.h"
 #include "core/render/cuda/raster_kernels.h"
 
 namespace es {
@@ -14,10 +15,6 @@ namespace cuda {
 namespace {
 
 constexpr int kThreads = 256;
-
-int Blocks(size_t count) {
-  return static_cast<int>((count + kThreads - 1) / kThreads);
-}
 
 // Key of one entry: the tile in the high 32 bits, the depth's float bits in
 // the low 32. Depths are past the near plane (> 0), and the bits of
@@ -94,7 +91,7 @@ int BinGaussians(int count, int tiles_x, int tiles_y,
   scratch->keys.Resize(entries);
   scratch->sorted_keys.Resize(entries);
   scratch->values.Resize(entries);
-  EmitEntriesKernel<<<Blocks(count), kThreads>>>(
+  EmitEntriesKernel<<<GridBlocks(count, kThreads), kThreads>>>(
       count, tiles_x, projected, tiles, scratch->offsets.data(),
       scratch->keys.data(), scratch->values.data());
   ES_CUDA_CHECK_LAUNCH("EmitEntriesKernel");
@@ -110,7 +107,7 @@ int BinGaussians(int count, int tiles_x, int tiles_y,
       scratch->sorted_keys.data(), scratch->values.data(), gaussians->data(),
       entries, 0, end_bit));
 
-  TileRangesKernel<<<Blocks(entries), kThreads>>>(
+  TileRangesKernel<<<GridBlocks(entries, kThreads), kThreads>>>(
       entries, scratch->sorted_keys.data(), ranges);
   ES_CUDA_CHECK_LAUNCH("TileRangesKernel");
   return entries;

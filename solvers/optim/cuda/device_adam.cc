@@ -26,16 +26,6 @@ AdamConstants Constants(const AdamOptions& options, int64_t t, double lr) {
   return c;
 }
 
-void Zeros(DeviceBuffer<double>* b, size_t n) {
-  b->Resize(n);
-  b->Zero();
-}
-
-void Fetch(const DeviceBuffer<double>& b, std::vector<double>* host) {
-  host->resize(b.size());
-  b.Download(host->data());
-}
-
 }  // namespace
 
 void DeviceAdamUpdate(const AdamOptions& options, int64_t t, double lr,
@@ -48,15 +38,14 @@ void DeviceAdamUpdate(const AdamOptions& options, int64_t t, double lr,
 void DeviceGaussianAdam::Reset(int count, int sh_degree) {
   count_ = count;
   sh_degree_ = sh_degree;
-  const size_t n = count;
-  const size_t sh = 3 * static_cast<size_t>(NumShCoeffs(sh_degree)) * n;
-  for (Moments* mm : {&m_, &v_}) {
-    Zeros(&mm->means, 3 * n);
-    Zeros(&mm->log_scales, 3 * n);
-    Zeros(&mm->quats, 4 * n);
-    Zeros(&mm->opacity_logits, n);
-    Zeros(&mm->sh, sh);
-    Zeros(&mm->dynamic_logits, n);
+  for (Moments* moments : {&m_, &v_}) {
+    for (int k = 0; k < kNumGaussianArrays; ++k) {
+      DeviceBuffer<double>& b = (*moments)[k];
+      b.Resize(static_cast<size_t>(
+                   kGaussianArrays[k].Width(NumShCoeffs(sh_degree))) *
+               count);
+      b.Zero();
+    }
   }
   step_ = 0;
 }
@@ -69,38 +58,25 @@ void DeviceGaussianAdam::Step(const GaussianLearningRates& lr,
   CHECK_EQ(grad.count, count_);
   CHECK_EQ(grad.sh_degree, sh_degree_);
   ++step_;
-  const long long n = count_;
-  auto update = [&](double rate, long long size, const double* g,
-                    DeviceBuffer<double>* mm, DeviceBuffer<double>* vv,
-                    double* x) {
-    if (size == 0) return;
-    const AdamConstants c = Constants(options_, step_, rate);
-    AdamUpdateKernel(size, 1, 1, c, c, g, mm->data(), vv->data(), x);
-  };
-  update(lr.means, 3 * n, grad.means, &m_.means, &v_.means, params.means);
-  update(lr.log_scales, 3 * n, grad.log_scales, &m_.log_scales,
-         &v_.log_scales, params.log_scales);
-  update(lr.quats, 4 * n, grad.quats, &m_.quats, &v_.quats, params.quats);
-  update(lr.opacity_logits, n, grad.opacity_logits, &m_.opacity_logits,
-         &v_.opacity_logits, params.opacity_logits);
-  update(lr.dynamic_logits, n, grad.dynamic_logits, &m_.dynamic_logits,
-         &v_.dynamic_logits, params.dynamic_logits);
-  // SH: per Gaussian 3 DC values, then the higher bands.
-  const int width = 3 * NumShCoeffs(sh_degree_);
-  AdamUpdateKernel(width * n, width, 3, Constants(options_, step_, lr.sh_dc),
-                   Constants(options_, step_, lr.sh_rest), grad.sh,
-                   m_.sh.data(), v_.sh.data(), params.sh);
+  for (int k = 0; k < kNumGaussianArrays; ++k) {
+    const long long size = m_[k].size();
+    if (size == 0) continue;
+    const AdamConstants rate =
+        Constants(options_, step_, lr.*kArrayLearningRates[k]);
+    // SH: per Gaussian 3 DC values (rate), then the higher bands.
+    const bool sh = k == kShArray;
+    AdamUpdateKernel(size, sh ? 3 * NumShCoeffs(sh_degree_) : 1, sh ? 3 : 1,
+                     rate, sh ? Constants(options_, step_, lr.sh_rest) : rate,
+                     grad.arrays[k], m_[k].data(), v_[k].data(),
+                     params.arrays[k]);
+  }
 }
 
 void DeviceGaussianAdam::Download(GaussianSet* m, GaussianSet* v) const {
   for (auto [from, to] : {std::pair{&m_, m}, std::pair{&v_, v}}) {
     to->sh_degree = sh_degree_;
-    Fetch(from->means, &to->means);
-    Fetch(from->log_scales, &to->log_scales);
-    Fetch(from->quats, &to->quats);
-    Fetch(from->opacity_logits, &to->opacity_logits);
-    Fetch(from->sh, &to->sh);
-    Fetch(from->dynamic_logits, &to->dynamic_logits);
+    for (int k = 0; k < kNumGaussianArrays; ++k)
+      to->*kGaussianArrays[k].values = (*from)[k].Download();
   }
 }
 
@@ -118,14 +94,9 @@ void DeviceGaussianAdam::Restore(const GaussianAdamState& state) {
   count_ = state.m.size();
   sh_degree_ = state.m.sh_degree;
   step_ = state.step;
-  for (auto [from, to] : {std::pair{&state.m, &m_}, std::pair{&state.v, &v_}}) {
-    to->means.Upload(from->means);
-    to->log_scales.Upload(from->log_scales);
-    to->quats.Upload(from->quats);
-    to->opacity_logits.Upload(from->opacity_logits);
-    to->sh.Upload(from->sh);
-    to->dynamic_logits.Upload(from->dynamic_logits);
-  }
+  for (auto [from, to] : {std::pair{&state.m, &m_}, std::pair{&state.v, &v_}})
+    for (int k = 0; k < kNumGaussianArrays; ++k)
+      (*to)[k].Upload(from->*kGaussianArrays[k].values);
 }
 
 }  // namespace cuda

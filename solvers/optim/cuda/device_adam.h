@@ -5,9 +5,11 @@
 // same bias correction, epsilon and update order, value by value, as
 // AdamStep::Update. No CUDA types; failures throw CudaError.
 
+#include <array>
 #include <cstdint>
 
 #include "core/base/cuda/device_buffer.h"
+#include "core/model/gaussians.h"
 #include "solvers/optim/adam.h"
 
 namespace es {
@@ -20,16 +22,12 @@ void DeviceAdamUpdate(const AdamOptions& options, int64_t t, double lr,
                       int n, const double* grad, double* m, double* v,
                       double* x);
 
-// Device arrays of a GaussianSet's blocks, in its layouts.
+// Device arrays of a GaussianSet's arrays, in kGaussianArrays order and
+// their layouts.
 struct DeviceGaussianBlocks {
   int count = 0;
   int sh_degree = 0;
-  double* means = nullptr;           // 3N
-  double* log_scales = nullptr;      // 3N
-  double* quats = nullptr;           // 4N
-  double* opacity_logits = nullptr;  // N
-  double* sh = nullptr;              // 3KN, [n][k][rgb]
-  double* dynamic_logits = nullptr;  // N
+  std::array<double*, kNumGaussianArrays> arrays{};
 };
 
 // GaussianAdam::Step on the device: each block with a non-zero learning
@@ -55,10 +53,7 @@ class DeviceGaussianAdam {
   void Restore(const GaussianAdamState& state);
 
  private:
-  struct Moments {
-    DeviceBuffer<double> means, log_scales, quats, opacity_logits, sh,
-        dynamic_logits;
-  };
+  using Moments = std::array<DeviceBuffer<double>, kNumGaussianArrays>;
   AdamOptions options_;
   int64_t step_ = 0;
   int count_ = 0, sh_degree_ = 0;

@@ -1,9 +1,10 @@
 #ifndef EULERSPLAT_SOLVERS_TRAIN_CUDA_DEVICE_GAUSSIANS_H_
 #define EULERSPLAT_SOLVERS_TRAIN_CUDA_DEVICE_GAUSSIANS_H_
 
-// A GaussianSet's six arrays in device memory (its layouts, double): the
-// device trainer's parameters and gradients. No CUDA types.
+// A GaussianSet's arrays (kGaussianArrays) in device memory (its layouts,
+// double): the device trainer's parameters and gradients. No CUDA types.
 
+#include <array>
 #include <vector>
 
 #include "core/model/gaussians.h"
@@ -19,7 +20,7 @@ class DeviceGaussians {
   void Download(GaussianSet* g) const;
   // The dynamic logits alone (N doubles), for the dynamic set's refresh.
   std::vector<double> DownloadDynamicLogits() const {
-    return dynamic_logits_.Download();
+    return arrays_[kDynamicArray].Download();
   }
   // `count` Gaussians of degree `sh_degree`, every value zero.
   void ResizeZero(int count, int sh_degree);
@@ -35,19 +36,16 @@ class DeviceGaussians {
   // otherwise; nothing comes back, so a caller can check more arrays with
   // the same flag and download it once.
   void MarkNonFinite(int* flag);
-  // MaxMagnitude of each of the six arrays (GaussianSet order), +infinity
-  // for one that is not finite: six integers come back to the host.
+  // MaxMagnitude of each array (kGaussianArrays order), +infinity for one
+  // that is not finite: one integer per array comes back to the host.
   std::vector<double> MaxMagnitudes();
-  // Raises bits[0, 6) (device) as RaiseMaxMagnitudeBits does, one per
-  // array; nothing comes back.
+  // Raises bits[0, kNumGaussianArrays) (device) as RaiseMaxMagnitudeBits
+  // does, one per array; nothing comes back.
   void RaiseMaxMagnitudes(unsigned long long* bits);
 
  private:
-  std::vector<DeviceBuffer<double>*> Arrays();
-
   int count_ = 0, sh_degree_ = 0;
-  DeviceBuffer<double> means_, log_scales_, quats_, opacity_logits_, sh_,
-      dynamic_logits_;
+  std::array<DeviceBuffer<double>, kNumGaussianArrays> arrays_;
   DeviceBuffer<int> flag_;
   DeviceBuffer<unsigned long long> magnitude_bits_;
 };

@@ -114,7 +114,7 @@ JointIterationStats DeviceJointTrainer::Step() {
              grad_.Blocks(), params);
   if (options_.max_dynamic_pixels > 0) {
     ClampLogScales(model_.num_dynamic(), dynamic_index_.data(),
-                   max_log_scale_.data(), params.log_scales);
+                   max_log_scale_.data(), params.arrays[kLogScalesArray]);
   }
   ++field_step_;
   const std::vector<double> lr =
@@ -210,7 +210,7 @@ bool DeviceJointTrainer::GradientsFinite() {
 }
 
 std::vector<double> DeviceJointTrainer::MaxMagnitudes() {
-  constexpr size_t kSplatBlocks = 6;
+  constexpr size_t kSplatBlocks = kNumGaussianArrays;
   magnitude_bits_.Resize(kSplatBlocks + fields_.size());
   magnitude_bits_.Zero();
   g_.RaiseMaxMagnitudes(magnitude_bits_.data());

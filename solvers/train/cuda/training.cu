@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "core/base/cuda/cuda_check.h"
+#include "core/base/cuda/kernel_grid.h"
 #include "solvers/train/cuda/training_kernels.h"
 
 namespace es {
@@ -14,10 +15,6 @@ namespace cuda {
 namespace {
 
 constexpr int kThreads = 256;
-
-int Blocks(long long n) {
-  return static_cast<int>((n + kThreads - 1) / kThreads);
-}
 
 __global__ void AddViewKernel(int count, double half_w, double half_h,
                               const int* radii, const double* mean2d_grads,
@@ -79,22 +76,22 @@ void AddViewStats(int count, double half_w, double half_h, const int* radii,
                   const double* mean2d_grads, double* grad_sum,
                   double* views, double* max_radius) {
   if (count == 0) return;
-  AddViewKernel<<<Blocks(count), kThreads>>>(count, half_w, half_h, radii,
-                                             mean2d_grads, grad_sum, views,
-                                             max_radius);
+  AddViewKernel<<<GridBlocks(count, kThreads), kThreads>>>(
+      count, half_w, half_h, radii, mean2d_grads, grad_sum, views, max_radius);
   ES_CUDA_CHECK_LAUNCH("AddViewKernel");
 }
 
 void FlagNonFinite(long long n, const double* x, int* flag) {
   if (n == 0) return;
-  NonFiniteKernel<<<Blocks(n), kThreads>>>(n, x, flag);
+  NonFiniteKernel<<<GridBlocks(n, kThreads), kThreads>>>(n, x, flag);
   ES_CUDA_CHECK_LAUNCH("NonFiniteKernel");
 }
 
 void RaiseMaxMagnitudeBits(long long n, const double* x,
                            unsigned long long* max_bits) {
   if (n == 0) return;
-  const int blocks = Blocks(n) < 1024 ? Blocks(n) : 1024;
+  const int blocks =
+      GridBlocks(n, kThreads) < 1024 ? GridBlocks(n, kThreads) : 1024;
   MaxMagnitudeBitsKernel<<<blocks, kThreads>>>(n, x, max_bits);
   ES_CUDA_CHECK_LAUNCH("MaxMagnitudeBitsKernel");
 }
@@ -108,8 +105,8 @@ double MagnitudeOfBits(unsigned long long bits) {
 void ClampLogScales(int m, const int* dynamic, const double* max_log_scale,
                     double* log_scales) {
   if (m == 0) return;
-  ClampLogScalesKernel<<<Blocks(m), kThreads>>>(m, dynamic, max_log_scale,
-                                                log_scales);
+  ClampLogScalesKernel<<<GridBlocks(m, kThreads), kThreads>>>(
+      m, dynamic, max_log_scale, log_scales);
   ES_CUDA_CHECK_LAUNCH("ClampLogScalesKernel");
 }
 
