@@ -12,7 +12,9 @@
 #include <vector>
 
 #include "apps/common/flag_help.h"
+#include "apps/common/threads_flag.h"
 #include "apps/common/version.h"
+#include "apps/common/wait_policy.h"
 #include "core/base/input_error.h"
 
 namespace es {
@@ -73,6 +75,7 @@ int RunApp(int argc, char** argv, const char* usage,
                        "--help)");
     }
     CheckFloatingPointFlags();
+    ApplyThreadsFlag();
     return body();
   } catch (const InputError& e) {
     std::fprintf(stderr, "error: %s\n", e.what());

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "core/base/input_error.h"
+#include "core/base/iteration_parts.h"
 #include "core/base/stage_profile.h"
 #include "core/fields/field_io.h"
 #include "core/flow/scene_flow_io.h"
@@ -238,6 +239,8 @@ TrainingOutcome Train(const JointStageOptions& o, const Scene& scene,
       LoopMetrics held_out;
       if (eval) {
         const Clock::time_point eval_start = Clock::now();
+        ScopedPass pass(Pass::kEvaluation);
+        ScopedStage timer(Stage::kEvaluation);
         held_out = EvaluateLoopModel(trainer->model(), scene.frames,
                                      scene.test, trainer->render_options());
         eval_seconds +=
@@ -253,6 +256,7 @@ TrainingOutcome Train(const JointStageOptions& o, const Scene& scene,
           eval ? held_out.psnr : NAN,
           eval ? held_out.psnr_water : NAN};
       if (it < options.iterations) {
+        ScopedStage timer(Stage::kCheckpoint);
         history->Add(it, seconds_before + elapsed, row);
         history->Write();
       } else {
@@ -284,6 +288,7 @@ TrainingOutcome Train(const JointStageOptions& o, const Scene& scene,
     // Not right after a skipped (non-finite) step: keep the last good one.
     if (o.checkpoint_interval > 0 && it % o.checkpoint_interval == 0 &&
         trainer->last_step_ok()) {
+      ScopedStage timer(Stage::kCheckpoint);
       WriteJointCheckpoint(trainer->Save(), checkpoint_path);
     }
   }
@@ -291,7 +296,7 @@ TrainingOutcome Train(const JointStageOptions& o, const Scene& scene,
   if (trainer->skipped_steps() > 0)
     std::printf("%lld step(s) skipped for a non-finite loss or gradient\n",
                 static_cast<long long>(trainer->skipped_steps()));
-  StageProfile::Get().PrintAndStop(
+  PrintProfileAndStop(
       "es_train, " + std::to_string(trainer->iteration() - first) +
       " iterations, " + std::to_string(trainer->model().gaussians.size()) +
       " Gaussians, " + std::to_string(trainer->model().num_dynamic()) +
