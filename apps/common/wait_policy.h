@@ -2,6 +2,7 @@
 #define EULERSPLAT_APPS_COMMON_WAIT_POLICY_H_
 
 #include <functional>
+#include <string>
 
 namespace es {
 
@@ -21,6 +22,13 @@ inline constexpr const char* kWaitPolicyMarker = "ES_WAIT_POLICY_APPLIED";
 // this process is not the re-executed one already.
 bool WaitPolicyNeeded(const char* omp_wait_policy, const char* gomp_spincount,
                       const char* marker);
+
+// The policy this process runs with, for --v=1: "GOMP_SPINCOUNT=10000,
+// set by the app", "OMP_WAIT_POLICY=active, the user's", or libgomp's
+// default (when the app could not set its own).
+std::string WaitPolicyDescription(const char* omp_wait_policy,
+                                  const char* gomp_spincount,
+                                  const char* marker);
 
 // Runs the new process image with `argv`; returns only on failure.
 using ExecFunction = std::function<void(char** argv)>;
