@@ -15,6 +15,7 @@
 #include <filesystem>
 
 #include <gflags/gflags.h>
+#include <omp.h>
 
 #include "apps/common/app_main.h"
 #include "solvers/poses/colmap_poses.h"
@@ -39,7 +40,6 @@ DEFINE_double(global_ba_ratio, 1.5, "Global bundle adjustment whenever the "
 DEFINE_string(camera_model, "SIMPLE_PINHOLE", "SIMPLE_PINHOLE (one focal "
               "length), PINHOLE or SIMPLE_RADIAL; one camera shared by all "
               "frames.");
-DEFINE_int32(threads, -1, "COLMAP threads (-1: all cores).");
 DEFINE_string(colmap, "colmap", "COLMAP binary.");
 DEFINE_string(truth, "", "Optional folder of known poses (COLMAP model, "
               "e.g. an es_synth scene's sparse/0): the report adds the "
@@ -66,7 +66,7 @@ int Main() {
   options.overlap = FLAGS_overlap;
   options.upsample = FLAGS_upsample;
   options.global_ba_ratio = FLAGS_global_ba_ratio;
-  options.threads = FLAGS_threads;
+  options.threads = omp_get_max_threads();  // --threads, resolved
   const es::PoseReport r =
       es::RecoverPoses(FLAGS_scene, out, options, [](const std::string& s) {
         std::printf("[poses] %s\n", s.c_str());

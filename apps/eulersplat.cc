@@ -5,8 +5,8 @@
 // every stage can also be run, resumed or debugged alone with the very
 // same flags the driver prints.
 //
-//   eulersplat --video FILE --out DIR [--preset quick|paper]
-//   eulersplat --scene DIR --out DIR [--preset quick|paper]
+//   eulersplat --video FILE --out DIR [--preset auto|quick|paper]
+//   eulersplat --scene DIR --out DIR [--preset auto|quick|paper]
 //              [--device cpu|cuda] [--ranks N]
 //
 // OUT/scene/           the frames of --video, or a view of --scene that
@@ -24,6 +24,7 @@
 // OUT/plots/           training plots: loss by term, held-out PSNR vs wall
 //                      time, Gaussians (es_plot on each history.csv)
 // OUT/contact_sheet.png  frames of both videos and the main plots
+// OUT/timings.json     wall and CPU seconds of every stage, the preset
 //
 // A stage whose outputs exist is skipped (delete its folder to redo it);
 // interrupted training resumes from its checkpoint. The flags are in
@@ -50,9 +51,9 @@ int main(int argc, char** argv) {
                     "flow init -> joint -> animate -> export -> eval -> "
                     "plots.\n"
                     "  eulersplat --video FILE --out DIR [--preset "
-                    "quick|paper] [--device cpu|cuda]\n"
+                    "auto|quick|paper] [--device cpu|cuda]\n"
                     "  eulersplat --scene DIR --out DIR [--preset "
-                    "quick|paper] [--device cpu|cuda]\n"
+                    "auto|quick|paper] [--device cpu|cuda]\n"
                     "  ... --ranks N: es_static and es_train on N MPI "
                     "ranks (mpiexec)\n"
                     "Writes OUT/static, OUT/model, OUT/animate, "

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "core/base/stage_profile.h"
 #include "core/fields/gradient_chunks.h"
 #include "costs/splat_render_cost.h"
 
@@ -210,6 +211,7 @@ double JointObjective::LoopTextureGradient(
     const LoopStructure& structure, double const* const* params,
     const Frame& frame, double water_scale, int64_t draw, double** gradients,
     char* const* triplane_chunks, JointObjectiveTerms* terms) {
+  ScopedPass pass(Pass::kLoopTexture);
   loop_cost_->Reset(&frame, frame.time_index, structure);
   loop_cost_->RenderForGradient(params);
   loop_grad_.assign(loop_cost_->render().rgb.size(), 0.0);

@@ -12,7 +12,9 @@
 #include <vector>
 
 #include "apps/common/flag_help.h"
+#include "apps/common/threads_flag.h"
 #include "apps/common/version.h"
+#include "apps/common/wait_policy.h"
 #include "core/base/input_error.h"
 
 namespace es {
@@ -46,6 +48,7 @@ void CheckFloatingPointFlags() {
 
 int RunApp(int argc, char** argv, const char* usage,
            const std::function<int()>& body) {
+  ApplyWaitPolicy(argv);  // may start the program again, with the policy
   gflags::SetUsageMessage(usage);
   gflags::SetVersionString(VersionString());
   for (int i = 1; i < argc; ++i) {
@@ -66,6 +69,9 @@ int RunApp(int argc, char** argv, const char* usage,
   gflags::HandleCommandLineHelpFlags();  // --helpon, --helpxml, ...: exits
   FLAGS_logtostderr = true;
   google::InitGoogleLogging(argv[0]);
+  VLOG(1) << WaitPolicyDescription(std::getenv("OMP_WAIT_POLICY"),
+                                   std::getenv("GOMP_SPINCOUNT"),
+                                   std::getenv(kWaitPolicyMarker));
   try {
     if (argc > 1) {
       throw InputError(std::string("unexpected argument '") + argv[1] +
@@ -73,6 +79,7 @@ int RunApp(int argc, char** argv, const char* usage,
                        "--help)");
     }
     CheckFloatingPointFlags();
+    ApplyThreadsFlag();
     return body();
   } catch (const InputError& e) {
     std::fprintf(stderr, "error: %s\n", e.what());

@@ -15,6 +15,9 @@ namespace es {
 // - every floating-point flag the app defines must be finite, and every
 //   learning rate (a flag named lr_*) must also be >= 0; otherwise the app
 //   exits 1 naming the flag, before any work.
+// - --threads (threads_flag.h) sets the OpenMP threads of the app and of
+//   the processes it starts; when the user set no OpenMP wait policy, the
+//   app first starts again with a short spin (wait_policy.h).
 int RunApp(int argc, char** argv, const char* usage,
            const std::function<int()>& body);
 

@@ -4,11 +4,13 @@
 #include <string>
 
 #include <gflags/gflags.h>
+#include <omp.h>
 
 #include "apps/common/device_flag.h"
 #include "apps/common/flag_checks.h"
 #include "apps/common/world.h"
 #include "core/base/input_error.h"
+#include "solvers/pipeline/preset.h"
 #include "solvers/pipeline/stage_process.h"
 
 namespace {
@@ -44,9 +46,15 @@ DEFINE_int32(max_width, 640, "--video: frames wider than this are scaled "
 DEFINE_int32(mask_probe_iterations, -1, "Iterations of the static fit "
              "auto masks are found with (-1: half the preset's Stage 1).");
 DEFINE_string(out, "", "Output directory (created).");
-DEFINE_string(preset, "quick",
-              "quick: a few minutes on 2 cores, at most 320 px wide, small "
-              "fields, 600 static + 4000 joint iterations; paper: the "
+DEFINE_string(preset, "auto",
+              "auto: the preset predicted to finish within 10 minutes on "
+              "the CPU threads used (an hour with --device cuda), from the "
+              "clip's frames and size: paper with a GPU where it fits, "
+              "else quick, trained narrower than 320 px (down to 160) where "
+              "a big clip needs it; a clip at most 160 px wide always gets "
+              "quick as it is (solvers/pipeline/preset_choice.h prints "
+              "why). quick: a few minutes on 2 cores, at most 320 px wide, "
+              "small fields, 600 static + 4000 joint iterations; paper: the "
               "paper's settings (10k static + 20k joint iterations, L = 15, "
               "full-size fields).");
 DEFINE_int32(static_iterations, -1, "Override the preset's Stage 1 "
@@ -79,6 +87,11 @@ DEFINE_int32(ranks, 1, "Train es_static and es_train on this many MPI ranks "
              "Needs a build with MPI (-DES_MPI) and --device cpu.");
 DEFINE_int32(batch_frames, -1, "Frames per iteration of es_static and "
              "es_train (-1: one per rank, --ranks).");
+DEFINE_bool(profile, false, "Pass --profile to es_static and es_train: "
+            "each prints where its iterations' time goes, by stage and by "
+            "part (render, loop texture render, fields, Euler chain, "
+            "backward, Adam, densification, evaluation). OUT/timings.json "
+            "has every stage's seconds in any case.");
 DEFINE_string(pose_script, "", "Run as `bash SCRIPT SCENE` instead of "
               "es_poses (COLMAP) when the scene has no sparse/0; it must "
               "write SCENE/sparse/0.");
@@ -113,6 +126,7 @@ void CheckFlags() {
                      ": this build has no MPI (install libopenmpi-dev and "
                      "openmpi-bin, configure with -DES_MPI=ON)");
   }
+  CheckPresetName(FLAGS_preset);
   std::string name;
   if (ParseDeviceFlag(FLAGS_device, &name) != ComputeDevice::kCpu) {
     if (FLAGS_ranks > 1 || FLAGS_batch_frames > 1) {
@@ -153,6 +167,8 @@ PipelineOptions DriverOptionsFromFlags() {
   o.pose_script = FLAGS_pose_script;
   o.ranks = FLAGS_ranks;
   o.batch_frames = FLAGS_batch_frames;
+  o.threads = omp_get_max_threads();  // --threads, resolved by RunApp
+  o.profile = FLAGS_profile;
   return o;
 }
 

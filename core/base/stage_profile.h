@@ -6,7 +6,10 @@
 // off. Scopes nest: each stage is charged its own time without the stages
 // opened inside it, and what an iteration spends outside every stage shows
 // as "other". Scopes opened inside OpenMP parallel regions are ignored, so
-// the figures are wall time.
+// the figures are wall time. A ScopedPass says which pass of an iteration
+// the stages belong to (the fit, the loop's second render, densification,
+// an evaluation), so the same rasterizer stages can be told apart by what
+// they rendered for (core/base/iteration_parts.h groups them).
 
 #include <atomic>
 #include <chrono>
@@ -39,9 +42,20 @@ enum class Stage : int {
   kComposition,
   kSceneFlow,
   kOpticalFlow,
-  kRankWait,   // --profile with ranks: waiting for the slowest rank
-  kAllreduce,  // summing a batch's gradients over the ranks
+  kRankWait,    // --profile with ranks: waiting for the slowest rank
+  kAllreduce,   // summing a batch's gradients over the ranks
+  kEvaluation,  // held-out evaluation between iterations, untimed remainder
+  kCheckpoint,  // writing checkpoints and the training history
   kNumStages
+};
+
+// What a stage's time was spent for.
+enum class Pass : int {
+  kFit = 0,      // the iteration's render(s) fitting the frame(s)
+  kLoopTexture,  // the loop's second render, for its texture loss
+  kDensify,      // densification, its own renders included
+  kEvaluation,   // held-out evaluation
+  kNumPasses
 };
 
 inline const char* StageName(Stage s) {
@@ -53,7 +67,7 @@ inline const char* StageName(Stage s) {
       "densification stats", "densify + prune",    "fields forward",
       "fields backward",    "Euler chain",         "composition",
       "scene-flow loss",    "optical flow + lifting", "waiting for ranks",
-      "allreduce"};
+      "allreduce",          "held-out evaluation", "checkpoint + history"};
   static_assert(sizeof(kNames) / sizeof(kNames[0]) ==
                     static_cast<size_t>(Stage::kNumStages),
                 "one name per stage");
@@ -70,18 +84,38 @@ class StageProfile {
 
   void Enable(bool on) { on_.store(on, std::memory_order_relaxed); }
   void Reset() {
-    for (auto& n : ns_) n.store(0, std::memory_order_relaxed);
-    for (auto& c : calls_) c.store(0, std::memory_order_relaxed);
+    for (auto& pass : ns_)
+      for (auto& n : pass) n.store(0, std::memory_order_relaxed);
+    for (auto& pass : calls_)
+      for (auto& c : pass) c.store(0, std::memory_order_relaxed);
+    pass_.store(static_cast<int>(Pass::kFit), std::memory_order_relaxed);
   }
+  // Charges `ns` to stage `s` in the current pass.
   void Add(Stage s, int64_t ns) {
-    ns_[static_cast<int>(s)].fetch_add(ns, std::memory_order_relaxed);
-    calls_[static_cast<int>(s)].fetch_add(1, std::memory_order_relaxed);
+    const int p = pass_.load(std::memory_order_relaxed);
+    ns_[p][static_cast<int>(s)].fetch_add(ns, std::memory_order_relaxed);
+    calls_[p][static_cast<int>(s)].fetch_add(1, std::memory_order_relaxed);
   }
+  // Over every pass.
   int64_t nanoseconds(Stage s) const {
-    return ns_[static_cast<int>(s)].load(std::memory_order_relaxed);
+    int64_t sum = 0;
+    for (int p = 0; p < kPasses; ++p) sum += nanoseconds(s, Pass(p));
+    return sum;
   }
   int64_t calls(Stage s) const {
-    return calls_[static_cast<int>(s)].load(std::memory_order_relaxed);
+    int64_t sum = 0;
+    for (int p = 0; p < kPasses; ++p)
+      sum += calls_[p][static_cast<int>(s)].load(std::memory_order_relaxed);
+    return sum;
+  }
+  int64_t nanoseconds(Stage s, Pass p) const {
+    return ns_[static_cast<int>(p)][static_cast<int>(s)].load(
+        std::memory_order_relaxed);
+  }
+
+  Pass pass() const { return Pass(pass_.load(std::memory_order_relaxed)); }
+  void set_pass(Pass p) {
+    pass_.store(static_cast<int>(p), std::memory_order_relaxed);
   }
 
   // Starts a profile from zero when `on`.
@@ -131,10 +165,34 @@ class StageProfile {
   }
 
  private:
+  static constexpr int kPasses = static_cast<int>(Pass::kNumPasses);
+  static constexpr int kStages = static_cast<int>(Stage::kNumStages);
   StageProfile() { Reset(); }
   std::atomic<bool> on_{false};
-  std::atomic<int64_t> ns_[static_cast<int>(Stage::kNumStages)];
-  std::atomic<int64_t> calls_[static_cast<int>(Stage::kNumStages)];
+  std::atomic<int> pass_{0};
+  std::atomic<int64_t> ns_[kPasses][kStages];
+  std::atomic<int64_t> calls_[kPasses][kStages];
+};
+
+// Charges the stages timed in its scope to `pass`; the pass before it
+// again afterwards. Costs one relaxed load when profiling is off.
+class ScopedPass {
+ public:
+  explicit ScopedPass(Pass pass) {
+    if (!StageProfile::On() || omp_in_parallel()) return;
+    on_ = true;
+    previous_ = StageProfile::Get().pass();
+    StageProfile::Get().set_pass(pass);
+  }
+  ~ScopedPass() {
+    if (on_) StageProfile::Get().set_pass(previous_);
+  }
+  ScopedPass(const ScopedPass&) = delete;
+  ScopedPass& operator=(const ScopedPass&) = delete;
+
+ private:
+  bool on_ = false;
+  Pass previous_ = Pass::kFit;
 };
 
 class ScopedStage {

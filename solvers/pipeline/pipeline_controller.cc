@@ -11,9 +11,11 @@
 
 #include "core/base/input_error.h"
 #include "core/io/colmap_io.h"
+#include "core/io/json_file.h"
 #include "core/io/output_dir.h"
 #include "core/io/ply_io.h"
 #include "core/model/dynamic_set.h"
+#include "solvers/pipeline/preset_choice.h"
 #include "solvers/pipeline/run_lock.h"
 #include "solvers/pipeline/run_sheet.h"
 #include "solvers/pipeline/scene_inputs.h"
@@ -56,6 +58,20 @@ RankLaunch RankLaunchOf(const PipelineOptions& o) {
   return r;
 }
 
+// The clip as the stages will read it: frames and the widest camera.
+ClipSize ReadClipSize(const fs::path& scene) {
+  const ColmapModel model = ReadColmapModel((scene / "sparse" / "0").string());
+  ClipSize clip;
+  clip.frames = static_cast<int>(model.images.size());
+  for (const auto& [id, camera] : model.cameras) {
+    if (camera.width > clip.width) {
+      clip.width = camera.width;
+      clip.height = camera.height;
+    }
+  }
+  return clip;
+}
+
 }  // namespace
 
 PipelineController::PipelineController(const PipelineOptions& options)
@@ -67,6 +83,7 @@ PipelineController::PipelineController(const PipelineOptions& options)
 void PipelineController::RunStep(const StageStep& step, StageLog* log) const {
   log->Begin(step.title);
   if (StepIsDone(step)) {
+    log->Skipped();
     std::printf("\n[%s] skipped: outputs exist in %s (delete them to redo)\n",
                 step.label.c_str(), step.where.string().c_str());
     return;
@@ -128,6 +145,34 @@ void PipelineController::CheckCycleLength(const fs::path& scene) const {
   }
 }
 
+void PipelineController::ChoosePresetFor(const fs::path& scene) {
+  preset_name_ = options_.preset;
+  if (options_.preset != "auto") return;
+  Hardware hardware;
+  hardware.threads = options_.threads;
+  hardware.gpu = options_.device != "cpu";
+  const PresetChoice choice =
+      ChoosePreset(ReadClipSize(scene), options_, hardware);
+  plan_.SetPreset(choice.preset);
+  preset_name_ = choice.name;
+  preset_why_ = choice.why;
+  predicted_seconds_ = choice.predicted_seconds;
+  std::printf("\n[eulersplat] --preset auto chose %s\n", choice.why.c_str());
+}
+
+void PipelineController::WriteTimings(StageLog* log) const {
+  nlohmann::ordered_json json = {{"preset", preset_name_},
+                                 {"threads", options_.threads}};
+  if (!preset_why_.empty()) {
+    json["preset_auto"] = {{"why", preset_why_},
+                           {"predicted_seconds", predicted_seconds_}};
+  }
+  json.update(log->Finish());
+  const fs::path path = plan_.out() / "timings.json";
+  WriteJsonFile(path.string(), json);
+  std::printf("[eulersplat] seconds per stage: %s\n", path.c_str());
+}
+
 void PipelineController::Run() {
   const auto start = std::chrono::steady_clock::now();
   PrepareOutputDirectory(options_.out, "out");
@@ -146,6 +191,7 @@ void PipelineController::Run() {
     runner_.RunOrThrow(stage, binary, a);
   };
   const fs::path scene = PrepareFramesAndPoses(request, run_or_throw);
+  ChoosePresetFor(scene);
   const double scale = ImageScaleFor(options_, plan_.preset(), scene);
   CheckCycleLength(scene);
   plan_.SetScene(scene, scale);
@@ -153,11 +199,14 @@ void PipelineController::Run() {
       request, scene, plan_.MaskProbeSettings(), run_or_throw);
   plan_.SetHasMasks(prepared.has_masks);
   // static, flow, joint, export, eval, plots (+ two videos, contact sheet).
-  StageLog log(prepared.static_only ? 1 : 6 + (options_.animate ? 3 : 0));
+  StageLog log(prepared.static_only ? 1 : 6 + (options_.animate ? 3 : 0),
+               std::chrono::duration<double>(
+                   std::chrono::steady_clock::now() - start)
+                   .count());
   const Preset& p = plan_.preset();
   std::printf("\n[eulersplat] preset %s: %d static / %d flow / %d joint "
               "iterations, L = %d, image scale %.3g, masks %s\n",
-              options_.preset.c_str(), p.static_iterations, p.flow_iterations,
+              preset_name_.c_str(), p.static_iterations, p.flow_iterations,
               p.joint_iterations, options_.cycle_length, scale,
               prepared.has_masks ? "yes" : "no");
 
@@ -166,12 +215,16 @@ void PipelineController::Run() {
                 "motion field, loop or animation)\n",
                 prepared.why_static.c_str());
     RunStep(plan_.StaticStep(), &log);
+    WriteTimings(&log);
     std::printf("\n[eulersplat] done: static model %s\n",
                 plan_.static_ply().c_str());
     return;
   }
   RunStep(plan_.StaticStep(), &log);
-  if (!HasDynamicGaussians()) return;
+  if (!HasDynamicGaussians()) {
+    WriteTimings(&log);
+    return;
+  }
   RunStep(plan_.FlowStep(), &log);
   // Stages 1 and 2 are on disk and the later stages only read them: other
   // runs sharing the static_dir (ablations, seeds) may go on alongside.
@@ -187,6 +240,7 @@ void PipelineController::Run() {
     log.Begin("contact sheet");
     WriteRunContactSheet(plan_.out(), options_.cycle_length);
   }
+  WriteTimings(&log);
   PrintSummary(std::chrono::duration<double>(
                    std::chrono::steady_clock::now() - start)
                    .count());

@@ -13,7 +13,8 @@ namespace es {
 // masks, then the stages of StagePlan in turn, each a binary of its own
 // (StageProcessRunner). A stage whose outputs exist is skipped, and
 // interrupted training resumes from its checkpoint, so a rerun picks up
-// where a killed one stopped. One run per output folder (RunLock); runs
+// where a killed one stopped. --preset auto picks the preset once the clip
+// is known (preset_choice.h); OUT/timings.json has each stage's seconds. One run per output folder (RunLock); runs
 // sharing a static_dir take turns on it until Stages 1 and 2 are written.
 class PipelineController {
  public:
@@ -34,10 +35,18 @@ class PipelineController {
   // Throws InputError when the loop is longer than the scene's video.
   void CheckCycleLength(const std::filesystem::path& scene) const;
   void PrintSummary(double seconds) const;
+  // --preset auto: chooses from the clip in `scene` and the hardware, sets
+  // the plan's preset and says why.
+  void ChoosePresetFor(const std::filesystem::path& scene);
+  // OUT/timings.json: the preset, then the log's seconds per stage.
+  void WriteTimings(StageLog* log) const;
 
   PipelineOptions options_;
   StagePlan plan_;
   StageProcessRunner runner_;
+  std::string preset_name_;  // the preset run (auto's choice)
+  std::string preset_why_;   // auto's reason ("" for a named preset)
+  double predicted_seconds_ = 0;
 };
 
 }  // namespace es

@@ -17,7 +17,9 @@ struct PipelineOptions {
   std::string masks;
   VideoImportOptions import;       // --video: fps, max_frames, max_width
   int mask_probe_iterations = -1;  // -1: half the preset's Stage 1
-  std::string preset = "quick";    // quick or paper (preset.h)
+  // auto (chosen from the clip and the hardware: preset_choice.h), quick
+  // or paper (preset.h)
+  std::string preset = "auto";
   int static_iterations = -1;
   int flow_iterations = -1;
   int joint_iterations = -1;
@@ -35,6 +37,8 @@ struct PipelineOptions {
   // (-1: one frame per rank).
   int ranks = 1;
   int batch_frames = -1;
+  int threads = 1;             // CPU threads the stages use (--threads)
+  bool profile = false;        // --profile on es_static and es_train
 };
 
 }  // namespace es

@@ -20,11 +20,21 @@ Preset MakePreset(const std::string& name) {
   if (name == "paper") {
     return {10000, 2000, 20000, 128, 128, 12, 16, 64, 128, 0, 3, 500, 100};
   }
-  throw InputError("--preset: unknown preset '" + name + "' (quick or paper)");
+  throw InputError("--preset: unknown preset '" + name +
+                   "' (auto, quick or paper)");
+}
+
+void CheckPresetName(const std::string& name) {
+  if (name != "auto") MakePreset(name);
 }
 
 Preset PresetFor(const PipelineOptions& options) {
-  Preset p = MakePreset(options.preset);
+  return WithOverrides(
+      MakePreset(options.preset == "auto" ? "quick" : options.preset),
+      options);
+}
+
+Preset WithOverrides(Preset p, const PipelineOptions& options) {
   if (options.static_iterations >= 0) {
     p.static_iterations = options.static_iterations;
   }

@@ -21,10 +21,18 @@ struct Preset {
   int densify_from, densify_interval;
 };
 
-// "quick" or "paper"; throws InputError naming --preset otherwise.
+// "quick" or "paper"; throws InputError naming --preset otherwise ("auto"
+// is chosen from the clip: preset_choice.h).
 Preset MakePreset(const std::string& name);
 
-// options.preset with the options' iteration overrides (those >= 0).
+// Throws InputError naming --preset unless `name` is auto, quick or paper.
+void CheckPresetName(const std::string& name);
+
+// `preset` with the options' iteration overrides (those >= 0).
+Preset WithOverrides(Preset preset, const PipelineOptions& options);
+
+// options.preset with the options' iteration overrides; "auto" is quick
+// until the clip is known (StagePlan::SetPreset).
 Preset PresetFor(const PipelineOptions& options);
 
 // The image scale the stages train at: options.image_scale when set (> 0),

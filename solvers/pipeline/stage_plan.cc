@@ -106,6 +106,7 @@ StageStep StagePlan::StaticStep() const {
             std::to_string(preset_.static_iterations)};
   Append(&s.args, StaticFlags());
   if (!has_masks_) Append(&s.args, {"--mask_weight", "0"});
+  if (options_.profile) s.args.push_back("--profile");
   // es_static resumes only from a checkpoint that exists.
   if (fs::exists(static_dir_ / "checkpoint.bin")) s.args.push_back("--resume");
   return s;
@@ -153,6 +154,7 @@ StageStep StagePlan::JointStep() const {
        EvalEvery(p.joint_iterations)},
       true);
   if (!has_masks_) Append(&s.args, {"--mask_weight", "0"});
+  if (options_.profile) s.args.push_back("--profile");
   // Later flags win in gflags, so --train_flags can override the preset's.
   std::istringstream extra(options_.train_flags);
   for (std::string flag; extra >> flag;) s.args.push_back(flag);

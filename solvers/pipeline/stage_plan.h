@@ -40,6 +40,9 @@ class StagePlan {
   // Throws InputError for an unknown preset (PresetFor).
   explicit StagePlan(const PipelineOptions& options);
 
+  // Replaces the preset (--preset auto's choice, overrides applied).
+  void SetPreset(const Preset& preset) { preset_ = preset; }
+
   // The scene every stage reads, and the image scale they train at.
   void SetScene(const std::filesystem::path& scene, double image_scale);
   void SetHasMasks(bool has_masks) { has_masks_ = has_masks; }

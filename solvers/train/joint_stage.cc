@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "core/base/input_error.h"
+#include "core/base/iteration_parts.h"
 #include "core/base/stage_profile.h"
 #include "core/fields/field_io.h"
 #include "core/flow/scene_flow_io.h"
@@ -248,6 +249,8 @@ TrainingOutcome Train(const JointStageOptions& o, const Scene& scene,
       LoopMetrics held_out;
       if (eval && lead) {
         const Clock::time_point eval_start = Clock::now();
+        ScopedPass pass(Pass::kEvaluation);
+        ScopedStage timer(Stage::kEvaluation);
         held_out = EvaluateLoopModel(trainer->model(), scene.frames,
                                      scene.test, trainer->render_options());
         eval_seconds +=
@@ -263,6 +266,7 @@ TrainingOutcome Train(const JointStageOptions& o, const Scene& scene,
           eval ? held_out.psnr : NAN,
           eval ? held_out.psnr_water : NAN};
       if (it < options.iterations) {
+        ScopedStage timer(Stage::kCheckpoint);
         history->Add(it, seconds_before + elapsed, row);
         if (lead) history->Write();
       } else {
@@ -294,6 +298,7 @@ TrainingOutcome Train(const JointStageOptions& o, const Scene& scene,
     // Not right after a skipped (non-finite) step: keep the last good one.
     if (lead && o.checkpoint_interval > 0 &&
         it % o.checkpoint_interval == 0 && trainer->last_step_ok()) {
+      ScopedStage timer(Stage::kCheckpoint);
       WriteJointCheckpoint(trainer->Save(), checkpoint_path);
     }
   }
@@ -308,7 +313,7 @@ TrainingOutcome Train(const JointStageOptions& o, const Scene& scene,
                 options.comm != nullptr ? options.comm->size() : 1,
                 trainer->allreduce_bytes() / 1e6);
   }
-  StageProfile::Get().PrintAndStop(
+  PrintProfileAndStop(
       "es_train, " + std::to_string(trainer->iteration() - first) +
       " iterations, " + std::to_string(trainer->model().gaussians.size()) +
       " Gaussians, " + std::to_string(trainer->model().num_dynamic()) +

@@ -235,6 +235,7 @@ double JointTrainer::BatchGradient(double const* const* params,
 }
 
 WaterDensifyResult JointTrainer::DensifyWaterNow() {
+  ScopedPass pass(Pass::kDensify);  // its renders too
   ScopedStage timer(Stage::kDensify);
   const int budget = WaterBudget(options_, initial_dynamic_);
   if (model_.num_dynamic() >= budget) return {};  // skip the ranking pass

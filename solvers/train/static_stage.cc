@@ -11,6 +11,7 @@
 #include "core/io/output_dir.h"
 #include "core/io/ply_io.h"
 #include "core/model/gaussian_init.h"
+#include "core/base/iteration_parts.h"
 #include "core/base/stage_profile.h"
 #include "solvers/checkpoint/checkpoint.h"
 #include "solvers/train/densify_eta.h"
@@ -196,6 +197,8 @@ StaticStageResult RunStaticStage(const StaticStageOptions& o,
       StaticMetrics held_out;
       if (eval && lead) {
         const auto eval_start = Clock::now();
+        ScopedPass pass(Pass::kEvaluation);
+        ScopedStage timer(Stage::kEvaluation);
         held_out = EvaluateHeldOut(trainer, scene);
         eval_seconds +=
             std::chrono::duration<double>(Clock::now() - eval_start).count();
@@ -208,6 +211,7 @@ StaticStageResult RunStaticStage(const StaticStageOptions& o,
               CountDynamic(StaticModel(trainer), o.dynamic_threshold)),
           eval ? held_out.psnr : NAN, eval ? held_out.psnr_water : NAN};
       if (it < o.trainer.iterations) {
+        ScopedStage timer(Stage::kCheckpoint);
         history.Add(it, seconds_before + now, row);
         if (lead) history.Write();
       } else {
@@ -241,8 +245,10 @@ StaticStageResult RunStaticStage(const StaticStageOptions& o,
     // Never checkpoint right after a skipped (non-finite) step: the file on
     // disk stays the last good state.
     if (lead && o.checkpoint_every > 0 && it % o.checkpoint_every == 0 &&
-        trainer.last_step_ok())
+        trainer.last_step_ok()) {
+      ScopedStage timer(Stage::kCheckpoint);
       WriteCheckpoint(trainer.Save(), checkpoint_path);
+    }
   }
   if (trainer.skipped_steps() > 0)
     std::printf("%lld step(s) skipped for a non-finite loss or gradient\n",
@@ -254,7 +260,7 @@ StaticStageResult RunStaticStage(const StaticStageOptions& o,
                 o.trainer.comm != nullptr ? o.trainer.comm->size() : 1,
                 trainer.allreduce_bytes() / 1e6);
   }
-  StageProfile::Get().PrintAndStop(
+  PrintProfileAndStop(
       "es_static, " + std::to_string(trainer.iteration() - first) +
       " iterations, " + std::to_string(trainer.gaussians().size()) +
       " Gaussians at the end");

@@ -163,6 +163,7 @@ void DeviceJointTrainer::UpdateScaleBounds() {
 }
 
 WaterDensifyResult DeviceJointTrainer::DensifyWaterNow() {
+  ScopedPass pass(Pass::kDensify);  // its renders too
   ScopedStage timer(Stage::kDensify);
   const int budget = WaterBudget(options_, initial_dynamic_);
   if (model_.num_dynamic() >= budget) return {};  // skip the ranking pass
