@@ -72,6 +72,12 @@ DEFINE_bool(calm_water, true, "With --matting, also the pixels beyond the "
             "regions whose colour is water's in every frame and that "
             "connect to the water found (a calm pool next to a fall); "
             "false: only near the regions.");
+DEFINE_double(scenery_recurrence, 0, "With --matting, the scenery "
+              "behind a pixel is the least water-like of its colours over "
+              "time that recurs in at least this share of them (0: the "
+              "least water-like colour, seen once).");
+DEFINE_double(recurrence_tolerance, 0.15, "Colours this close (L1 over RGB "
+              "in [0, 1]) count as the same for --scenery_recurrence.");
 DEFINE_bool(white_background, false, "The static model was trained on "
             "white.");
 
@@ -185,6 +191,8 @@ int Main() {
   options.min_water_fraction = FLAGS_min_water_fraction;
   options.matting = FLAGS_matting;
   options.matting_options.calm_water = FLAGS_calm_water;
+  options.matting_options.recurrence = FLAGS_scenery_recurrence;
+  options.matting_options.recurrence_tolerance = FLAGS_recurrence_tolerance;
   if (FLAGS_white_background) options.render.background.setOnes();
   std::printf("[masks] %zu frames at %dx%d: residual change over time, "
               "optical flow vs camera motion, then the water's share of "

@@ -92,6 +92,40 @@ TEST(WaterMasksTest, FindsTheDropletsOfASprayInEachFrame) {
   EXPECT_GT(matted, regions + 0.1);
 }
 
+// Mean IoU and precision over the frames.
+MaskScore MeanScore(const WaterMaskResult& result, const SynthScene& synth,
+                    const Scene& scene) {
+  MaskScore mean{0, 0, 0};
+  for (size_t k = 0; k < scene.frames.size(); ++k) {
+    const MaskScore s = ScoreMask(result.masks[k],
+                                  synth.masks[scene.frames[k].time_index]);
+    mean.iou += s.iou / scene.frames.size();
+    mean.precision += s.precision / scene.frames.size();
+    mean.recall += s.recall / scene.frames.size();
+  }
+  return mean;
+}
+
+// The trap (issue #48): the path-traced spray in front of walls of fine
+// boards with dark seams, which a spray's matting can take for water where
+// it sees them between droplets. 12 frames (6 samples of each pixel) and
+// the true scenery as the static model: IoU 0.597, precision 0.598,
+// recall 0.996 when written; the scenery estimate of
+// --scenery_recurrence 0.25 scored 0.575 / 0.577 / 0.996.
+TEST(WaterMasksTest, FineBoardsBehindASprayKeepTheirScores) {
+  const SynthScene synth = GenerateSynthScene(SmallSettings("planks"));
+  const Scene scene = ToScene(synth);
+  const WaterMaskResult result =
+      EstimateWaterMasks(scene, synth.scenery, WaterMaskOptions());
+  const MaskScore score = MeanScore(result, synth, scene);
+  std::printf("planks IoU / precision / recall: %.3f / %.3f / %.3f\n",
+              score.iou, score.precision, score.recall);
+  EXPECT_TRUE(result.has_water);
+  EXPECT_GT(score.iou, 0.585);
+  EXPECT_GT(score.precision, 0.585);
+  EXPECT_GT(score.recall, 0.95);
+}
+
 // Frames of the scenery alone: everything the camera sees stands still.
 Scene StillScene(const SynthScene& synth) {
   Scene scene = ToScene(synth);

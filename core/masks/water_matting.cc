@@ -33,6 +33,53 @@ cv::Mat ConnectedTo(const cv::Mat& seeds, const cv::Mat& through) {
   return out;
 }
 
+// The scenery behind a pixel, from its colours over time (the frame's
+// own first). Without `recurrence`: the colour least like water. With it:
+// the least water-like colour that recurs, i.e. that at least that share
+// of the colours lie within `recurrence_tolerance` of (the mean of those):
+// the scenery is seen whenever the water leaves it, the water changes, and
+// one stray sample (a misregistered edge of fine texture) is not the
+// scenery. When no colour recurs that often, the most recurrent one.
+// far, order: scratch.
+cv::Vec3f SceneryColour(const std::vector<cv::Vec3f>& colours,
+                        const cv::Vec3f& water,
+                        const WaterMattingOptions& options,
+                        std::vector<float>* far, std::vector<int>* order) {
+  const int m = static_cast<int>(colours.size());
+  if (options.recurrence <= 0) {
+    cv::Vec3f scenery = colours[0];
+    float farthest = L1(colours[0], water);
+    for (int k = 1; k < m; ++k) {
+      const float d = L1(colours[k], water);
+      if (d > farthest) farthest = d, scenery = colours[k];
+    }
+    return scenery;
+  }
+  far->resize(m);
+  order->resize(m);
+  for (int k = 0; k < m; ++k) {
+    (*far)[k] = L1(colours[k], water);
+    (*order)[k] = k;
+  }
+  std::sort(order->begin(), order->end(),
+            [&](int a, int b) { return (*far)[a] > (*far)[b]; });
+  const int needed =
+      std::max(1, static_cast<int>(std::ceil(options.recurrence * m)));
+  const float tolerance = static_cast<float>(options.recurrence_tolerance);
+  cv::Vec3f mode = colours[0];
+  int mode_count = 0;
+  for (int k : *order) {
+    cv::Vec3f sum(0.f, 0.f, 0.f);
+    int count = 0;
+    for (const cv::Vec3f& c : colours)
+      if (L1(c, colours[k]) <= tolerance) sum += c, ++count;
+    const cv::Vec3f mean = sum / static_cast<float>(count);
+    if (count >= needed) return mean;
+    if (count > mode_count) mode_count = count, mode = mean;
+  }
+  return mode;
+}
+
 // One pass of the matting with the given colour model: the mask of every
 // frame. Calls progress(frames done).
 std::vector<cv::Mat> MatFrames(const std::vector<ResidualFrame>& frames,
@@ -46,6 +93,9 @@ std::vector<cv::Mat> MatFrames(const std::vector<ResidualFrame>& frames,
   const cv::Vec3f water = colours.mean_water();
   const cv::Mat grow = Disk(std::lround(options.grow * images[0].cols));
   std::vector<cv::Mat> samples, known;
+  std::vector<cv::Vec3f> seen_colours;
+  std::vector<float> far;
+  std::vector<int> order;
   for (int i = 0; i < n; ++i) {
     const ResidualFrame& f = frames[i];
     samples.clear();
@@ -65,16 +115,12 @@ std::vector<cv::Mat> MatFrames(const std::vector<ResidualFrame>& frames,
     const int m = static_cast<int>(samples.size());
     for (int p = 0; p < static_cast<int>(image.total()); ++p) {
       const cv::Vec3f colour = image.at<cv::Vec3f>(p);
-      // The scenery: the sample least like water (the frame's own colour
-      // among them).
-      cv::Vec3f scenery = colour;
-      float far = L1(colour, water);
-      for (int k = 0; k < m; ++k) {
-        if (!known[k].at<uchar>(p)) continue;
-        const cv::Vec3f s = samples[k].at<cv::Vec3f>(p);
-        const float d = L1(s, water);
-        if (d > far) far = d, scenery = s;
-      }
+      seen_colours.assign(1, colour);
+      for (int k = 0; k < m; ++k)
+        if (known[k].at<uchar>(p))
+          seen_colours.push_back(samples[k].at<cv::Vec3f>(p));
+      const cv::Vec3f scenery =
+          SceneryColour(seen_colours, water, options, &far, &order);
       if (colours.LogRatio(scenery) < 0) seen.at<uchar>(p) = 255;
       // The water: the sample most unlike that scenery, as a palette colour.
       cv::Vec3f wettest = colour;

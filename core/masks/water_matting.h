@@ -21,6 +21,13 @@ struct WaterMattingOptions {
   // Beyond the grown regions, also the pixels water-coloured in every
   // sample (calm water) that connect to the water found.
   bool calm_water = true;
+  // The scenery behind a pixel is the least water-like of its colours
+  // over time that recurs in at least this share of them (within
+  // recurrence_tolerance, L1 over RGB in [0, 1]); 0 (default): the least
+  // water-like colour, seen once. Recurrence lost IoU on planks, droplets
+  // and pathtraced (docs/results/masks-2026-12-06.md).
+  double recurrence = 0;
+  double recurrence_tolerance = 0.15;
 };
 
 // Per-frame water masks at the resolution of single droplets, inside
