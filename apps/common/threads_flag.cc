@@ -3,6 +3,7 @@
 #include <gflags/gflags.h>
 #include <omp.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <string>
 #include <thread>
