@@ -9,7 +9,8 @@ const char* PartName(Part part) {
       "render for the fit",  "losses",        "loop texture render + loss",
       "fields (V, D)",       "Euler chain",   "backward (rasterizer)",
       "Adam",                "scene-flow prior", "densification",
-      "evaluation",          "checkpoints",   "other (untimed)"};
+      "evaluation",          "checkpoints",   "ranks (wait + allreduce)",
+      "other (untimed)"};
   static_assert(sizeof(kNames) / sizeof(kNames[0]) ==
                     static_cast<size_t>(Part::kNumParts),
                 "one name per part");
@@ -55,6 +56,9 @@ Part PartOf(Pass pass, Stage stage) {
       return Part::kEvaluation;
     case Stage::kCheckpoint:
       return Part::kCheckpoint;
+    case Stage::kRankWait:
+    case Stage::kAllreduce:
+      return Part::kRanks;
     case Stage::kNumStages:
       break;
   }

@@ -25,6 +25,7 @@ enum class Part : int {
   kDensification,     // statistics, densify + prune, their renders
   kEvaluation,        // held-out evaluations, their renders
   kCheckpoint,        // checkpoints and history rows
+  kRanks,             // data-parallel: waiting for ranks and the allreduce
   kOther,             // the iterations' untimed remainder (and setup)
   kNumParts
 };
