@@ -12,6 +12,7 @@
 #include <string>
 
 #include <sys/wait.h>
+#include <unistd.h>
 
 namespace es {
 
@@ -30,6 +31,23 @@ inline int RunCommand(const std::string& command, std::string* out) {
   }
   const int status = pclose(pipe);
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+// A fresh folder ES_BINARY_DIR/<name>_<pid> holding a tiny es_synth scene
+// (8 frames of 32x24) in scene/; empty path and *log says why on failure.
+inline std::filesystem::path MakeTinyDriverScene(const std::string& name,
+                                                 std::string* log) {
+  const std::filesystem::path root =
+      std::filesystem::path(ES_BINARY_DIR) /
+      (name + "_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(root);
+  if (RunCommand((kBin / "es_synth").string() + " --out " +
+                     (root / "scene").string() +
+                     " --frames 8 --width 32 --height 24 --detail 0.02"
+                     " --num_points 50",
+                 log) != 0)
+    return {};
+  return root;
 }
 
 inline std::string ReadFile(const std::filesystem::path& path) {

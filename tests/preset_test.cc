@@ -127,18 +127,10 @@ TEST(PresetTest, PresetNames) {
 // The driver: an unknown preset is refused by name before any work; a
 // named one runs as named, with no choice made (a tiny run, no videos).
 TEST(PresetTest, TheDriverRunsANamedPresetAndRefusesAnUnknownOne) {
-  const fs::path root = fs::path(ES_BINARY_DIR) /
-                        ("preset_test_" + std::to_string(::getpid()));
-  fs::remove_all(root);
-  const fs::path scene = root / "scene", out = root / "out";
   std::string log;
-  ASSERT_EQ(RunCommand((kBin / "es_synth").string() + " --out " +
-                           scene.string() +
-                           " --frames 8 --width 32 --height 24 --detail 0.02"
-                           " --num_points 50",
-                       &log),
-            0)
-      << log;
+  const fs::path root = MakeTinyDriverScene("preset_test", &log);
+  ASSERT_FALSE(root.empty()) << log;
+  const fs::path scene = root / "scene", out = root / "out";
   const std::string driver = (kBin / "eulersplat").string() + " --scene " +
                              scene.string() + " --out " + out.string() +
                              " --cycle_length 4";

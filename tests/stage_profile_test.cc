@@ -114,18 +114,10 @@ TEST(StagePartsTest, EveryStageOfEveryPassHasOnePart) {
 // es_train print their parts; --preset auto (the default) chose quick for
 // this small clip and says why.
 TEST(DriverTimingsTest, TimingsJsonTilesTheRun) {
-  const fs::path root = fs::path(ES_BINARY_DIR) /
-                        ("stage_profile_test_" + std::to_string(::getpid()));
-  fs::remove_all(root);
-  const fs::path scene = root / "scene", out = root / "out";
   std::string log;
-  ASSERT_EQ(RunCommand((kBin / "es_synth").string() + " --out " +
-                           scene.string() +
-                           " --frames 8 --width 32 --height 24 --detail 0.02"
-                           " --num_points 50",
-                       &log),
-            0)
-      << log;
+  const fs::path root = MakeTinyDriverScene("stage_profile_test", &log);
+  ASSERT_FALSE(root.empty()) << log;
+  const fs::path scene = root / "scene", out = root / "out";
   log.clear();
   ASSERT_EQ(RunCommand((kBin / "eulersplat").string() + " --scene " +
                            scene.string() + " --out " + out.string() +
