@@ -46,7 +46,7 @@ mkdir -p "$work"
 load() { cut -d' ' -f1 /proc/loadavg; }
 # A row of a --profile table: its ms per iteration ($3) or share ($4).
 row() { awk -v name="$2" -v col="$3" '
-  index($0, name) == 1 { sub(/%$/, "", $NF); print (col == "ms" ? $(NF-1) : $NF); found = 1 }
+  index($0, name) == 1 && !found { sub(/%$/, "", $NF); print (col == "ms" ? $(NF-1) : $NF); found = 1 }
   END { if (!found) print 0 }' "$1"; }
 mb() { sed -n 's/.*allreduce \([0-9.]*\) MB per iteration.*/\1/p' "$1"; }
 
