@@ -79,9 +79,6 @@ std::array<double, 3> EstimateInputNoise(const std::vector<Frame>& frames,
   // Per channel: single-frame detail, the change's detail at full and at
   // half size, one value per frame or pair.
   std::array<std::vector<double>, 3> single, fine, coarse;
-  auto keep = [](double v, std::vector<double>* out) {
-    if (std::isfinite(v)) out->push_back(v);
-  };
   std::array<cv::Mat, 3> prev_channels;
   cv::Mat prev_skip;
   int prev_index = -2;
@@ -102,7 +99,8 @@ std::array<double, 3> EstimateInputNoise(const std::vector<Frame>& frames,
       internal::ChannelOf(rgb.ptr<double>(), rgb.total(), c, &values);
       cv::Mat channel = cv::Mat(rgb.rows, rgb.cols, CV_64FC1, values.data())
                             .clone();
-      keep(HaarNoiseSigma(channel, skip), &single[c]);
+      const double alone = HaarNoiseSigma(channel, skip);
+      if (std::isfinite(alone)) single[c].push_back(alone);
       if (follows) {
         const std::array<double, 2> t =
             TemporalHaarDetail(prev_channels[c], channel, pair_skip);
@@ -120,7 +118,8 @@ std::array<double, 3> EstimateInputNoise(const std::vector<Frame>& frames,
   for (int c = 0; c < 3; ++c) {
     if (fine[c].empty()) continue;
     const double t1 = Median(&fine[c]), t2 = Median(&coarse[c]);
-    const double temporal = std::sqrt(std::max(0.0, (t1 * t1 - t2 * t2) * 4 / 3));
+    const double temporal =
+        std::sqrt(std::max(0.0, (t1 * t1 - t2 * t2) * 4 / 3));
     sigma[c] = std::min(temporal, Median(&single[c]));
     if (sigma[c] < kNegligibleNoise) sigma[c] = 0;
   }
@@ -130,7 +129,7 @@ std::array<double, 3> EstimateInputNoise(const std::vector<Frame>& frames,
 void DrawInputNoise(const std::array<double, 3>& sigma, uint64_t seed,
                     cv::Mat* rgb) {
   CHECK_EQ(rgb->type(), CV_64FC3);
-  if (sigma[0] <= 0 && sigma[1] <= 0 && sigma[2] <= 0) return;
+  if (!HasInputNoise(sigma)) return;
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> normal(0.0, 1.0);
   double* p = rgb->ptr<double>();  // a clone or a render: continuous

@@ -53,6 +53,11 @@ std::array<double, 2> TemporalHaarDetail(const cv::Mat& prev,
 std::array<double, 3> EstimateInputNoise(const std::vector<Frame>& frames,
                                          const std::vector<int>& indices);
 
+// Whether any channel of a noise estimate is non-zero.
+inline bool HasInputNoise(const std::array<double, 3>& sigma) {
+  return sigma[0] > 0 || sigma[1] > 0 || sigma[2] > 0;
+}
+
 // Adds white noise of std sigma[c] along each opponent colour channel c
 // to `rgb` (CV_64FC3, 0..1), drawn from `seed`: a render then carries the
 // input's noise, so figures that measure detail and change (the realism

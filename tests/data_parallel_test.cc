@@ -20,6 +20,7 @@
 #include "solvers/train/joint_trainer.h"
 #include "solvers/train/joint_training_steps.h"
 #include "solvers/train/static_trainer.h"
+#include "tests/expect_same_gaussians.h"
 #include "tests/tiny_loop_scene.h"
 
 namespace es {
@@ -39,15 +40,6 @@ double RelativeError(const std::vector<double>& a,
     scale = std::max(scale, std::abs(b[i]));
   }
   return diff / (scale > 0 ? scale : 1);
-}
-
-std::vector<double> Flatten(const GaussianSet& g) {
-  std::vector<double> out;
-  for (const std::vector<double>* v :
-       {&g.means, &g.log_scales, &g.quats, &g.opacity_logits, &g.sh,
-        &g.dynamic_logits})
-    out.insert(out.end(), v->begin(), v->end());
-  return out;
 }
 
 TEST(DataParallelTest, PackedSumKeepsSegmentsApart) {
@@ -106,11 +98,13 @@ TEST(DataParallelTest, StaticBatchStepsOnTheMeanOfItsFramesGradients) {
     std::vector<double*> gradients = SplatRenderCost::Blocks(&grad);
     mean_loss +=
         EvaluateScalarLossGradient(cost, params.data(), gradients.data()) / 3;
-    each.push_back(Flatten(grad));
+    each.push_back(AllGaussianValues(grad));
     if (mean.empty()) mean.assign(each.back().size(), 0.0);
     for (size_t i = 0; i < mean.size(); ++i) mean[i] += each.back()[i] / 3;
   }
-  EXPECT_LT(RelativeError(Flatten(trainer.last_gradient()), mean), 1e-12);
+  EXPECT_LT(
+      RelativeError(AllGaussianValues(trainer.last_gradient()), mean),
+      1e-12);
   EXPECT_NEAR(stats.loss, mean_loss, 1e-12 * mean_loss);
   // Not one frame's gradient alone.
   for (const std::vector<double>& one : each)

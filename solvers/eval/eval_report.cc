@@ -2,6 +2,8 @@
 
 #include <cstdio>
 
+#include "costs/water_input_noise.h"
+
 namespace es {
 
 nlohmann::ordered_json HeldOutJson(const LoopMetrics& m) {
@@ -131,7 +133,7 @@ void PrintEvalSummary(const EvalStageOptions& o, const LoopModel& model,
   }
   std::printf("  realism vs the input (ratios: 1 = like the input; "
               "distance: 0 = same statistics)\n");
-  if (e.input_noise[0] > 0 || e.input_noise[1] > 0 || e.input_noise[2] > 0) {
+  if (HasInputNoise(e.input_noise)) {
     std::printf("  (the input's noise, std %.4f %.4f %.4f per opponent "
                 "channel, drawn onto the renders first)\n",
                 e.input_noise[0], e.input_noise[1], e.input_noise[2]);

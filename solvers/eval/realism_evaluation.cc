@@ -50,10 +50,12 @@ RealismMetrics EvaluateRealism(const std::vector<cv::Mat>& rendered,
                                const std::array<double, 3>& input_noise) {
   CHECK_GE(frames.size(), 2u);
   CHECK_EQ(rendered.size(), frames.size());
-  std::vector<cv::Mat> noisy(rendered.size());
-  for (size_t i = 0; i < rendered.size(); ++i) {
-    noisy[i] = rendered[i].clone();
-    DrawInputNoise(input_noise, realism.seed * 1000003 + i, &noisy[i]);
+  std::vector<cv::Mat> noisy;  // copies only when there is noise to draw
+  if (HasInputNoise(input_noise)) {
+    for (size_t i = 0; i < rendered.size(); ++i) {
+      noisy.push_back(rendered[i].clone());
+      DrawInputNoise(input_noise, realism.seed * 1000003 + i, &noisy.back());
+    }
   }
   std::vector<cv::Mat> real, masks;
   bool has_masks = true;
@@ -63,7 +65,8 @@ RealismMetrics EvaluateRealism(const std::vector<cv::Mat>& rendered,
     has_masks = has_masks && !f.mask.empty();
   }
   if (!has_masks) masks.clear();
-  return ComputeRealism(noisy, real, masks, realism);
+  return ComputeRealism(noisy.empty() ? rendered : noisy, real, masks,
+                        realism);
 }
 
 void WriteComparisonFrames(const std::vector<cv::Mat>& rendered,

@@ -86,7 +86,7 @@ void SetInputNoise(double sigma, const Scene& scene,
   trainer->water_energy.input_noise = noise;
   trainer->water_texture.input_noise = noise;
   if (sigma == 0) return;  // off: nothing to say
-  if (noise[0] == 0 && noise[1] == 0 && noise[2] == 0) {
+  if (!HasInputNoise(noise)) {
     std::printf("input noise: none found in the training frames\n");
     return;
   }

@@ -16,6 +16,7 @@
 #include "solvers/train/joint_trainer.h"
 #include "solvers/train/joint_training_steps.h"
 #include "solvers/train/static_trainer.h"
+#include "tests/expect_same_gaussians.h"
 #include "tests/tiny_loop_scene.h"
 
 namespace es {
@@ -49,15 +50,6 @@ void ExpectRanksAgree(const std::vector<double>& values, const char* what) {
   EXPECT_EQ(values, lead) << what << " differs on rank " << world->rank();
 }
 
-std::vector<double> SplatValues(const GaussianSet& g) {
-  std::vector<double> out;
-  for (const std::vector<double>* v :
-       {&g.means, &g.log_scales, &g.quats, &g.opacity_logits, &g.sh,
-        &g.dynamic_logits})
-    out.insert(out.end(), v->begin(), v->end());
-  return out;
-}
-
 TEST(RanksTest, StaticTrainingOnRanksEqualsOneProcess) {
   const std::vector<Frame> frames = TrueFrames();
   StaticTrainerOptions options;
@@ -85,9 +77,9 @@ TEST(RanksTest, StaticTrainingOnRanksEqualsOneProcess) {
   }
   ASSERT_GT(alone.gaussians().size(), start.size()) << "no densification";
   ASSERT_EQ(ranks.gaussians().size(), alone.gaussians().size());
-  ExpectSameValues(SplatValues(ranks.gaussians()),
-                   SplatValues(alone.gaussians()), "splats");
-  ExpectRanksAgree(SplatValues(ranks.gaussians()), "splats");
+  ExpectSameValues(AllGaussianValues(ranks.gaussians()),
+                   AllGaussianValues(alone.gaussians()), "splats");
+  ExpectRanksAgree(AllGaussianValues(ranks.gaussians()), "splats");
 }
 
 TEST(RanksTest, JointTrainingOnRanksEqualsOneProcess) {
@@ -115,7 +107,8 @@ TEST(RanksTest, JointTrainingOnRanksEqualsOneProcess) {
   LoopModel a = alone.model(), r = ranks.model();
   ASSERT_GT(a.gaussians.size(), start.size()) << "no water densification";
   ASSERT_EQ(r.gaussians.size(), a.gaussians.size());
-  ExpectSameValues(SplatValues(r.gaussians), SplatValues(a.gaussians),
+  ExpectSameValues(AllGaussianValues(r.gaussians),
+                   AllGaussianValues(a.gaussians),
                    "splats");
   const std::vector<std::vector<double>*> fields_a = FieldParamBlocks(&a);
   const std::vector<std::vector<double>*> fields_r = FieldParamBlocks(&r);
@@ -124,7 +117,7 @@ TEST(RanksTest, JointTrainingOnRanksEqualsOneProcess) {
     ExpectSameValues(*fields_r[b], *fields_a[b], "a field block");
     ExpectRanksAgree(*fields_r[b], "a field block");
   }
-  ExpectRanksAgree(SplatValues(r.gaussians), "splats");
+  ExpectRanksAgree(AllGaussianValues(r.gaussians), "splats");
 }
 
 TEST(RanksTest, SplitMakesGroupsThatSumOnlyTheirOwnRanks) {
