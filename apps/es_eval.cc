@@ -35,6 +35,9 @@ DEFINE_int32(timing_frames, 0, "Frames timed for Alg. 1 vs Alg. 2; 0: 2 L.");
 DEFINE_int32(compare_frames, 4, "Frames of the realism video written to "
              "OUT/compare/ (rendered left, input right) to look at; 0: "
              "none.");
+DEFINE_bool(held_out_images, true, "Write OUT/held_out/frame_NNNNNN.png: "
+            "each held-out frame's render (its composition at its time, "
+            "the image the held-out PSNR scores) beside the input.");
 DEFINE_double(input_noise, -1,
               "Std (0..1) of the input frames' per-pixel noise, drawn onto "
               "the renders before realism is measured (the input's detail "
@@ -101,6 +104,7 @@ es::EvalStageOptions OptionsFromFlags() {
   o.anchor_frame = FLAGS_anchor_frame;
   o.timing_frames = FLAGS_timing_frames;
   o.compare_frames = FLAGS_compare_frames;
+  o.held_out_images = FLAGS_held_out_images;
   o.realism_breakdown = FLAGS_realism_breakdown;
   o.reference_motion = FLAGS_reference_motion;
   o.realism = es::RealismOptionsFromFlags();
@@ -122,7 +126,8 @@ int main(int argc, char** argv) {
                     "OUT/motion_gt.csv (V and the truth per water "
                     "Gaussian; with --reference_motion also "
                     "OUT/motion_gt_reference.csv, that V at the same "
-                    "points).",
+                    "points), OUT/held_out/ (each held-out render beside "
+                    "its input) and OUT/compare/.",
                     [] {
                       CheckFlags();
                       es::EvalStageOptions o = OptionsFromFlags();

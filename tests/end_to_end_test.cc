@@ -11,6 +11,7 @@
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+#include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
 #include "tests/pipeline_test_util.h"
@@ -124,6 +125,22 @@ TEST(EndToEndTest, DriverRunsEveryStageAndResumes) {
             self["motion_gt"]["epe"].get<double>());
   EXPECT_EQ(self["motion_gt"]["epe"].get<double>(),
             eval["motion_gt"]["epe"].get<double>());
+  // The held-out images are what the held-out PSNR scores: one per
+  // held-out frame, render left and input right, whose PSNR (8-bit, so
+  // to within a few hundredths of a dB) averages to eval.json's.
+  const fs::path held_out = root / "self_eval" / "held_out";
+  double psnr_sum = 0;
+  int images = 0;
+  for (const auto& entry : fs::directory_iterator(held_out)) {
+    const cv::Mat side = cv::imread(entry.path().string());
+    ASSERT_FALSE(side.empty()) << entry.path();
+    const int w = side.cols / 2;
+    psnr_sum += cv::PSNR(side.colRange(0, w), side.colRange(w, 2 * w));
+    ++images;
+  }
+  EXPECT_EQ(images, self["held_out"]["frames"].get<int>());
+  EXPECT_NEAR(psnr_sum / images, self["held_out"]["psnr"].get<double>(),
+              0.1);
   // Its values per point are the model's own, and the script comparing
   // the two files finds no speed change between them.
   EXPECT_EQ(ReadFile(root / "self_eval" / "motion_gt_reference.csv"),

@@ -30,6 +30,9 @@ struct EvalStageOptions {
   int anchor_frame = -1;  // camera of the fixed view; -1: first held-out
   int timing_frames = 0;  // frames timed for Alg. 1 vs Alg. 2; 0: 2 L
   int compare_frames = 4;  // realism frames written to out_dir/compare/
+  // Every held-out frame's render (Alg. 1 at its time) beside the input,
+  // written to out_dir/held_out/: the images the held-out PSNR scores.
+  bool held_out_images = true;
   // Also the realism of three variants of the model: "training" (Alg. 1
   // at each frame's time and cycle number), "loop_without_residual" and
   // "canonical" (no V, no D).

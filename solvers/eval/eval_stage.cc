@@ -63,8 +63,13 @@ EvalStageResult EvaluateLoopStage(
   const std::unique_ptr<ImageRasterizer> rasterizer =
       make_rasterizer(o.render);
   Step(1, "held-out frames and motion", start);
-  e.held_out =
-      EvaluateLoopModel(model, scene.frames, scene.test, rasterizer.get());
+  const std::vector<cv::Mat> held_out = RenderCompositions(
+      model, scene.frames, scene.test, rasterizer.get());
+  e.held_out = CompareWithFrames(held_out, scene.frames, scene.test);
+  if (o.held_out_images) {
+    WriteSideBySideFrames(held_out, scene.frames, scene.test,
+                          o.out_dir + "/held_out");
+  }
   e.has_motion_gt = HasMotionGt(o.scene_dir) && model.motion;
   if (e.has_motion_gt) {
     std::vector<Eigen::Vector3d> points;

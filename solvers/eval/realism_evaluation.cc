@@ -73,15 +73,29 @@ void WriteComparisonFrames(const std::vector<cv::Mat>& rendered,
                            const std::vector<Frame>& frames, int count,
                            const std::string& dir) {
   CHECK_EQ(rendered.size(), frames.size());
-  std::filesystem::create_directories(dir);
   const int n = static_cast<int>(frames.size());
   count = std::min(count, n);
+  std::vector<int> indices;
+  std::vector<cv::Mat> chosen;
   for (int k = 0; k < count; ++k) {
-    const int i = count > 1 ? k * (n - 1) / (count - 1) : 0;
+    indices.push_back(count > 1 ? k * (n - 1) / (count - 1) : 0);
+    chosen.push_back(rendered[indices.back()]);
+  }
+  WriteSideBySideFrames(chosen, frames, indices, dir);
+}
+
+void WriteSideBySideFrames(const std::vector<cv::Mat>& rendered,
+                           const std::vector<Frame>& frames,
+                           const std::vector<int>& indices,
+                           const std::string& dir) {
+  CHECK_EQ(rendered.size(), indices.size());
+  std::filesystem::create_directories(dir);
+  for (size_t k = 0; k < indices.size(); ++k) {
+    const int i = indices[k];
     cv::Mat side, out;
     cv::Mat input;
     frames[i].image.convertTo(input, CV_64FC3);
-    cv::hconcat(rendered[i], input, side);
+    cv::hconcat(rendered[k], input, side);
     side.convertTo(out, CV_8UC3, 255.0);
     cv::cvtColor(out, out, cv::COLOR_RGB2BGR);
     char name[32];

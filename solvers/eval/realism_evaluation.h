@@ -47,6 +47,13 @@ void WriteComparisonFrames(const std::vector<cv::Mat>& rendered,
                            const std::vector<Frame>& frames, int count,
                            const std::string& dir);
 
+// The same for chosen frames: rendered[k] beside frames[indices[k]] as
+// DIR/frame_NNNNNN.png, NNNNNN = indices[k].
+void WriteSideBySideFrames(const std::vector<cv::Mat>& rendered,
+                           const std::vector<Frame>& frames,
+                           const std::vector<int>& indices,
+                           const std::string& dir);
+
 }  // namespace es
 
 #endif  // EULERSPLAT_SOLVERS_EVAL_REALISM_EVALUATION_H_
