@@ -18,16 +18,18 @@
 #     --points N           seed points of the scene (default 7600)
 #     --sh_degree N        maximum SH degree of both (default 3)
 #     --es_static BIN      default: build/bin/es_static
+#     --busy N             keep N other processes spinning on the CPU during
+#                          every run (a shared machine; default 0)
 #
-# Prints one line per run (wall s, ms/iteration, peak RSS MB, held-out
-# PSNR, load average) and the medians.
+# Prints one line per run (wall s, ms/iteration, user + sys CPU s, peak RSS
+# MB, held-out PSNR, load average) and the medians.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 usage() { sed -n '2,22p' "$0" | sed 's/^# \{0,1\}//'; }
 work=/tmp/es_vs_opensplat
 src="" ; opensplat="" ; iterations=300 ; threads=2 ; runs=3 ; points=7600
-sh_degree=3 ; es_static=build/bin/es_static
+sh_degree=3 ; es_static=build/bin/es_static ; busy=0
 while (($#)); do
   case "$1" in
     --opensplat_src) src="$2"; shift 2 ;;
@@ -39,11 +41,12 @@ while (($#)); do
     --points) points="$2"; shift 2 ;;
     --sh_degree) sh_degree="$2"; shift 2 ;;
     --es_static) es_static="$2"; shift 2 ;;
+    --busy) busy="$2"; shift 2 ;;
     -h|--help) usage; exit 0 ;;
     *) echo "unknown option '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
-for n in "$iterations" "$threads" "$runs" "$points" "$sh_degree"; do
+for n in "$iterations" "$threads" "$runs" "$points" "$sh_degree" "$busy"; do
   [[ "$n" =~ ^[0-9]+$ ]] || { echo "not a number: '$n'" >&2; exit 2; }
 done
 [[ -x "$es_static" && -x build/bin/es_synth ]] || {
@@ -92,10 +95,19 @@ wall_s() {
   awk -F': ' '/Elapsed \(wall clock\)/ {n = split($2, t, ":"); s = 0;
     for (i = 1; i <= n; ++i) s = s * 60 + t[i]; printf "%.1f", s}' "$1"; }
 load() { cut -d' ' -f1 /proc/loadavg; }
+cpu_s() {
+  awk -F': ' '/User time|System time/ {s += $2} END {printf "%.1f", s}' "$1"; }
+
+# The other jobs of a shared machine: busy loops, ended with the script.
+busy_pids=()
+trap 'kill "${busy_pids[@]}" 2> /dev/null || true' EXIT
+for ((b = 0; b < busy; ++b)); do
+  bash -c 'while :; do :; done' & busy_pids+=($!)
+done
 
 export OMP_NUM_THREADS="$threads"
 results="$work/results.tsv"
-printf "tool\trun\twall_s\tms_per_it\tpeak_mb\tpsnr\tload\n" > "$results"
+printf "tool\trun\twall_s\tms_per_it\tcpu_s\tpeak_mb\tpsnr\tload\n" > "$results"
 for ((r = 1; r <= runs; ++r)); do
   out="$work/es_static_$r"; log="$work/es_static_$r.time"; l=$(load)
   /usr/bin/time -v -o "$log" "$es_static" --scene "$scene" --out "$out" \
@@ -106,8 +118,8 @@ for ((r = 1; r <= runs; ++r)); do
   # es_static's own time excludes loading; /usr/bin/time's includes it.
   psnr=$(sed -n 's/.*"psnr_test": *\([-0-9.naif]*\).*/\1/p' "$out/metrics.json" | head -1)
   w=$(wall_s "$log")
-  printf "es_static\t%d\t%s\t%.1f\t%s\t%s\t%s\n" "$r" "$w" \
-      "$(echo "$w * 1000 / $iterations" | bc -l)" "$(peak_mb "$log")" \
+  printf "es_static\t%d\t%s\t%.1f\t%s\t%s\t%s\t%s\n" "$r" "$w" \
+      "$(echo "$w * 1000 / $iterations" | bc -l)" "$(cpu_s "$log")" "$(peak_mb "$log")" \
       "$psnr" "$l" | tee -a "$results"
   [[ -n "$opensplat" ]] || continue
   out="$work/opensplat_$r"; log="$out.time"; l=$(load); mkdir -p "$out"
@@ -118,14 +130,14 @@ for ((r = 1; r <= runs; ++r)); do
       || { tail -5 "$out.log"; exit 1; }
   psnr=$(sed -n 's/.*validation PSNR: *\([-0-9.naif]*\).*/\1/p' "$out.log" | tail -1)
   w=$(wall_s "$log")
-  printf "opensplat\t%d\t%s\t%.1f\t%s\t%s\t%s\n" "$r" "$w" \
-      "$(echo "$w * 1000 / $iterations" | bc -l)" "$(peak_mb "$log")" \
+  printf "opensplat\t%d\t%s\t%.1f\t%s\t%s\t%s\t%s\n" "$r" "$w" \
+      "$(echo "$w * 1000 / $iterations" | bc -l)" "$(cpu_s "$log")" "$(peak_mb "$log")" \
       "$psnr" "$l" | tee -a "$results"
 done
 [[ -n "$opensplat" ]] || echo "[bench] no OpenSplat binary: es_static only (pass --opensplat_src DIR to build one)"
-echo "medians (wall s, ms/iteration, peak MB, PSNR):"
+echo "medians (wall s, ms/iteration, CPU s, peak MB, PSNR):"
 for tool in es_static opensplat; do
   awk -F'\t' -v t="$tool" '$1 == t' "$results" | sort -t$'\t' -k3,3n |
     awk -F'\t' '{a[NR] = $0} END {if (NR) {split(a[int((NR + 1) / 2)], f, "\t");
-      printf "  %-10s %s s  %s ms  %s MB  %s dB (%d runs)\n", f[1], f[3], f[4], f[5], f[6], NR}}'
+      printf "  %-10s %s s  %s ms  %s CPU s  %s MB  %s dB (%d runs)\n", f[1], f[3], f[4], f[5], f[6], f[7], NR}}'
 done
