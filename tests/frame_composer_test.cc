@@ -12,6 +12,7 @@
 #include "core/loop/cycle_time.h"
 #include "core/loop/euler_chain.h"
 #include "core/loop/loop_animator.h"
+#include "tests/small_fields.h"
 
 namespace es {
 namespace {
@@ -20,22 +21,13 @@ constexpr int kCycle = 4;
 
 // Small fields whose outputs are far from zero, so every path matters.
 MotionFieldOptions TinyMotion() {
-  MotionFieldOptions o;
-  o.triplane.resolution = 8;
-  o.triplane.channels = 4;
-  o.mlp_width = 16;
-  o.velocity_scale = 0.05;
-  o.last_layer_init_scale = 1.0;
+  MotionFieldOptions o = SmallMotionFieldOptions(0.05);
   o.seed = 5;
   return o;
 }
 
 ResidualFieldOptions TinyResidual() {
-  ResidualFieldOptions o;
-  o.triplane.resolution = 8;
-  o.triplane.channels = 4;
-  o.cycle_length = kCycle;
-  o.mlp_width = 16;
+  ResidualFieldOptions o = SmallResidualFieldOptions(kCycle);
   o.last_layer_init_scale = 1.0;
   o.seed = 7;
   return o;
