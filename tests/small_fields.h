@@ -21,25 +21,28 @@ inline TriplaneOptions SmallPlanes(PlaneCombination combination,
 }
 
 // Small fields (R = 8, 4 channels, width 16) whose outputs are far from
-// zero, for the tests of a moving, recolored loop.
+// zero, for the tests of a moving, recolored loop. `FieldOptions` is
+// MotionFieldOptions or ResidualFieldOptions.
+template <typename FieldOptions>
+FieldOptions SmallFieldOptions(double last_layer_init_scale) {
+  FieldOptions o;
+  o.triplane.resolution = 8;
+  o.triplane.channels = 4;
+  o.mlp_width = 16;
+  o.last_layer_init_scale = last_layer_init_scale;
+  return o;
+}
+
 inline MotionFieldOptions SmallMotionFieldOptions(double velocity_scale) {
-  MotionFieldOptions mo;
-  mo.triplane.resolution = 8;
-  mo.triplane.channels = 4;
-  mo.mlp_width = 16;
-  mo.velocity_scale = velocity_scale;
-  mo.last_layer_init_scale = 1.0;
-  return mo;
+  auto o = SmallFieldOptions<MotionFieldOptions>(1.0);
+  o.velocity_scale = velocity_scale;
+  return o;
 }
 
 inline ResidualFieldOptions SmallResidualFieldOptions(int cycle_length) {
-  ResidualFieldOptions ro;
-  ro.triplane.resolution = 8;
-  ro.triplane.channels = 4;
-  ro.cycle_length = cycle_length;
-  ro.mlp_width = 16;
-  ro.last_layer_init_scale = 0.3;
-  return ro;
+  auto o = SmallFieldOptions<ResidualFieldOptions>(0.3);
+  o.cycle_length = cycle_length;
+  return o;
 }
 
 }  // namespace es
