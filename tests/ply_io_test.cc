@@ -18,6 +18,7 @@
 #include "core/base/input_error.h"
 #include "tests/expect_same_gaussians.h"
 #include "tests/temp_dir_test.h"
+#include "tests/whole_file.h"
 
 namespace es {
 namespace {
@@ -210,12 +211,6 @@ void WriteText(const std::string& path, const std::string& text) {
   std::ofstream(path, std::ios::binary) << text;
 }
 
-std::string ReadText(const std::string& path) {
-  std::ifstream f(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(f),
-                     std::istreambuf_iterator<char>());
-}
-
 TEST_F(PlyIoTest, MissingFileNamesIt) {
   ExpectInputErrorNaming(Path("nope.ply"), "missing file");
 }
@@ -236,7 +231,7 @@ TEST_F(PlyIoTest, BadRestCountNamesFile) {
 
 TEST_F(PlyIoTest, TruncatedFileNamesIt) {
   WritePly(RandomGaussians(5, 2, 3), Path("full.ply"));
-  const std::string full = ReadText(Path("full.ply"));
+  const std::string full = ReadWholeFile(Path("full.ply"));
   WriteText(Path("cut.ply"), full.substr(0, full.size() - 4));
   ExpectInputErrorNaming(Path("cut.ply"), "truncated body");
   WriteText(Path("cut_header.ply"), full.substr(0, full.find("end_header")));
@@ -308,7 +303,7 @@ TEST_F(PlyIoTest, HugeElementWithoutPropertiesIsSkipped) {
   StandardPly ply;
   ply.num_vertices = 1;
   ply.WriteAscii(Path("base.ply"));
-  std::string text = ReadText(Path("base.ply"));
+  std::string text = ReadWholeFile(Path("base.ply"));
   text.insert(text.find("element vertex"),
               "element junk 9000000000000000000\n");
   WriteText(Path("junk.ply"), text);
@@ -335,7 +330,7 @@ TEST_F(PlyIoTest, BadFloatListLengthIsAnInputError) {
   ply.num_vertices = 1;
   for (const char* length : {"nan", "inf", "-inf", "-1", "1.5", "1e300"}) {
     ply.WriteAscii(Path("base.ply"));
-    std::string text = ReadText(Path("base.ply"));
+    std::string text = ReadWholeFile(Path("base.ply"));
     text.insert(text.find("element vertex"),
                 "element f 1\nproperty list float int i\n");
     text.insert(text.find("end_header\n") + 11, std::string(length) + " 7\n");
@@ -357,7 +352,7 @@ TEST_F(PlyIoTest, FloatListLengthThatIsWholeIsRead) {
   StandardPly ply;
   ply.num_vertices = 2;
   ply.WriteAscii(Path("base.ply"));
-  std::string text = ReadText(Path("base.ply"));
+  std::string text = ReadWholeFile(Path("base.ply"));
   text.insert(text.find("element vertex"),
               "element f 2\nproperty list float int i\n");
   text.insert(text.find("end_header\n") + 11, "2 7 8\n0\n");
