@@ -14,6 +14,7 @@
 
 #include "core/render/raster_project.h"
 #include "core/render/rasterizer.h"
+#include "tests/per_simd_level_test.h"
 #include "tests/reference_rasterizer.h"
 
 namespace es {
@@ -61,13 +62,7 @@ TestScene HardScene(unsigned seed) {
   return s;
 }
 
-class ProjectKernelsTest : public ::testing::TestWithParam<SimdLevel> {
- protected:
-  void SetUp() override {
-    if (!SimdLevelSupported(GetParam()))
-      GTEST_SKIP() << "CPU lacks " << SimdLevelName(GetParam());
-  }
-};
+class ProjectKernelsTest : public PerSimdLevelTest {};
 
 TEST_P(ProjectKernelsTest, ForwardMatchesDoubleReference) {
   const ProjectKernelSet& kernels = ProjectKernels(GetParam());
@@ -254,12 +249,8 @@ TEST_P(ProjectKernelsTest, FloatRenderMatchesDoubleRender) {
   EXPECT_LT(rel(f.grads.sh, d.grads.sh), 1e-3);
 }
 
-INSTANTIATE_TEST_SUITE_P(Levels, ProjectKernelsTest,
-                         ::testing::Values(SimdLevel::kSse2, SimdLevel::kAvx2,
-                                           SimdLevel::kAvx512),
-                         [](const auto& info) {
-                           return std::string(SimdLevelName(info.param));
-                         });
+INSTANTIATE_TEST_SUITE_P(Levels, ProjectKernelsTest, AllSimdLevels(),
+                         SimdLevelTestName);
 
 }  // namespace
 }  // namespace es

@@ -17,6 +17,7 @@
 #include "costs/photometric_loss.h"
 #include "costs/ssim_target_cache.h"
 #include "tests/central_differences.h"
+#include "tests/per_simd_level_test.h"
 
 namespace es {
 namespace {
@@ -84,13 +85,7 @@ double FastSsim(const cv::Mat& x, const cv::Mat& y, SimdLevel level,
                            grad->ptr<double>(), map->ptr<double>());
 }
 
-class SsimLevelTest : public ::testing::TestWithParam<SimdLevel> {
- protected:
-  void SetUp() override {
-    if (!SimdLevelSupported(GetParam()))
-      GTEST_SKIP() << "CPU lacks " << SimdLevelName(GetParam());
-  }
-};
+class SsimLevelTest : public PerSimdLevelTest {};
 
 // Odd sizes (rows shorter than a vector, a remainder after every vector)
 // and one large enough for the threaded path.
@@ -151,12 +146,8 @@ TEST_P(SsimLevelTest, FloatGradientMatchesDouble) {
   EXPECT_LT(MaxAbsDifference(grad_float, grad_double), 1e-3 * scale);
 }
 
-INSTANTIATE_TEST_SUITE_P(Levels, SsimLevelTest,
-                         ::testing::Values(SimdLevel::kSse2, SimdLevel::kAvx2,
-                                           SimdLevel::kAvx512),
-                         [](const auto& info) {
-                           return std::string(SimdLevelName(info.param));
-                         });
+INSTANTIATE_TEST_SUITE_P(Levels, SsimLevelTest, AllSimdLevels(),
+                         SimdLevelTestName);
 
 // The photometric loss (SSIM and L1 fused into one sweep) equals its terms
 // computed apart: 0.8 L1 + 0.2 (1 - SSIM), and its gradient likewise, in
