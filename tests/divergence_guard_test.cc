@@ -6,7 +6,7 @@
 
 #include <gtest/gtest.h>
 
-#include "tests/expect_diverged.h"
+#include "tests/expect_error.h"
 
 namespace es {
 namespace {
@@ -41,8 +41,9 @@ TEST(DivergenceGuardTest, SkipsAndCountsAndStopsAfterTooManyInARow) {
   EXPECT_EQ(guard.in_a_row(), 0);
   EXPECT_FALSE(guard.Accept(5, false));
   EXPECT_FALSE(guard.Accept(6, false));
-  ExpectDivergedNaming([&] { guard.Accept(7, false); },
-                       {"3 non-finite steps in a row", "iteration 7"});
+  ExpectErrorNaming<TrainingDiverged>(
+      [&] { guard.Accept(7, false); },
+      {"3 non-finite steps in a row", "iteration 7"});
   EXPECT_EQ(guard.skipped(), 5);
 }
 
@@ -81,7 +82,7 @@ TEST(DivergenceGuardTest, RunawayBlockStopsNamingItsLearningRate) {
   const GuardedBlock means{"the Gaussians' means", "the position learning rate",
                            "--lr_position", 1e30, 2e6};
   guard.CheckRunaway(3, means, 2e6);  // at the bound: fine
-  ExpectDivergedNaming(
+  ExpectErrorNaming<TrainingDiverged>(
       [&] { guard.CheckRunaway(4, means, 3e30); },
       {"Stage 1 training diverged at iteration 4", "the Gaussians' means",
        "3e+30", "the position learning rate", "--lr_position 1e+30",
@@ -89,8 +90,8 @@ TEST(DivergenceGuardTest, RunawayBlockStopsNamingItsLearningRate) {
   // CheckBlocks: a non-finite block is CheckParameters' error first.
   const GuardedBlock sh{"the SH", "an SH learning rate", "--lr_sh_dc", 1, 1e6};
   guard.CheckBlocks(5, {means, sh}, {1.0, 1.0});
-  ExpectDivergedNaming([&] { guard.CheckBlocks(6, {means, sh}, {1.0, kInf}); },
-                       {"non-finite"});
+  ExpectErrorNaming<TrainingDiverged>(
+      [&] { guard.CheckBlocks(6, {means, sh}, {1.0, kInf}); }, {"non-finite"});
   EXPECT_THROW(guard.CheckBlocks(7, {means, sh}, {1.0, 2e6}),
                TrainingDiverged);
 }
@@ -102,9 +103,9 @@ TEST(DivergenceGuardTest, LossGrowingOrdersOfMagnitudeStops) {
       {"V's MLP", "the MLP learning rate", "--lr_mlp", 1e30, 1}};
   guard.CheckLoss(1, 0.5, 0.5, blocks);
   guard.CheckLoss(2, 0.5 * kLossGrowth, 0.5, blocks);  // at the limit
-  ExpectDivergedNaming([&] { guard.CheckLoss(3, 1e60, 0.5, blocks); },
-                       {"iteration 3", "1e+60", "--lr_triplane 0.01",
-                        "--lr_mlp 1e+30"});
+  ExpectErrorNaming<TrainingDiverged>(
+      [&] { guard.CheckLoss(3, 1e60, 0.5, blocks); },
+      {"iteration 3", "1e+60", "--lr_triplane 0.01", "--lr_mlp 1e+30"});
 }
 
 }  // namespace

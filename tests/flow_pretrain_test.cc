@@ -11,7 +11,7 @@
 #include "solvers/eval/motion_gt.h"
 #include "solvers/train/divergence_guard.h"
 #include "solvers/train/flow_pretrain_steps.h"
-#include "tests/expect_diverged.h"
+#include "tests/expect_error.h"
 
 namespace es {
 namespace {
@@ -84,8 +84,9 @@ TEST(FlowPretrainTest, RunawayFitStopsNamingTheLearningRate) {
   options.iterations = 20;
   options.batch_size = 64;
   options.lr_mlp = 1e30;
-  ExpectDivergedNaming([&] { PretrainMotionField(samples, options, &field); },
-                       {"--lr_mlp 1e+30"});
+  ExpectErrorNaming<TrainingDiverged>(
+      [&] { PretrainMotionField(samples, options, &field); },
+      {"--lr_mlp 1e+30"});
 
   FlowPretrainReport report;
   report.initial_rmse = 0.02;
@@ -95,7 +96,7 @@ TEST(FlowPretrainTest, RunawayFitStopsNamingTheLearningRate) {
   report.fit_rmse = 29.9;  // under 1000 x 0.03
   CheckPretrainedField(true, report, FlowPretrainOptions());
   report.fit_rmse = 5.7e60;
-  ExpectDivergedNaming(
+  ExpectErrorNaming<TrainingDiverged>(
       [&] { CheckPretrainedField(true, report, FlowPretrainOptions()); },
       {"5.7e+60", "--lr_triplane 0.01", "--lr_mlp 0.001"});
   FlowPretrainOptions lbfgs;

@@ -23,7 +23,7 @@
 #include "solvers/eval/loop_evaluation.h"
 #include "solvers/train/joint_training_steps.h"
 #include "tests/tiny_loop_scene.h"
-#include "tests/expect_diverged.h"
+#include "tests/expect_error.h"
 
 namespace es {
 namespace {
@@ -503,8 +503,8 @@ TEST(JointTrainerTest, RunawayLearningRateStopsTheRunNamingIt) {
       options.lr_motion_mlp = 1e30;
     JointTrainer trainer(&frames, kTrain, options, TrueCanonical(),
                          std::nullopt);
-    ExpectDivergedNaming([&] { trainer.Step(); },
-                         {std::string(flag) + " 1e+30"});
+    ExpectErrorNaming<TrainingDiverged>([&] { trainer.Step(); },
+                                        {std::string(flag) + " 1e+30"});
   }
 }
 

@@ -16,6 +16,7 @@
 #include <gtest/gtest.h>
 
 #include "core/base/input_error.h"
+#include "tests/expect_error.h"
 #include "tests/expect_same_gaussians.h"
 #include "tests/temp_dir_test.h"
 #include "tests/whole_file.h"
@@ -198,13 +199,8 @@ TEST_F(PlyIoTest, WrittenFileHasStandardHeader) {
 // Every bad input throws InputError naming the file.
 void ExpectInputErrorNaming(const std::string& path,
                             const std::string& detail) {
-  try {
-    ReadPly(path);
-    ADD_FAILURE() << "no error for " << detail;
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find(path), std::string::npos)
-        << detail << ": " << e.what();
-  }
+  SCOPED_TRACE(detail);
+  ExpectErrorNaming<InputError>([&] { ReadPly(path); }, {path});
 }
 
 void WriteText(const std::string& path, const std::string& text) {

@@ -21,7 +21,7 @@
 #include "tests/expect_same_gaussians.h"
 #include "tests/memory_limit.h"
 #include "tests/slab_scene.h"
-#include "tests/expect_diverged.h"
+#include "tests/expect_error.h"
 
 namespace es {
 namespace {
@@ -237,8 +237,8 @@ TEST(StaticTrainerTest, RunawayLearningRateStopsTheRunNamingIt) {
       options.splat_lr.log_scales = 1e30;
     StaticTrainer trainer(&scene.frames, scene.train, options,
                           InitGaussiansFromPoints(scene.points, scene.colors, 0));
-    ExpectDivergedNaming([&] { trainer.Step(); },
-                         {std::string(flag) + " 1e+30"});
+    ExpectErrorNaming<TrainingDiverged>([&] { trainer.Step(); },
+                                        {std::string(flag) + " 1e+30"});
   }
 }
 

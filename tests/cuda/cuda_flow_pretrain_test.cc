@@ -26,7 +26,7 @@
 #include "tests/cuda/require_gpu.h"
 #include "tests/random_scene_flow_samples.h"
 #include "tests/small_motion_field.h"
-#include "tests/expect_diverged.h"
+#include "tests/expect_error.h"
 
 namespace es {
 namespace cuda {
@@ -156,9 +156,9 @@ TEST(CudaFlowPretrainTest, RunawayLearningRateStopsBothFits) {
   o.lr_mlp = 1e30;
   MotionField cpu_field = SmallMotionField(3);
   MotionField device_field = SmallMotionField(3);
-  ExpectDivergedNaming([&] { PretrainMotionField(samples, o, &cpu_field); },
-                       {"--lr_mlp 1e+30"});
-  ExpectDivergedNaming(
+  ExpectErrorNaming<TrainingDiverged>(
+      [&] { PretrainMotionField(samples, o, &cpu_field); }, {"--lr_mlp 1e+30"});
+  ExpectErrorNaming<TrainingDiverged>(
       [&] { PretrainMotionFieldOnDevice(samples, o, &device_field); },
       {"--lr_mlp 1e+30"});
   EXPECT_TRUE(rmse.empty()) << "a stopped step reported progress";

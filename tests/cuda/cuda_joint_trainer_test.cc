@@ -24,7 +24,7 @@
 #include "tests/cuda/expect_twins_near.h"
 #include "tests/cuda/require_gpu.h"
 #include "tests/tiny_loop_scene.h"
-#include "tests/expect_diverged.h"
+#include "tests/expect_error.h"
 
 namespace es {
 namespace cuda {
@@ -259,8 +259,8 @@ TEST(CudaJointTrainerTest, RunawayLearningRateStopsAsOnTheCpu) {
                             std::nullopt);
   for (JointStageTrainer* trainer :
        std::vector<JointStageTrainer*>{&cpu, &device}) {
-    ExpectDivergedNaming([trainer] { trainer->Step(); },
-                         {"--lr_motion_mlp 1e+30"});
+    ExpectErrorNaming<TrainingDiverged>([trainer] { trainer->Step(); },
+                                        {"--lr_motion_mlp 1e+30"});
   }
 }
 

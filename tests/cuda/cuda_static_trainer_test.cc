@@ -30,7 +30,7 @@
 #include "tests/cuda/expect_twins_near.h"
 #include "tests/cuda/require_gpu.h"
 #include "tests/slab_scene.h"
-#include "tests/expect_diverged.h"
+#include "tests/expect_error.h"
 
 namespace es {
 namespace cuda {
@@ -338,8 +338,8 @@ TEST(CudaStaticTrainerTest, RunawayLearningRateStopsAsOnTheCpu) {
   DeviceStaticTrainer device(&scene.frames, scene.train, o, scene.Initial());
   for (StaticStageTrainer* trainer :
        std::vector<StaticStageTrainer*>{&cpu, &device}) {
-    ExpectDivergedNaming([trainer] { trainer->Step(); },
-                         {"--lr_position 1e+30"});
+    ExpectErrorNaming<TrainingDiverged>([trainer] { trainer->Step(); },
+                                        {"--lr_position 1e+30"});
   }
 }
 
