@@ -62,15 +62,29 @@ TestScene HardScene(unsigned seed) {
   return s;
 }
 
+// HardScene(seed) and the views of it the projection kernels take (they
+// point into one another: not to be copied).
+struct ProjectionCase {
+  explicit ProjectionCase(unsigned seed)
+      : scene(HardScene(seed)),
+        view(scene.View()),
+        cam(scene.camera),
+        in(MakeProjectionInput(cam, view)) {}
+  ProjectionCase(const ProjectionCase&) = delete;
+
+  const TestScene scene;
+  const SplatView view;
+  const ProjectionCamera cam;
+  const ProjectionInput in;
+};
+
 class ProjectKernelsTest : public PerSimdLevelTest {};
 
 TEST_P(ProjectKernelsTest, ForwardMatchesDoubleReference) {
   const ProjectKernelSet& kernels = ProjectKernels(GetParam());
   for (unsigned seed = 0; seed < 3; ++seed) {
-    const TestScene scene = HardScene(seed);
-    const SplatView view = scene.View();
-    const ProjectionCamera cam(scene.camera);
-    const ProjectionInput in = MakeProjectionInput(cam, view);
+    const ProjectionCase c(seed);
+    const auto& [scene, view, cam, in] = c;
     const int n = view.count;
     std::vector<ProjectedSplat> mine(n);
     std::vector<char> keep(n);
@@ -138,10 +152,8 @@ double GroupError(const std::vector<double>& a, const std::vector<double>& b,
 TEST_P(ProjectKernelsTest, BackwardMatchesDoubleReference) {
   const ProjectKernelSet& kernels = ProjectKernels(GetParam());
   for (unsigned seed = 0; seed < 3; ++seed) {
-    const TestScene scene = HardScene(seed);
-    const SplatView view = scene.View();
-    const ProjectionCamera cam(scene.camera);
-    const ProjectionInput in = MakeProjectionInput(cam, view);
+    const ProjectionCase c(seed);
+    const auto& [scene, view, cam, in] = c;
     const int n = view.count, k_count = NumShCoeffs(view.sh_degree);
     constexpr int kStride = kTileGradHead + 4;
     std::vector<double> grad2d(static_cast<size_t>(kStride) * n);
