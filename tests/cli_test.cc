@@ -5,10 +5,8 @@
 // on a tiny synthetic scene; a few seconds in all.
 
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <regex>
@@ -16,6 +14,8 @@
 #include <string>
 #include <utility>
 #include <vector>
+
+#include "tests/pipeline_test_util.h"
 
 #ifdef ES_HAVE_CUDA
 #include "core/base/cuda/cuda_error.h"
@@ -25,27 +25,11 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const fs::path kBin = fs::path(ES_BINARY_DIR) / "bin";
 const fs::path kScripts = fs::path(ES_SOURCE_DIR) / "scripts";
 
-struct Result {
-  int status = -1;
-  std::string output;  // stdout and stderr
-};
-
-Result RunCommand(const std::string& command) {
-  Result r;
-  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
-  if (pipe == nullptr) return r;
-  char buffer[4096];
-  size_t n;
-  while ((n = fread(buffer, 1, sizeof(buffer), pipe)) > 0) {
-    r.output.append(buffer, n);
-  }
-  const int status = pclose(pipe);
-  r.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
+using es::CommandResult;
+using es::kBin;
+using es::RunCommand;
 
 const std::vector<std::string> kApps = {
     "es_static", "es_flowinit", "es_train",     "es_animate",
@@ -63,7 +47,7 @@ class CliTest : public ::testing::Test {
             ("cli_test_" + std::to_string(::getpid()));
     fs::remove_all(root_);
     scene_ = root_ / "scene";
-    const Result r =
+    const CommandResult r =
         RunCommand((kBin / "es_synth").string() + " --out " + scene_.string() +
                    " --frames 8 --width 32 --height 24 --detail 0.02"
                    " --num_points 50");
@@ -75,7 +59,7 @@ class CliTest : public ::testing::Test {
   // `expected`, and no CHECK failure or stack trace.
   static void ExpectRefused(const std::string& binary, const std::string& args,
                             const std::string& expected) {
-    const Result r = RunCommand((kBin / binary).string() + " " + args);
+    const CommandResult r = RunCommand((kBin / binary).string() + " " + args);
     EXPECT_EQ(r.status, 1) << binary << " " << args << "\n" << r.output;
     EXPECT_NE(r.output.find(expected), std::string::npos)
         << binary << " " << args << "\nwanted: " << expected << "\ngot:\n"
@@ -91,7 +75,7 @@ fs::path CliTest::root_, CliTest::scene_;
 
 TEST_F(CliTest, HelpListsTheToolsOwnFlagsFirstAndExitsZero) {
   for (const std::string& app : kApps) {
-    const Result r = RunCommand((kBin / app).string() + " --help");
+    const CommandResult r = RunCommand((kBin / app).string() + " --help");
     EXPECT_EQ(r.status, 0) << app << "\n" << r.output;
     const size_t flags = r.output.find("\nFlags:\n  --");
     ASSERT_NE(flags, std::string::npos) << app << "\n" << r.output;
@@ -101,7 +85,8 @@ TEST_F(CliTest, HelpListsTheToolsOwnFlagsFirstAndExitsZero) {
     EXPECT_EQ(r.output.find("logtostderr"), std::string::npos) << app;
     EXPECT_EQ(r.output.find("flagfile"), std::string::npos) << app;
   }
-  const Result full = RunCommand((kBin / "es_train").string() + " --helpfull");
+  const CommandResult full =
+      RunCommand((kBin / "es_train").string() + " --helpfull");
   EXPECT_EQ(full.status, 0);
   EXPECT_NE(full.output.find("logtostderr"), std::string::npos);
   EXPECT_LT(full.output.find("--cycle_length"),
@@ -110,7 +95,7 @@ TEST_F(CliTest, HelpListsTheToolsOwnFlagsFirstAndExitsZero) {
 }
 
 TEST_F(CliTest, HelpShowsReadableDefaults) {
-  const Result r = RunCommand((kBin / "es_static").string() + " --help");
+  const CommandResult r = RunCommand((kBin / "es_static").string() + " --help");
   // 2.5e-3 / 20, which gflags itself prints as 0.00012500000000000001.
   EXPECT_NE(r.output.find("--lr_sh_rest (double, default 0.000125)"),
             std::string::npos)
@@ -132,7 +117,7 @@ TEST_F(CliTest, VersionNamesTheCommit) {
       R"(eulersplat [0-9]+\.[0-9]+\.[0-9]+ \(commit ([0-9a-f]{12}|unknown)\)\n)");
   for (const std::string app :
        {"es_train", "eulersplat", "es_plot", "bench_looping"}) {
-    const Result r = RunCommand((kBin / app).string() + " --version");
+    const CommandResult r = RunCommand((kBin / app).string() + " --version");
     EXPECT_EQ(r.status, 0) << app;
     EXPECT_TRUE(std::regex_match(r.output, version)) << app << ": " << r.output;
   }
@@ -316,7 +301,7 @@ TEST_F(CliTest, CycleLengthLongerThanTheVideoIsRefused) {
 
 TEST_F(CliTest, CompareRefusesAnotherVideoThatDoesNotMatch) {
   const fs::path shorter = root_ / "shorter";
-  const Result r =
+  const CommandResult r =
       RunCommand((kBin / "es_synth").string() + " --out " + shorter.string() +
                  " --frames 6 --width 32 --height 24 --detail 0.02"
                  " --num_points 50");
@@ -339,13 +324,13 @@ TEST_F(CliTest, CompareRefusesAnotherVideoThatDoesNotMatch) {
                 "camera differs");
   // Another draw of the same water matches and is measured.
   const fs::path draw = root_ / "draw";
-  ASSERT_EQ(RunCommand((kBin / "es_synth").string() + " --out " +
-                       draw.string() +
-                       " --frames 8 --width 32 --height 24 --detail 0.02"
-                       " --num_points 50 --water_seed 5")
-                .status,
-            0);
-  const Result ok = RunCommand(
+  ASSERT_EQ(
+      RunCommand((kBin / "es_synth").string() + " --out " + draw.string() +
+                 " --frames 8 --width 32 --height 24 --detail 0.02"
+                 " --num_points 50 --water_seed 5")
+          .status,
+      0);
+  const CommandResult ok = RunCommand(
       (kBin / "es_compare").string() + " --scene " + scene_.string() +
       " --other " + draw.string() + " --out " + (root_ / "cmp").string());
   EXPECT_EQ(ok.status, 0) << ok.output;
@@ -408,8 +393,9 @@ TEST_F(CliTest, ScriptsAnswerHelpWithoutSideEffects) {
     const bool python = entry.path().extension() == ".py";
     if (entry.path().extension() != ".sh" && !python) continue;
     ++scripts;
-    const Result r = RunCommand(std::string(python ? "python3 " : "bash ") +
-                                entry.path().string() + " --help");
+    const CommandResult r =
+        RunCommand(std::string(python ? "python3 " : "bash ") +
+                   entry.path().string() + " --help");
     EXPECT_EQ(r.status, 0) << name << "\n" << r.output;
     EXPECT_GT(r.output.size(), 30u) << name;
     EXPECT_NE(r.output.find("scripts/" + name), std::string::npos)
