@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <array>
 #include <filesystem>
 #include <fstream>
 #include <regex>
@@ -142,56 +143,43 @@ TEST_F(CliTest, NonFiniteOrNegativeLearningRatesAreRefused) {
 TEST_F(CliTest, OutOfRangeValuesAreRefusedBeforeAnyWork) {
   const std::string scene = " --scene " + scene_.string();
   const std::string out = (root_ / "o").string();
-  ExpectRefused("eulersplat",
-                scene + " --out " + out + " --static_iterations -5",
-                "--static_iterations=-5: must be >= 1");
-  ExpectRefused("eulersplat",
-                scene + " --out " + out + " --joint_iterations -2",
-                "--joint_iterations=-2: must be >= 0");
-  ExpectRefused("es_train",
-                scene + " --init x --out " + out + " --dynamic_threshold 1.5",
-                "--dynamic_threshold=1.5: must be in (0, 1)");
-  ExpectRefused("es_train",
-                scene + " --init x --out " + out + " --flow_prior_weight -1",
-                "--flow_prior_weight=-1: must be >= 0");
-  ExpectRefused("es_train",
-                scene + " --init x --out " + out +
-                    " --densify_water_growth 0.5",
-                "--densify_water_growth=0.5: must be in [1, 1000]");
-  ExpectRefused("es_static", scene + " --out " + out + " --iterations 0",
-                "--iterations must be positive");
-  ExpectRefused("es_static",
-                scene + " --out " + out + " --max_world_scale -0.1",
-                "--max_world_scale must be >= 0 and finite (0: off)");
-  ExpectRefused("es_animate",
-                scene + " --model m --out " + out + " --track_count -3",
-                "--track_count=-3: must be >= 1");
-  ExpectRefused("es_animate",
-                scene + " --model m --out " + out +
-                    " --xt_slice middle "
-                    "--camera fixed",
-                "");
-  ExpectRefused("es_flowinit", scene + " --stride 0",
-                "--stride=0: must be >= 1");
-  ExpectRefused("es_flowinit", scene + " --frame_gap 0",
-                "--frame_gap=0: must be >= 1");
-  ExpectRefused("es_eval",
-                scene + " --model m --out " + out + " --seam_cycles 1",
-                "--seam_cycles must be >= 2");
-  ExpectRefused("es_eval",
-                scene + " --model m --out " + out + " --realism_patches 8",
-                "--realism_patches=8: must be >= 16");
-  ExpectRefused("es_compare",
-                "--scene s --other o --out " + out +
-                    " --realism_water_margin 0.9",
-                "--realism_water_margin=0.9");
-  ExpectRefused("es_render", "--ply p --sparse s --out_dir o --depth_scale 0",
-                "--depth_scale must be positive");
-  ExpectRefused("es_plot", "--history h.csv --out o --width 10",
-                "--width=10: must be >= 200");
-  ExpectRefused("es_synth", "--out " + out + " stray",
-                "unexpected argument 'stray'");
-  ExpectRefused("es_train", "--scene", "");  // gflags: missing value
+  const std::string io = scene + " --out " + out;  // eulersplat, es_static
+  const std::string train = scene + " --init x --out " + out;
+  const std::string model = scene + " --model m --out " + out;
+  // Binary, arguments, what the refusal must say.
+  const std::vector<std::array<std::string, 3>> refusals = {
+      {"eulersplat", io + " --static_iterations -5",
+       "--static_iterations=-5: must be >= 1"},
+      {"eulersplat", io + " --joint_iterations -2",
+       "--joint_iterations=-2: must be >= 0"},
+      {"es_train", train + " --dynamic_threshold 1.5",
+       "--dynamic_threshold=1.5: must be in (0, 1)"},
+      {"es_train", train + " --flow_prior_weight -1",
+       "--flow_prior_weight=-1: must be >= 0"},
+      {"es_train", train + " --densify_water_growth 0.5",
+       "--densify_water_growth=0.5: must be in [1, 1000]"},
+      {"es_static", io + " --iterations 0", "--iterations must be positive"},
+      {"es_static", io + " --max_world_scale -0.1",
+       "--max_world_scale must be >= 0 and finite (0: off)"},
+      {"es_animate", model + " --track_count -3",
+       "--track_count=-3: must be >= 1"},
+      {"es_animate", model + " --xt_slice middle --camera fixed", ""},
+      {"es_flowinit", scene + " --stride 0", "--stride=0: must be >= 1"},
+      {"es_flowinit", scene + " --frame_gap 0", "--frame_gap=0: must be >= 1"},
+      {"es_eval", model + " --seam_cycles 1", "--seam_cycles must be >= 2"},
+      {"es_eval", model + " --realism_patches 8",
+       "--realism_patches=8: must be >= 16"},
+      {"es_compare",
+       "--scene s --other o --out " + out + " --realism_water_margin 0.9",
+       "--realism_water_margin=0.9"},
+      {"es_render", "--ply p --sparse s --out_dir o --depth_scale 0",
+       "--depth_scale must be positive"},
+      {"es_plot", "--history h.csv --out o --width 10",
+       "--width=10: must be >= 200"},
+      {"es_synth", "--out " + out + " stray", "unexpected argument 'stray'"},
+      {"es_train", "--scene", ""}};  // gflags: missing value
+  for (const auto& [binary, args, message] : refusals)
+    ExpectRefused(binary, args, message);
   EXPECT_FALSE(fs::exists(root_ / "o")) << "work started anyway";
 }
 
