@@ -25,6 +25,12 @@
 #include "core/base/input_error.h"
 #include "solvers/train/static_stage.h"
 
+constexpr char kUsage[] =
+    "Stage-1 benchmark: held-out PSNR / SSIM (full, water, static region) "
+    "against training wall time.\n"
+    "  bench_static --scene out/default_scene --iterations 3000 "
+    "--eval_every 250 [--csv FILE]";
+
 DEFINE_string(scene, "out/default_scene",
               "Scene directory (images/, masks/, sparse/0/); "
               "scripts/run_default.sh generates the default one.");
@@ -136,11 +142,5 @@ int Run() {
 }  // namespace es
 
 int main(int argc, char** argv) {
-  return es::RunApp(
-      argc, argv,
-      "Stage-1 benchmark: held-out PSNR / SSIM (full, water, static region) "
-      "against training wall time.\n"
-      "  bench_static --scene out/default_scene --iterations 3000 "
-      "--eval_every 250 [--csv FILE]",
-      es::Run);
+  return es::RunApp(argc, argv, kUsage, es::Run);
 }

@@ -18,6 +18,12 @@
 #include "core/viz/animation.h"
 #include "core/viz/camera_path.h"
 
+constexpr char kUsage[] =
+    "Renders a looping animation of a trained model.\n"
+    "  es_animate --model DIR --scene DIR --out DIR [--frames 60]\n"
+    "             [--camera input|fixed|fixed_time|orbit] [--tracks]\n"
+    "             [--xt_slice ROW|auto] [--device cpu|cuda]";
+
 DEFINE_string(model, "", "Trained looping model directory (es_train --out).");
 DEFINE_string(scene, "", "Scene directory the model was trained on "
               "(its cameras and held-out split).");
@@ -115,18 +121,12 @@ es::AnimationOptions OptionsFromFlags() {
 }  // namespace
 
 int main(int argc, char** argv) {
-  return es::RunApp(
-      argc, argv,
-      "Renders a looping animation of a trained model.\n"
-      "  es_animate --model DIR --scene DIR --out DIR [--frames 60]\n"
-      "             [--camera input|fixed|fixed_time|orbit] [--tracks]\n"
-      "             [--xt_slice ROW|auto] [--device cpu|cuda]",
-      [] {
-        es::AnimationOptions o = OptionsFromFlags();
-        const es::ComputeDevice device =
-            es::ParseDeviceFlag(FLAGS_device, &o.device_description);
-        CheckFlags(o.camera, device);
-        es::WriteAnimation(o, es::LoopFramesOn(device));
-        return 0;
-      });
+  return es::RunApp(argc, argv, kUsage, [] {
+    es::AnimationOptions o = OptionsFromFlags();
+    const es::ComputeDevice device =
+        es::ParseDeviceFlag(FLAGS_device, &o.device_description);
+    CheckFlags(o.camera, device);
+    es::WriteAnimation(o, es::LoopFramesOn(device));
+    return 0;
+  });
 }

@@ -27,6 +27,14 @@
 #include "solvers/eval/loop_evaluation.h"
 #include "solvers/eval/realism_evaluation.h"
 
+constexpr char kUsage[] =
+    "Measures another video of a scene (same cameras) "
+    "against the scene's frames, as es_eval measures a "
+    "model.\n"
+    "  es_compare --scene DIR --other DIR --out DIR\n"
+    "Writes OUT/compare.json (held-out PSNR / SSIM, "
+    "realism).";
+
 DEFINE_string(scene, "", "Scene directory whose frames, masks and split are "
               "the reference.");
 DEFINE_string(other, "", "Scene directory with the video to measure: the "
@@ -135,12 +143,5 @@ int Run() {
 }  // namespace
 
 int main(int argc, char** argv) {
-  return es::RunApp(argc, argv,
-                    "Measures another video of a scene (same cameras) "
-                    "against the scene's frames, as es_eval measures a "
-                    "model.\n"
-                    "  es_compare --scene DIR --other DIR --out DIR\n"
-                    "Writes OUT/compare.json (held-out PSNR / SSIM, "
-                    "realism).",
-                    Run);
+  return es::RunApp(argc, argv, kUsage, Run);
 }

@@ -20,6 +20,19 @@
 #include "core/base/input_error.h"
 #include "solvers/eval/eval_stage.h"
 
+constexpr char kUsage[] =
+    "Evaluates a trained looping model.\n"
+    "  es_eval --model DIR --scene DIR --out DIR "
+    "[--device cpu|cuda]\n"
+    "Writes OUT/eval.json (held-out PSNR / SSIM, motion "
+    "error vs ground truth, realism, loop seam, render "
+    "times) and, for a scene with ground-truth motion, "
+    "OUT/motion_gt.csv (V and the truth per water "
+    "Gaussian; with --reference_motion also "
+    "OUT/motion_gt_reference.csv, that V at the same "
+    "points), OUT/held_out/ (each held-out render beside "
+    "its input) and OUT/compare/.";
+
 DEFINE_string(model, "", "Trained looping model directory (es_train --out).");
 DEFINE_string(scene, "", "Scene directory the model was trained on.");
 DEFINE_string(out, "", "Output directory for eval.json (created).");
@@ -116,25 +129,13 @@ es::EvalStageOptions OptionsFromFlags() {
 }  // namespace
 
 int main(int argc, char** argv) {
-  return es::RunApp(argc, argv,
-                    "Evaluates a trained looping model.\n"
-                    "  es_eval --model DIR --scene DIR --out DIR "
-                    "[--device cpu|cuda]\n"
-                    "Writes OUT/eval.json (held-out PSNR / SSIM, motion "
-                    "error vs ground truth, realism, loop seam, render "
-                    "times) and, for a scene with ground-truth motion, "
-                    "OUT/motion_gt.csv (V and the truth per water "
-                    "Gaussian; with --reference_motion also "
-                    "OUT/motion_gt_reference.csv, that V at the same "
-                    "points), OUT/held_out/ (each held-out render beside "
-                    "its input) and OUT/compare/.",
-                    [] {
-                      CheckFlags();
-                      es::EvalStageOptions o = OptionsFromFlags();
-                      const es::ComputeDevice device = es::ParseDeviceFlag(
-                          FLAGS_device, &o.device_description);
-                      es::RunEvalStage(o, es::LoopFramesOn(device),
-                                       es::ImageRasterizerOn(device));
-                      return 0;
-                    });
+  return es::RunApp(argc, argv, kUsage, [] {
+    CheckFlags();
+    es::EvalStageOptions o = OptionsFromFlags();
+    const es::ComputeDevice device = es::ParseDeviceFlag(
+        FLAGS_device, &o.device_description);
+    es::RunEvalStage(o, es::LoopFramesOn(device),
+                     es::ImageRasterizerOn(device));
+    return 0;
+  });
 }

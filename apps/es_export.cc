@@ -26,6 +26,12 @@
 #include "core/loop/loop_model.h"
 #include "core/viz/web_player.h"
 
+constexpr char kUsage[] =
+    "Exports a looping model: a PLY of any frame, and a web "
+    "page that plays the loop.\n"
+    "  es_export --model DIR [--ply PATH --frame T]\n"
+    "            [--web DIR --scene DIR [--fps 24]]";
+
 DEFINE_string(model, "", "Trained looping model directory (es_train --out).");
 DEFINE_string(ply, "", "Write the splats of animation frame --frame here "
               "as a standard 3DGS PLY (loads in other 3DGS tools).");
@@ -97,10 +103,5 @@ int Run() {
 }  // namespace
 
 int main(int argc, char** argv) {
-  return es::RunApp(argc, argv,
-                    "Exports a looping model: a PLY of any frame, and a web "
-                    "page that plays the loop.\n"
-                    "  es_export --model DIR [--ply PATH --frame T]\n"
-                    "            [--web DIR --scene DIR [--fps 24]]",
-                    Run);
+  return es::RunApp(argc, argv, kUsage, Run);
 }

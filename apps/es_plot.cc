@@ -27,6 +27,12 @@
 #include "core/io/output_dir.h"
 #include "core/viz/line_plot.h"
 
+constexpr char kUsage[] =
+    "Draws training histories and result tables as PNG line charts.\n"
+    "  es_plot --history DIR/history.csv --out DIR [--prefix NAME_]\n"
+    "  es_plot --csv FILE[,FILE...] --x COL --y COL[,COL...] "
+    "[--labels A,B] --out FILE.png";
+
 DEFINE_string(history, "",
               "A trainer's history.csv (es_static, es_train, "
               "es_flowinit's flow_history.csv); --out is then a directory.");
@@ -215,11 +221,5 @@ int Run() {
 }  // namespace es
 
 int main(int argc, char** argv) {
-  return es::RunApp(
-      argc, argv,
-      "Draws training histories and result tables as PNG line charts.\n"
-      "  es_plot --history DIR/history.csv --out DIR [--prefix NAME_]\n"
-      "  es_plot --csv FILE[,FILE...] --x COL --y COL[,COL...] "
-      "[--labels A,B] --out FILE.png",
-      es::Run);
+  return es::RunApp(argc, argv, kUsage, es::Run);
 }

@@ -23,6 +23,10 @@
 #include "core/base/input_error.h"
 #include "core/io/json_file.h"
 
+constexpr char kUsage[] =
+    "Recovers camera poses of a video's frames with COLMAP.\n"
+    "  es_poses --scene DIR [--out DIR/sparse/0]";
+
 DEFINE_string(scene, "", "Scene directory whose images/ holds the frames "
               "(png/jpg, time order = name order).");
 DEFINE_string(out, "", "Output model folder (default SCENE/sparse/0); must "
@@ -112,8 +116,5 @@ int Main() {
 }  // namespace
 
 int main(int argc, char** argv) {
-  return es::RunApp(argc, argv,
-                    "Recovers camera poses of a video's frames with COLMAP.\n"
-                    "  es_poses --scene DIR [--out DIR/sparse/0]",
-                    Main);
+  return es::RunApp(argc, argv, kUsage, Main);
 }

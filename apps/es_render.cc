@@ -16,6 +16,13 @@
 #include "core/render/rasterizer.h"
 #include "core/viz/render_png.h"
 
+constexpr char kUsage[] =
+    "Renders every image of a COLMAP model from a 3DGS PLY.\n"
+    "  es_render --ply FILE --sparse DIR --out_dir DIR "
+    "[--background r,g,b] [--depth]\n"
+    "Writes <out_dir>/<image name>.png (8-bit RGB) and, with --depth, "
+    "<name>_depth.png (16-bit, expected depth * --depth_scale).";
+
 DEFINE_string(ply, "", "3DGS PLY file to render (standard layout).");
 DEFINE_string(sparse, "",
               "COLMAP model directory (cameras, images, points3D; .bin or "
@@ -77,12 +84,5 @@ int Run() {
 }  // namespace
 
 int main(int argc, char** argv) {
-  return es::RunApp(
-      argc, argv,
-      "Renders every image of a COLMAP model from a 3DGS PLY.\n"
-      "  es_render --ply FILE --sparse DIR --out_dir DIR "
-      "[--background r,g,b] [--depth]\n"
-      "Writes <out_dir>/<image name>.png (8-bit RGB) and, with --depth, "
-      "<name>_depth.png (16-bit, expected depth * --depth_scale).",
-      Run);
+  return es::RunApp(argc, argv, kUsage, Run);
 }

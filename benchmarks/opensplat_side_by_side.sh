@@ -26,33 +26,19 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-usage() { sed -n '2,22p' "$0" | sed 's/^# \{0,1\}//'; }
+source scripts/lib/options.sh
+source scripts/lib/time_v.sh
 work=/tmp/es_vs_opensplat
-src="" ; opensplat="" ; iterations=300 ; threads=2 ; runs=3 ; points=7600
-sh_degree=3 ; es_static=build/bin/es_static ; busy=0
-while (($#)); do
-  case "$1" in
-    --opensplat_src) src="$2"; shift 2 ;;
-    --opensplat) opensplat="$2"; shift 2 ;;
-    --work) work="$2"; shift 2 ;;
-    --iterations) iterations="$2"; shift 2 ;;
-    --threads) threads="$2"; shift 2 ;;
-    --runs) runs="$2"; shift 2 ;;
-    --points) points="$2"; shift 2 ;;
-    --sh_degree) sh_degree="$2"; shift 2 ;;
-    --es_static) es_static="$2"; shift 2 ;;
-    --busy) busy="$2"; shift 2 ;;
-    -h|--help) usage; exit 0 ;;
-    *) echo "unknown option '$1' (see --help)" >&2; exit 2 ;;
-  esac
-done
-for n in "$iterations" "$threads" "$runs" "$points" "$sh_degree" "$busy"; do
-  [[ "$n" =~ ^[0-9]+$ ]] || { echo "not a number: '$n'" >&2; exit 2; }
-done
-[[ -x "$es_static" && -x build/bin/es_synth ]] || {
-  echo "$es_static or build/bin/es_synth missing: run scripts/setup.sh" >&2
-  exit 1; }
-[[ -x /usr/bin/time ]] || { echo "/usr/bin/time missing (apt-get install time)" >&2; exit 1; }
+opensplat_src="" ; opensplat="" ; iterations=300 ; threads=2 ; runs=3
+points=7600 ; sh_degree=3 ; es_static=build/bin/es_static ; busy=0
+parse_options \
+  "opensplat_src opensplat work iterations threads runs points sh_degree es_static busy" \
+  "" "$@"
+require_numbers "$iterations" "$threads" "$runs" "$points" "$sh_degree" "$busy"
+require_apps es_synth
+[[ -x "$es_static" ]] || {
+  echo "$es_static missing: run scripts/setup.sh" >&2; exit 1; }
+require_time_v
 command -v colmap > /dev/null || {
   echo "colmap missing (OpenSplat reads binary COLMAP models)" >&2; exit 1; }
 mkdir -p "$work"
@@ -76,10 +62,10 @@ if [[ ! -f "$os_scene/sparse/0/images.bin" ]]; then
       --output_path "$os_scene/sparse/0" --output_type BIN > /dev/null
 fi
 
-if [[ -n "$src" ]]; then
-  [[ -f "$src/opensplat.cpp" ]] || { echo "$src: not an OpenSplat checkout" >&2; exit 1; }
+if [[ -n "$opensplat_src" ]]; then
+  [[ -f "$opensplat_src/opensplat.cpp" ]] || { echo "$opensplat_src: not an OpenSplat checkout" >&2; exit 1; }
   echo "[bench] building OpenSplat (CPU) in $work/opensplat-build"
-  cmake -S "$src" -B "$work/opensplat-build" -DCMAKE_BUILD_TYPE=Release \
+  cmake -S "$opensplat_src" -B "$work/opensplat-build" -DCMAKE_BUILD_TYPE=Release \
       -DGPU_RUNTIME=CPU > "$work/opensplat-cmake.log" 2>&1 \
       || { tail -20 "$work/opensplat-cmake.log"; exit 1; }
   cmake --build "$work/opensplat-build" -j"$threads" --target opensplat \
@@ -88,15 +74,6 @@ if [[ -n "$src" ]]; then
 fi
 [[ -z "$opensplat" && -x "$work/opensplat-build/opensplat" ]] &&
   opensplat="$work/opensplat-build/opensplat"
-
-# Peak RSS (MB) and wall seconds from a /usr/bin/time -v log.
-peak_mb() { awk -F': ' '/Maximum resident set size/ {printf "%.0f", $2/1024}' "$1"; }
-wall_s() {
-  awk -F': ' '/Elapsed \(wall clock\)/ {n = split($2, t, ":"); s = 0;
-    for (i = 1; i <= n; ++i) s = s * 60 + t[i]; printf "%.1f", s}' "$1"; }
-load() { cut -d' ' -f1 /proc/loadavg; }
-cpu_s() {
-  awk -F': ' '/User time|System time/ {s += $2} END {printf "%.1f", s}' "$1"; }
 
 # The other jobs of a shared machine: busy loops, ended with the script.
 busy_pids=()
@@ -108,6 +85,14 @@ done
 export OMP_NUM_THREADS="$threads"
 results="$work/results.tsv"
 printf "tool\trun\twall_s\tms_per_it\tcpu_s\tpeak_mb\tpsnr\tload\n" > "$results"
+# Prints and keeps the row of run $2 of tool $1: its time -v log $3, its
+# held-out PSNR $4 and the load average at its start $5.
+add_row() {
+  local w; w=$(wall_s "$3")
+  printf "%s\t%d\t%s\t%.1f\t%s\t%s\t%s\t%s\n" "$1" "$2" "$w" \
+      "$(echo "$w * 1000 / $iterations" | bc -l)" "$(cpu_s "$3")" "$(peak_mb "$3")" \
+      "$4" "$5" | tee -a "$results"
+}
 for ((r = 1; r <= runs; ++r)); do
   out="$work/es_static_$r"; log="$work/es_static_$r.time"; l=$(load)
   /usr/bin/time -v -o "$log" "$es_static" --scene "$scene" --out "$out" \
@@ -117,10 +102,7 @@ for ((r = 1; r <= runs; ++r)); do
       || { tail -5 "$out.log"; exit 1; }
   # es_static's own time excludes loading; /usr/bin/time's includes it.
   psnr=$(sed -n 's/.*"psnr_test": *\([-0-9.naif]*\).*/\1/p' "$out/metrics.json" | head -1)
-  w=$(wall_s "$log")
-  printf "es_static\t%d\t%s\t%.1f\t%s\t%s\t%s\t%s\n" "$r" "$w" \
-      "$(echo "$w * 1000 / $iterations" | bc -l)" "$(cpu_s "$log")" "$(peak_mb "$log")" \
-      "$psnr" "$l" | tee -a "$results"
+  add_row es_static "$r" "$log" "$psnr" "$l"
   [[ -n "$opensplat" ]] || continue
   out="$work/opensplat_$r"; log="$out.time"; l=$(load); mkdir -p "$out"
   /usr/bin/time -v -o "$log" "$opensplat" "$os_scene" --cpu \
@@ -129,10 +111,7 @@ for ((r = 1; r <= runs; ++r)); do
       --val --val-image "$held_out" -o "$out/splat.ply" > "$out.log" 2>&1 \
       || { tail -5 "$out.log"; exit 1; }
   psnr=$(sed -n 's/.*validation PSNR: *\([-0-9.naif]*\).*/\1/p' "$out.log" | tail -1)
-  w=$(wall_s "$log")
-  printf "opensplat\t%d\t%s\t%.1f\t%s\t%s\t%s\t%s\n" "$r" "$w" \
-      "$(echo "$w * 1000 / $iterations" | bc -l)" "$(cpu_s "$log")" "$(peak_mb "$log")" \
-      "$psnr" "$l" | tee -a "$results"
+  add_row opensplat "$r" "$log" "$psnr" "$l"
 done
 [[ -n "$opensplat" ]] || echo "[bench] no OpenSplat binary: es_static only (pass --opensplat_src DIR to build one)"
 echo "medians (wall s, ms/iteration, CPU s, peak MB, PSNR):"

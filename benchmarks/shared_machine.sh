@@ -16,24 +16,11 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-usage() { sed -n '2,15p' "$0" | sed 's/^# \{0,1\}//'; }
+source scripts/lib/options.sh
 work=/tmp/es_shared_machine; threads=2; iterations=100; runs=2
-while (($#)); do
-  case "$1" in
-    --work) work="$2"; shift 2 ;;
-    --threads) threads="$2"; shift 2 ;;
-    --iterations) iterations="$2"; shift 2 ;;
-    --runs) runs="$2"; shift 2 ;;
-    -h|--help) usage; exit 0 ;;
-    *) echo "shared_machine.sh: unknown argument '$1' (see --help)" >&2
-       exit 2 ;;
-  esac
-done
+parse_options "work threads iterations runs" "" "$@"
 bin=build/bin
-for b in es_synth es_static es_train; do
-  [[ -x "$bin/$b" ]] || { echo "shared_machine.sh: $bin/$b missing: build" \
-                          "first (cmake --build build)" >&2; exit 1; }
-done
+require_apps es_synth es_static es_train
 mkdir -p "$work"
 scene="$work/scene" init="$work/static"
 if [[ ! -f "$scene/sparse/0/images.txt" ]]; then

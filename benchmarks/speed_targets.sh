@@ -27,35 +27,18 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-usage() { sed -n '2,23p' "$0" | sed 's/^# \{0,1\}//'; }
+source scripts/lib/options.sh
+source scripts/lib/time_v.sh
 work=/tmp/es_speed_targets ; threads=2 ; skip="" ; static_its=300
 joint_its=150
-while (($#)); do
-  case "$1" in
-    --work) work="$2"; shift 2 ;;
-    --threads) threads="$2"; shift 2 ;;
-    --skip) skip="$2"; shift 2 ;;
-    --static_its) static_its="$2"; shift 2 ;;
-    --joint_its) joint_its="$2"; shift 2 ;;
-    -h|--help) usage; exit 0 ;;
-    *) echo "unknown option '$1' (see --help)" >&2; exit 2 ;;
-  esac
-done
-for n in "$threads" "$static_its" "$joint_its"; do
-  [[ "$n" =~ ^[0-9]+$ ]] || { echo "not a number: '$n'" >&2; exit 2; }
-done
+parse_options "work threads skip static_its joint_its" "" "$@"
+require_numbers "$threads" "$static_its" "$joint_its"
 bin=build/bin
-for b in bench_rasterizer es_synth es_static es_train eulersplat; do
-  [[ -x "$bin/$b" ]] || { echo "$bin/$b missing: run scripts/setup.sh" >&2; exit 1; }
-done
-[[ -x /usr/bin/time ]] || { echo "/usr/bin/time missing (apt-get install time)" >&2; exit 1; }
+require_apps bench_rasterizer es_synth es_static es_train eulersplat
+require_time_v
 mkdir -p "$work"
 export OMP_NUM_THREADS="$threads"
 skipped() { [[ ",$skip," == *",$1,"* ]]; }
-load() { cut -d' ' -f1 /proc/loadavg; }
-wall_s() {
-  awk -F': ' '/Elapsed \(wall clock\)/ {n = split($2, t, ":"); s = 0;
-    for (i = 1; i <= n; ++i) s = s * 60 + t[i]; printf "%.1f", s}' "$1"; }
 # The "total" ms per iteration of a --profile table.
 profile_ms() { awk '$1 == "total" {print $3}' "$1"; }
 json_number() {

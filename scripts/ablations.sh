@@ -16,6 +16,7 @@
 # and start times) and the table gives mean and spread.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+source scripts/lib/options.sh
 
 scene=out/default_scene
 out=out/ablations
@@ -24,28 +25,13 @@ seeds=0
 variants="full static_only no_motion_field no_flow_init no_residual
           no_random_start"
 train_flags=""
-while [[ $# -gt 0 ]]; do
-  case "$1" in
-    --scene) scene=$2; shift 2 ;;
-    --out) out=$2; shift 2 ;;
-    --preset) preset=$2; shift 2 ;;
-    --seeds) seeds=$2; shift 2 ;;
-    --variants) variants=$2; shift 2 ;;
-    --train_flags) train_flags=$2; shift 2 ;;
-    --) shift; break ;;
-    -h|--help) sed -n '2,16p' "$0"; exit 0 ;;
-    *) echo "ablations.sh: unknown argument '$1' (see --help)" >&2; exit 2 ;;
-  esac
-done
+parse_options "scene out preset seeds variants train_flags" "--" "$@"
 if [[ ! -d "$scene/sparse/0" ]]; then
   echo "ablations.sh: $scene has no sparse/0; run scripts/run_default.sh" \
        "first or give --scene" >&2
   exit 1
 fi
-if [[ ! -x build/bin/eulersplat ]]; then
-  echo "ablations.sh: build/bin/eulersplat missing; run scripts/setup.sh" >&2
-  exit 1
-fi
+require_apps eulersplat
 
 read -r -a variants <<< "$(echo $variants)"
 for seed in $seeds; do
@@ -55,7 +41,7 @@ for seed in $seeds; do
     echo "[ablations] $variant, seed $seed"
     build/bin/eulersplat --scene "$scene" --out "$out/$variant/seed$seed" \
       --preset "$preset" --static_dir "$out/static" --animate=false \
-      --train_flags="$flags" "$@"
+      --train_flags="$flags" "${rest[@]}"
   done
 done
 

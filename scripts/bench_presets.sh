@@ -17,6 +17,7 @@
 # figures from the tables already in DOCS, without running anything.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+source scripts/lib/options.sh
 
 scene=out/default_scene
 out=out/bench_presets
@@ -24,19 +25,7 @@ docs=docs/benchmarks
 presets="quick paper"
 budgets="50 100 200 300"
 plot_only=0
-while [[ $# -gt 0 ]]; do
-  case "$1" in
-    --scene) scene=$2; shift 2 ;;
-    --out) out=$2; shift 2 ;;
-    --docs) docs=$2; shift 2 ;;
-    --presets) presets=$2; shift 2 ;;
-    --budgets) budgets=$2; shift 2 ;;
-    --plot_only) plot_only=1; shift ;;
-    -h|--help) sed -n '2,17p' "$0"; exit 0 ;;
-    *) echo "bench_presets.sh: unknown argument '$1' (see --help)" >&2
-       exit 2 ;;
-  esac
-done
+parse_options "scene out docs presets budgets" "plot_only" "$@"
 for b in $budgets; do
   [[ "$b" =~ ^[1-9][0-9]*$ ]] || {
     echo "bench_presets.sh: --budgets: '$b' is not a positive integer" >&2
@@ -49,11 +38,8 @@ if ((!plot_only)) && [[ ! -d "$scene/sparse/0" ]]; then
 fi
 tools="eulersplat es_plot"
 ((plot_only)) && tools=es_plot
-for tool in $tools; do
-  [[ -x build/bin/$tool ]] || {
-    echo "bench_presets.sh: build/bin/$tool missing; run scripts/setup.sh" >&2
-    exit 1; }
-done
+# shellcheck disable=SC2086
+require_apps $tools
 if ((plot_only)); then
   for preset in $presets; do
     [[ -f "$docs/bench_presets_$preset.csv" ]] || {

@@ -17,11 +17,8 @@
 # tests.txt / benches.txt (what cuda_run_pack.sh runs). ES_JOBS
 # sets the build's parallel jobs (default: the cores).
 set -euo pipefail
-case "${1:-}" in
-  -h|--help)
-    awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "$0"
-    exit 0 ;;
-esac
+source "$(dirname "$0")/lib/options.sh"
+help_if_asked "$@"
 cd "$(dirname "$0")/.."
 arch=${1:-90}
 [[ "$arch" =~ ^[0-9]+$ ]] || {

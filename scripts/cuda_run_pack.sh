@@ -17,11 +17,8 @@
 # iterations; default "1000 200 1000") size the shortened paper preset.
 # Exit status: 0 when every test ran and passed.
 set -uo pipefail
-case "${1:-}" in
-  -h|--help)
-    awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "$0"
-    exit 0 ;;
-esac
+source "$(dirname "$0")/lib/options.sh"
+help_if_asked "$@"
 cd "$(dirname "$0")/.."
 budget=${1:-420}
 pack=.cuda_pack/pack.tar.xz

@@ -17,12 +17,8 @@ targets=("$@")
 ((${#targets[@]})) || targets=(fuzz_ply fuzz_colmap_text fuzz_colmap_binary
                                fuzz_split fuzz_field fuzz_checkpoint)
 jobs=${JOBS:-2}
-build=build-asan  # shared with scripts/sanitize.sh
-launcher=()
-command -v ccache > /dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
-CXX=clang++ cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  -DES_FUZZ=ON -DES_SANITIZE=address,undefined "${launcher[@]}" \
-  > "$build.log" 2>&1 || { cat "$build.log"; exit 1; }
+source scripts/lib/asan_build.sh
+configure_asan_build
 echo "[fuzz] building ${targets[*]} (log: $build.log)"
 cmake --build "$build" -j"$jobs" --target make_fuzz_seeds "${targets[@]}" \
   >> "$build.log" 2>&1 || { tail -40 "$build.log"; exit 1; }

@@ -14,28 +14,14 @@
 #       [--train_flags "es_train flags"] [-- extra eulersplat flags]
 set -euo pipefail
 cd "$(dirname "$0")/.."
+source scripts/lib/options.sh
 
 out=out/realism
 seeds="0 1 2"
 presets="waterfall stream fountain droplets pathtraced"
 train_flags=""
-while [[ $# -gt 0 ]]; do
-  case "$1" in
-    --out) out=$2; shift 2 ;;
-    --seeds) seeds=$2; shift 2 ;;
-    --presets) presets=$2; shift 2 ;;
-    --train_flags) train_flags=$2; shift 2 ;;
-    --) shift; break ;;
-    -h|--help) sed -n '2,14p' "$0"; exit 0 ;;
-    *) echo "realism_presets.sh: unknown argument '$1' (see --help)" >&2
-       exit 2 ;;
-  esac
-done
-if [[ ! -x build/bin/es_synth ]]; then
-  echo "realism_presets.sh: build/bin/es_synth missing; run" \
-       "scripts/setup.sh" >&2
-  exit 1
-fi
+parse_options "out seeds presets train_flags" "--" "$@"
+require_apps es_synth
 
 for preset in $presets; do
   scene=$out/scenes/$preset
@@ -58,7 +44,7 @@ for preset in $presets; do
   done
   bash scripts/ablations.sh --scene "$scene" --out "$out/$preset" \
     --seeds "$seeds" --variants "full static_only" \
-    --train_flags "$train_flags" -- "$@"
+    --train_flags "$train_flags" -- "${rest[@]}"
 done
 # shellcheck disable=SC2086
 python3 scripts/realism_targets.py "$out" $presets

@@ -11,12 +11,8 @@ if [[ "${1:-}" == "--help" || "${1:-}" == "-h" ]]; then
   sed -n '2,7p' "$0"; exit 0
 fi
 jobs=${JOBS:-2}
-build=build-asan
-launcher=()
-command -v ccache > /dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
-CXX=clang++ cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  -DES_FUZZ=ON -DES_SANITIZE=address,undefined "${launcher[@]}" \
-  > "$build.log" 2>&1 || { cat "$build.log"; exit 1; }
+source scripts/lib/asan_build.sh
+configure_asan_build
 echo "[sanitize] building (log: $build.log)"
 start=$(date +%s)
 cmake --build "$build" -j"$jobs" >> "$build.log" 2>&1 ||

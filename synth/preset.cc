@@ -91,32 +91,39 @@ void CliffScenery(SynthRandom* r, SynthPreset* p) {
   p->camera.target = {0.0, 1.5, 0.8};
 }
 
-void Waterfall(SynthRandom* r, SynthPreset* p) {
-  WaterfallFlow flow;
+// What Waterfall and Droplets share: water falling from the lip of the
+// cliff (CliffScenery) at y = 3 into a pool at y = 0.1 that drifts toward
+// the camera. `flow` says how fast and wide the water leaves the lip and
+// where the pool spreads.
+void CliffWaterfall(WaterfallFlow flow, SynthRandom* r, SynthPreset* p) {
   flow.lip_y = 3.0;
-  flow.exit_speed = 0.03;
   flow.initial_fall_speed = 0.02;
-  flow.fan_out = 0.006;
   flow.blend_y = 0.35;
   flow.blend_width = 0.12;
   flow.pool.surface_y = 0.1;
   flow.pool.relax = 0.25;
-  flow.pool.center = {0.0, 0.75};
-  flow.pool.spread_speed = 0.035;
-  flow.pool.radius = 0.9;
   flow.pool.drift = {0.0, 0.0, 0.012};
   p->flow = SynthFlow(flow);
+  p->water.region = {Vector3d(-4, -0.3, -0.2), Vector3d(4, 3.3, 4.5)};
+  p->warmup_frames = 130;
+  CliffScenery(r, p);
+}
 
+void Waterfall(SynthRandom* r, SynthPreset* p) {
   p->water.num_particles = 28000;
   p->water.min_lifetime = 60;
   p->water.max_lifetime = 110;
   p->water.source = {Vector3d(-0.9, 2.98, 0.02), Vector3d(0.9, 3.05, 0.15)};
-  p->water.region = {Vector3d(-4, -0.3, -0.2), Vector3d(4, 3.3, 4.5)};
   p->look.size = 0.035;
   p->look.deep_color = {0.22, 0.38, 0.46};
-  p->warmup_frames = 130;
 
-  CliffScenery(r, p);
+  WaterfallFlow flow;
+  flow.exit_speed = 0.03;
+  flow.fan_out = 0.006;
+  flow.pool.center = {0.0, 0.75};
+  flow.pool.spread_speed = 0.035;
+  flow.pool.radius = 0.9;
+  CliffWaterfall(flow, r, p);
 }
 
 void Stream(SynthRandom* r, SynthPreset* p) {
@@ -217,36 +224,26 @@ void Fountain(SynthRandom* r, SynthPreset* p) {
 // perturbations), so the water is high-frequency and semi-transparent
 // with the background showing through everywhere.
 void Droplets(SynthRandom* r, SynthPreset* p) {
-  WaterfallFlow flow;
-  flow.lip_y = 3.0;
-  flow.exit_speed = 0.035;
-  flow.initial_fall_speed = 0.02;
-  flow.fan_out = 0.015;
-  flow.blend_y = 0.35;
-  flow.blend_width = 0.12;
-  flow.pool.surface_y = 0.1;
-  flow.pool.relax = 0.25;
-  flow.pool.center = {0.0, 0.8};
-  flow.pool.spread_speed = 0.04;
-  flow.pool.radius = 1.0;
-  flow.pool.drift = {0.0, 0.0, 0.012};
-  p->flow = SynthFlow(flow);
-
   p->water.num_particles = 16000;
   p->water.min_lifetime = 50;
   p->water.max_lifetime = 100;
   p->water.turbulence = 0.4;
   p->water.turbulence_frames = 2.0;
   p->water.source = {Vector3d(-1.2, 2.96, 0.0), Vector3d(1.2, 3.06, 0.25)};
-  p->water.region = {Vector3d(-4, -0.3, -0.2), Vector3d(4, 3.3, 4.5)};
   p->look.size = 0.014;
   p->look.streak = 0.3;
   p->look.min_opacity = 0.15;
   p->look.max_opacity = 0.6;
   p->look.foam_speed = 0.08;
   p->look.deep_color = {0.30, 0.45, 0.55};
-  p->warmup_frames = 130;
-  CliffScenery(r, p);
+
+  WaterfallFlow flow;
+  flow.exit_speed = 0.035;
+  flow.fan_out = 0.015;
+  flow.pool.center = {0.0, 0.8};
+  flow.pool.spread_speed = 0.04;
+  flow.pool.radius = 1.0;
+  CliffWaterfall(flow, r, p);
 }
 
 // The spray of Droplets filmed as a path tracer renders it: thousands of

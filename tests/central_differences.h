@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <initializer_list>
 #include <random>
 #include <vector>
 
@@ -53,6 +54,23 @@ inline void ExpectGradientsNear(const std::vector<double>& analytic,
     ExpectRelativeNear(analytic[i], numeric, what, static_cast<int>(i));
   }
   EXPECT_GT(largest, 1e-3) << what << ": the check must see a gradient";
+}
+
+// For image losses: the derivative of `loss` with respect to each probed
+// entry of `values` (corners, borders, the interior) against `analytic` at
+// that entry. Every error must stay below 1e-6 of the largest derivative,
+// and the probes must see a gradient.
+inline void ExpectProbedGradientNear(const double* analytic, double* values,
+                                     std::initializer_list<int> probes,
+                                     const std::function<double()>& loss) {
+  double max_err = 0, max_grad = 0;
+  for (int idx : probes) {
+    const double numeric = NumericDerivative(loss, &values[idx]);
+    max_err = std::max(max_err, std::abs(numeric - analytic[idx]));
+    max_grad = std::max(max_grad, std::abs(numeric));
+  }
+  EXPECT_GT(max_grad, 1e-5);
+  EXPECT_LT(max_err, 1e-6 * max_grad + 1e-10);
 }
 
 inline std::vector<double> Uniform(int size, double lo, double hi,

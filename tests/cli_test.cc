@@ -5,10 +5,9 @@
 // on a tiny synthetic scene; a few seconds in all.
 
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
-#include <cstdio>
+#include <array>
 #include <filesystem>
 #include <fstream>
 #include <regex>
@@ -16,6 +15,8 @@
 #include <string>
 #include <utility>
 #include <vector>
+
+#include "tests/pipeline_test_util.h"
 
 #ifdef ES_HAVE_CUDA
 #include "core/base/cuda/cuda_error.h"
@@ -25,27 +26,11 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const fs::path kBin = fs::path(ES_BINARY_DIR) / "bin";
 const fs::path kScripts = fs::path(ES_SOURCE_DIR) / "scripts";
 
-struct Result {
-  int status = -1;
-  std::string output;  // stdout and stderr
-};
-
-Result RunCommand(const std::string& command) {
-  Result r;
-  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
-  if (pipe == nullptr) return r;
-  char buffer[4096];
-  size_t n;
-  while ((n = fread(buffer, 1, sizeof(buffer), pipe)) > 0) {
-    r.output.append(buffer, n);
-  }
-  const int status = pclose(pipe);
-  r.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
+using es::CommandResult;
+using es::kBin;
+using es::RunCommand;
 
 const std::vector<std::string> kApps = {
     "es_static", "es_flowinit", "es_train",     "es_animate",
@@ -63,7 +48,7 @@ class CliTest : public ::testing::Test {
             ("cli_test_" + std::to_string(::getpid()));
     fs::remove_all(root_);
     scene_ = root_ / "scene";
-    const Result r =
+    const CommandResult r =
         RunCommand((kBin / "es_synth").string() + " --out " + scene_.string() +
                    " --frames 8 --width 32 --height 24 --detail 0.02"
                    " --num_points 50");
@@ -75,7 +60,7 @@ class CliTest : public ::testing::Test {
   // `expected`, and no CHECK failure or stack trace.
   static void ExpectRefused(const std::string& binary, const std::string& args,
                             const std::string& expected) {
-    const Result r = RunCommand((kBin / binary).string() + " " + args);
+    const CommandResult r = RunCommand((kBin / binary).string() + " " + args);
     EXPECT_EQ(r.status, 1) << binary << " " << args << "\n" << r.output;
     EXPECT_NE(r.output.find(expected), std::string::npos)
         << binary << " " << args << "\nwanted: " << expected << "\ngot:\n"
@@ -91,7 +76,7 @@ fs::path CliTest::root_, CliTest::scene_;
 
 TEST_F(CliTest, HelpListsTheToolsOwnFlagsFirstAndExitsZero) {
   for (const std::string& app : kApps) {
-    const Result r = RunCommand((kBin / app).string() + " --help");
+    const CommandResult r = RunCommand((kBin / app).string() + " --help");
     EXPECT_EQ(r.status, 0) << app << "\n" << r.output;
     const size_t flags = r.output.find("\nFlags:\n  --");
     ASSERT_NE(flags, std::string::npos) << app << "\n" << r.output;
@@ -101,7 +86,8 @@ TEST_F(CliTest, HelpListsTheToolsOwnFlagsFirstAndExitsZero) {
     EXPECT_EQ(r.output.find("logtostderr"), std::string::npos) << app;
     EXPECT_EQ(r.output.find("flagfile"), std::string::npos) << app;
   }
-  const Result full = RunCommand((kBin / "es_train").string() + " --helpfull");
+  const CommandResult full =
+      RunCommand((kBin / "es_train").string() + " --helpfull");
   EXPECT_EQ(full.status, 0);
   EXPECT_NE(full.output.find("logtostderr"), std::string::npos);
   EXPECT_LT(full.output.find("--cycle_length"),
@@ -110,7 +96,7 @@ TEST_F(CliTest, HelpListsTheToolsOwnFlagsFirstAndExitsZero) {
 }
 
 TEST_F(CliTest, HelpShowsReadableDefaults) {
-  const Result r = RunCommand((kBin / "es_static").string() + " --help");
+  const CommandResult r = RunCommand((kBin / "es_static").string() + " --help");
   // 2.5e-3 / 20, which gflags itself prints as 0.00012500000000000001.
   EXPECT_NE(r.output.find("--lr_sh_rest (double, default 0.000125)"),
             std::string::npos)
@@ -132,7 +118,7 @@ TEST_F(CliTest, VersionNamesTheCommit) {
       R"(eulersplat [0-9]+\.[0-9]+\.[0-9]+ \(commit ([0-9a-f]{12}|unknown)\)\n)");
   for (const std::string app :
        {"es_train", "eulersplat", "es_plot", "bench_looping"}) {
-    const Result r = RunCommand((kBin / app).string() + " --version");
+    const CommandResult r = RunCommand((kBin / app).string() + " --version");
     EXPECT_EQ(r.status, 0) << app;
     EXPECT_TRUE(std::regex_match(r.output, version)) << app << ": " << r.output;
   }
@@ -157,56 +143,43 @@ TEST_F(CliTest, NonFiniteOrNegativeLearningRatesAreRefused) {
 TEST_F(CliTest, OutOfRangeValuesAreRefusedBeforeAnyWork) {
   const std::string scene = " --scene " + scene_.string();
   const std::string out = (root_ / "o").string();
-  ExpectRefused("eulersplat",
-                scene + " --out " + out + " --static_iterations -5",
-                "--static_iterations=-5: must be >= 1");
-  ExpectRefused("eulersplat",
-                scene + " --out " + out + " --joint_iterations -2",
-                "--joint_iterations=-2: must be >= 0");
-  ExpectRefused("es_train",
-                scene + " --init x --out " + out + " --dynamic_threshold 1.5",
-                "--dynamic_threshold=1.5: must be in (0, 1)");
-  ExpectRefused("es_train",
-                scene + " --init x --out " + out + " --flow_prior_weight -1",
-                "--flow_prior_weight=-1: must be >= 0");
-  ExpectRefused("es_train",
-                scene + " --init x --out " + out +
-                    " --densify_water_growth 0.5",
-                "--densify_water_growth=0.5: must be in [1, 1000]");
-  ExpectRefused("es_static", scene + " --out " + out + " --iterations 0",
-                "--iterations must be positive");
-  ExpectRefused("es_static",
-                scene + " --out " + out + " --max_world_scale -0.1",
-                "--max_world_scale must be >= 0 and finite (0: off)");
-  ExpectRefused("es_animate",
-                scene + " --model m --out " + out + " --track_count -3",
-                "--track_count=-3: must be >= 1");
-  ExpectRefused("es_animate",
-                scene + " --model m --out " + out +
-                    " --xt_slice middle "
-                    "--camera fixed",
-                "");
-  ExpectRefused("es_flowinit", scene + " --stride 0",
-                "--stride=0: must be >= 1");
-  ExpectRefused("es_flowinit", scene + " --frame_gap 0",
-                "--frame_gap=0: must be >= 1");
-  ExpectRefused("es_eval",
-                scene + " --model m --out " + out + " --seam_cycles 1",
-                "--seam_cycles must be >= 2");
-  ExpectRefused("es_eval",
-                scene + " --model m --out " + out + " --realism_patches 8",
-                "--realism_patches=8: must be >= 16");
-  ExpectRefused("es_compare",
-                "--scene s --other o --out " + out +
-                    " --realism_water_margin 0.9",
-                "--realism_water_margin=0.9");
-  ExpectRefused("es_render", "--ply p --sparse s --out_dir o --depth_scale 0",
-                "--depth_scale must be positive");
-  ExpectRefused("es_plot", "--history h.csv --out o --width 10",
-                "--width=10: must be >= 200");
-  ExpectRefused("es_synth", "--out " + out + " stray",
-                "unexpected argument 'stray'");
-  ExpectRefused("es_train", "--scene", "");  // gflags: missing value
+  const std::string io = scene + " --out " + out;  // eulersplat, es_static
+  const std::string train = scene + " --init x --out " + out;
+  const std::string model = scene + " --model m --out " + out;
+  // Binary, arguments, what the refusal must say.
+  const std::vector<std::array<std::string, 3>> refusals = {
+      {"eulersplat", io + " --static_iterations -5",
+       "--static_iterations=-5: must be >= 1"},
+      {"eulersplat", io + " --joint_iterations -2",
+       "--joint_iterations=-2: must be >= 0"},
+      {"es_train", train + " --dynamic_threshold 1.5",
+       "--dynamic_threshold=1.5: must be in (0, 1)"},
+      {"es_train", train + " --flow_prior_weight -1",
+       "--flow_prior_weight=-1: must be >= 0"},
+      {"es_train", train + " --densify_water_growth 0.5",
+       "--densify_water_growth=0.5: must be in [1, 1000]"},
+      {"es_static", io + " --iterations 0", "--iterations must be positive"},
+      {"es_static", io + " --max_world_scale -0.1",
+       "--max_world_scale must be >= 0 and finite (0: off)"},
+      {"es_animate", model + " --track_count -3",
+       "--track_count=-3: must be >= 1"},
+      {"es_animate", model + " --xt_slice middle --camera fixed", ""},
+      {"es_flowinit", scene + " --stride 0", "--stride=0: must be >= 1"},
+      {"es_flowinit", scene + " --frame_gap 0", "--frame_gap=0: must be >= 1"},
+      {"es_eval", model + " --seam_cycles 1", "--seam_cycles must be >= 2"},
+      {"es_eval", model + " --realism_patches 8",
+       "--realism_patches=8: must be >= 16"},
+      {"es_compare",
+       "--scene s --other o --out " + out + " --realism_water_margin 0.9",
+       "--realism_water_margin=0.9"},
+      {"es_render", "--ply p --sparse s --out_dir o --depth_scale 0",
+       "--depth_scale must be positive"},
+      {"es_plot", "--history h.csv --out o --width 10",
+       "--width=10: must be >= 200"},
+      {"es_synth", "--out " + out + " stray", "unexpected argument 'stray'"},
+      {"es_train", "--scene", ""}};  // gflags: missing value
+  for (const auto& [binary, args, message] : refusals)
+    ExpectRefused(binary, args, message);
   EXPECT_FALSE(fs::exists(root_ / "o")) << "work started anyway";
 }
 
@@ -316,7 +289,7 @@ TEST_F(CliTest, CycleLengthLongerThanTheVideoIsRefused) {
 
 TEST_F(CliTest, CompareRefusesAnotherVideoThatDoesNotMatch) {
   const fs::path shorter = root_ / "shorter";
-  const Result r =
+  const CommandResult r =
       RunCommand((kBin / "es_synth").string() + " --out " + shorter.string() +
                  " --frames 6 --width 32 --height 24 --detail 0.02"
                  " --num_points 50");
@@ -339,13 +312,13 @@ TEST_F(CliTest, CompareRefusesAnotherVideoThatDoesNotMatch) {
                 "camera differs");
   // Another draw of the same water matches and is measured.
   const fs::path draw = root_ / "draw";
-  ASSERT_EQ(RunCommand((kBin / "es_synth").string() + " --out " +
-                       draw.string() +
-                       " --frames 8 --width 32 --height 24 --detail 0.02"
-                       " --num_points 50 --water_seed 5")
-                .status,
-            0);
-  const Result ok = RunCommand(
+  ASSERT_EQ(
+      RunCommand((kBin / "es_synth").string() + " --out " + draw.string() +
+                 " --frames 8 --width 32 --height 24 --detail 0.02"
+                 " --num_points 50 --water_seed 5")
+          .status,
+      0);
+  const CommandResult ok = RunCommand(
       (kBin / "es_compare").string() + " --scene " + scene_.string() +
       " --other " + draw.string() + " --out " + (root_ / "cmp").string());
   EXPECT_EQ(ok.status, 0) << ok.output;
@@ -408,8 +381,9 @@ TEST_F(CliTest, ScriptsAnswerHelpWithoutSideEffects) {
     const bool python = entry.path().extension() == ".py";
     if (entry.path().extension() != ".sh" && !python) continue;
     ++scripts;
-    const Result r = RunCommand(std::string(python ? "python3 " : "bash ") +
-                                entry.path().string() + " --help");
+    const CommandResult r =
+        RunCommand(std::string(python ? "python3 " : "bash ") +
+                   entry.path().string() + " --help");
     EXPECT_EQ(r.status, 0) << name << "\n" << r.output;
     EXPECT_GT(r.output.size(), 30u) << name;
     EXPECT_NE(r.output.find("scripts/" + name), std::string::npos)

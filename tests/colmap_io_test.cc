@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "core/base/input_error.h"
+#include "tests/expect_error.h"
 #include "tests/temp_dir_test.h"
 
 namespace es {
@@ -171,19 +172,6 @@ TEST_F(ColmapIoTest, PrefersBinaryWhenAllThreeExist) {
   EXPECT_EQ(ReadColmapModel(dir_.string()).cameras.size(), 2u);
 }
 
-// Runs `read` and expects an InputError whose message holds every `parts`.
-template <typename F>
-void ExpectInputError(F read, const std::vector<std::string>& parts) {
-  try {
-    read();
-    ADD_FAILURE() << "no InputError; expected " << parts[0];
-  } catch (const InputError& e) {
-    for (const std::string& part : parts)
-      EXPECT_NE(std::string(e.what()).find(part), std::string::npos)
-          << "'" << part << "' not in: " << e.what();
-  }
-}
-
 void WriteText(const fs::path& path, const std::string& text) {
   std::ofstream(path) << text;
 }
@@ -192,48 +180,54 @@ TEST_F(ColmapIoTest, MissingFileIsNamed) {
   WriteColmapText(SmallModel(), dir_.string());
   fs::remove(dir_ / "images.txt");
   const std::string d = dir_.string();
-  ExpectInputError([&] { ReadColmapModel(d); },
-                   {(dir_ / "images.txt").string()});
-  ExpectInputError([&] { ReadColmapBinary(d); },
-                   {(dir_ / "cameras.bin").string()});
+  ExpectErrorNaming<InputError>([&] { ReadColmapModel(d); },
+                                {(dir_ / "images.txt").string()});
+  ExpectErrorNaming<InputError>([&] { ReadColmapBinary(d); },
+                                {(dir_ / "cameras.bin").string()});
 }
 
 TEST_F(ColmapIoTest, BadTextLinesNameFileAndLine) {
   WriteColmapText(SmallModel(), dir_.string());
   const std::string d = dir_.string();
+  const auto expect_refused = [&d](const std::vector<std::string>& parts) {
+    ExpectErrorNaming<InputError>([&d] { ReadColmapText(d); }, parts);
+  };
   const std::string cameras = (dir_ / "cameras.txt").string();
   WriteText(cameras, "# comment\n\n1 PINHOLE 32 24 30 30 16\n");
-  ExpectInputError([&] { ReadColmapText(d); }, {cameras + ":3:", "fields"});
+  expect_refused({cameras + ":3:", "fields"});
   WriteText(cameras, "# comment\n1 FISHEYE_X 32 24 30 30 16 12\n");
-  ExpectInputError([&] { ReadColmapText(d); }, {cameras + ":2:", "FISHEYE_X"});
+  expect_refused({cameras + ":2:", "FISHEYE_X"});
   WriteText(cameras, "1 PINHOLE 32 24 30 inf 16 12\n");
-  ExpectInputError([&] { ReadColmapText(d); }, {cameras + ":1:", "inf"});
+  expect_refused({cameras + ":1:", "inf"});
 
   WriteColmapText(SmallModel(), d);
   const std::string images = (dir_ / "images.txt").string();
   WriteText(images, "# c\n1 1 0 0 0 0 nan 0 1 a.png\n\n");
-  ExpectInputError([&] { ReadColmapText(d); }, {images + ":2:", "nan"});
+  expect_refused({images + ":2:", "nan"});
   WriteText(images, "1 1 0 0 0 0 0 0 1 a.png\n1.0 2.0\n");
-  ExpectInputError([&] { ReadColmapText(d); }, {images + ":2:"});
+  expect_refused({images + ":2:"});
   WriteText(images, "1 1 0 0 0 0 0 0 9 a.png\n\n");
-  ExpectInputError([&] { ReadColmapText(d); }, {images + ":1:", "camera id"});
+  expect_refused({images + ":1:", "camera id"});
 
   WriteColmapText(SmallModel(), d);
   const std::string points = (dir_ / "points3D.txt").string();
   WriteText(points, "1 0 0 0 1 2 3 0.5 1\n");
-  ExpectInputError([&] { ReadColmapText(d); }, {points + ":1:"});
+  expect_refused({points + ":1:"});
 }
 
 TEST_F(ColmapIoTest, BadBinaryNamesFile) {
   WriteEmptyBins(dir_);
   const std::string d = dir_.string();
+  const auto expect_refused = [&d](const std::vector<std::string>& parts) {
+    ExpectErrorNaming<InputError>([&d] { ReadColmapBinary(d); }, parts);
+  };
   const std::string cameras = (dir_ / "cameras.bin").string();
   OneCameraBin().Save(cameras);
   EXPECT_EQ(ReadColmapBinary(d).cameras.size(), 1u);
   OneCameraBin().Save(cameras, 3);
-  ExpectInputError([&] { ReadColmapBinary(d); }, {cameras, "truncated"});
+  expect_refused({cameras, "truncated"});
   OneCameraBin(42).Save(cameras);
-  ExpectInputError([&] { ReadColmapBinary(d); }, {cameras, "model id 42"});
+  expect_refused({cameras, "model id 42"});
 
   // An image whose name string is cut off before its terminating zero.
   OneCameraBin().Save(cameras);
@@ -242,8 +236,7 @@ TEST_F(ColmapIoTest, BadBinaryNamesFile) {
   for (int i = 0; i < 7; ++i) images.Put(i == 0 ? 1.0 : 0.0);
   images.Put<uint32_t>(4).Put('a').Put('b');
   images.Save(dir_ / "images.bin");
-  ExpectInputError([&] { ReadColmapBinary(d); },
-                   {(dir_ / "images.bin").string(), "truncated"});
+  expect_refused({(dir_ / "images.bin").string(), "truncated"});
 }
 
 }  // namespace

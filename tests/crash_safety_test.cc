@@ -30,6 +30,7 @@
 #include "core/io/ply_io.h"
 #include "solvers/checkpoint/checkpoint.h"
 #include "tests/temp_dir_test.h"
+#include "tests/whole_file.h"
 
 namespace es {
 namespace {
@@ -37,11 +38,6 @@ namespace {
 namespace fs = std::filesystem;
 
 const fs::path kBin = fs::path(ES_BINARY_DIR) / "bin";
-
-std::string ReadBytes(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
 
 GaussianSet SomeGaussians(int n) {
   GaussianSet g;
@@ -137,7 +133,7 @@ TEST_F(CrashSafetyTest, FailingWriteKeepsTheLastGoodFile) {
   const std::vector<std::string> files = {"checkpoint.bin", "static.ply",
                                           "motion_field.bin", "metrics.json"};
   std::vector<std::string> before;
-  for (const std::string& f : files) before.push_back(ReadBytes(Path(f)));
+  for (const std::string& f : files) before.push_back(ReadWholeFile(Path(f)));
 
   const pid_t pid = ::fork();
   if (pid == 0) {
@@ -177,7 +173,7 @@ TEST_F(CrashSafetyTest, FailingWriteKeepsTheLastGoodFile) {
   ASSERT_TRUE(WIFEXITED(status));
   EXPECT_EQ(WEXITSTATUS(status), 0) << "writers that did not report the error";
   for (size_t i = 0; i < files.size(); ++i)
-    EXPECT_EQ(ReadBytes(Path(files[i])), before[i]) << files[i];
+    EXPECT_EQ(ReadWholeFile(Path(files[i])), before[i]) << files[i];
   EXPECT_EQ(ReadCheckpoint(Path("checkpoint.bin")).iteration, 7);
   for (const auto& entry : fs::directory_iterator(dir_))
     EXPECT_EQ(entry.path().string().find(".tmp"), std::string::npos)
@@ -238,10 +234,10 @@ TEST_F(ProcessTest, KilledStaticRunResumesAndEndsLikeACleanRun) {
   const int from = std::stoi(m[1]);
   EXPECT_GE(from, kKillAfter / kInterval * kInterval);
   EXPECT_EQ(from % kInterval, 0);
-  EXPECT_EQ(ReadBytes(Path("killed/static.ply")),
-            ReadBytes(Path("clean/static.ply")));
-  EXPECT_EQ(ReadBytes(Path("killed/checkpoint.bin")),
-            ReadBytes(Path("clean/checkpoint.bin")));
+  EXPECT_EQ(ReadWholeFile(Path("killed/static.ply")),
+            ReadWholeFile(Path("clean/static.ply")));
+  EXPECT_EQ(ReadWholeFile(Path("killed/checkpoint.bin")),
+            ReadWholeFile(Path("clean/checkpoint.bin")));
 }
 
 // The parent pid of `pid` from /proc, or -1 once it is gone.

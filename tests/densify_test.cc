@@ -36,14 +36,23 @@ struct Fixture {
     adam.m().means.assign(6, 1.0);
     stats.Reset(2);
   }
+  // One densification step in a world of extent `extent`; `prune_large`
+  // also prunes the Gaussians too big on screen or in the world.
+  DensifyResult Densify(double extent = 10.0, bool prune_large = false) {
+    return DensifyAndPrune(options, extent, prune_large, &rng, &g, &adam,
+                           &stats);
+  }
+  // Both Gaussians seen once, with these accumulated gradients.
+  void SetGradients(double first, double second) {
+    stats.grad_sum = {first, second};
+    stats.count = {1, 1};
+  }
 };
 
 TEST(DensifyTest, ClonesSmallAndSplitsLargeAboveThreshold) {
   Fixture f;
-  f.stats.grad_sum = {1e-3, 1e-3};
-  f.stats.count = {1, 1};
-  const DensifyResult r =
-      DensifyAndPrune(f.options, 10.0, false, &f.rng, &f.g, &f.adam, &f.stats);
+  f.SetGradients(1e-3, 1e-3);
+  const DensifyResult r = f.Densify();
   EXPECT_EQ(r.cloned, 1);
   EXPECT_EQ(r.split, 1);
   EXPECT_EQ(r.pruned, 0);
@@ -67,10 +76,8 @@ TEST(DensifyTest, ClonesSmallAndSplitsLargeAboveThreshold) {
 
 TEST(DensifyTest, BelowThresholdNothingChanges) {
   Fixture f;
-  f.stats.grad_sum = {1e-4, 1e-5};
-  f.stats.count = {1, 1};
-  const DensifyResult r =
-      DensifyAndPrune(f.options, 10.0, false, &f.rng, &f.g, &f.adam, &f.stats);
+  f.SetGradients(1e-4, 1e-5);
+  const DensifyResult r = f.Densify();
   EXPECT_EQ(r.cloned + r.split + r.pruned, 0);
   EXPECT_EQ(f.g.means, TwoGaussians().means);
 }
@@ -78,18 +85,17 @@ TEST(DensifyTest, BelowThresholdNothingChanges) {
 TEST(DensifyTest, PrunesTransparentAndTooLarge) {
   Fixture f;
   f.g.opacity_logits[0] = Logit(0.001);
-  DensifyResult r =
-      DensifyAndPrune(f.options, 10.0, false, &f.rng, &f.g, &f.adam, &f.stats);
+  DensifyResult r = f.Densify();
   EXPECT_EQ(r.pruned, 1);
   ASSERT_EQ(f.g.size(), 1);
   EXPECT_EQ(f.g.means[0], 1.0);
   EXPECT_EQ(f.adam.m().size(), 1);
   // Gaussian 1 (max scale 0.5) is too large in a world of extent 4 when
   // the world-size prune is on (it is off by default).
-  r = DensifyAndPrune(f.options, 4.0, true, &f.rng, &f.g, &f.adam, &f.stats);
+  r = f.Densify(4.0, true);
   EXPECT_EQ(r.pruned, 0);
   f.options.max_world_scale = 0.1;
-  r = DensifyAndPrune(f.options, 4.0, true, &f.rng, &f.g, &f.adam, &f.stats);
+  r = f.Densify(4.0, true);
   EXPECT_EQ(r.pruned, 1);
   EXPECT_EQ(f.g.size(), 0);
 }
@@ -97,10 +103,8 @@ TEST(DensifyTest, PrunesTransparentAndTooLarge) {
 TEST(DensifyTest, CapLimitsGrowthToHighestGradients) {
   Fixture f;
   f.options.max_gaussians = 3;
-  f.stats.grad_sum = {1e-3, 5e-3};
-  f.stats.count = {1, 1};
-  const DensifyResult r =
-      DensifyAndPrune(f.options, 10.0, false, &f.rng, &f.g, &f.adam, &f.stats);
+  f.SetGradients(1e-3, 5e-3);
+  const DensifyResult r = f.Densify();
   EXPECT_EQ(r.split, 1);  // the higher gradient wins the single slot
   EXPECT_EQ(r.cloned, 0);
   EXPECT_EQ(f.g.size(), 3);

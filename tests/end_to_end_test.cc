@@ -85,7 +85,7 @@ TEST(EndToEndTest, DriverRunsEveryStageAndResumes) {
   }
   EXPECT_FALSE(fs::exists(out / "animate/frames/frame_000015.png"));
 
-  const std::string json = ReadFile(out / "eval" / "eval.json");
+  const std::string json = ReadWholeFile(out / "eval" / "eval.json");
   for (const char* key :
        {"psnr", "ssim", "psnr_water", "ssim_water", "epe", "score",
         "alg1_frame", "alg2_frame"}) {
@@ -120,7 +120,7 @@ TEST(EndToEndTest, DriverRunsEveryStageAndResumes) {
             0)
       << log;
   const nlohmann::json self =
-      nlohmann::json::parse(ReadFile(root / "self_eval" / "eval.json"));
+      nlohmann::json::parse(ReadWholeFile(root / "self_eval" / "eval.json"));
   EXPECT_EQ(self["motion_gt"]["reference"]["epe"].get<double>(),
             self["motion_gt"]["epe"].get<double>());
   EXPECT_EQ(self["motion_gt"]["epe"].get<double>(),
@@ -143,8 +143,8 @@ TEST(EndToEndTest, DriverRunsEveryStageAndResumes) {
               0.1);
   // Its values per point are the model's own, and the script comparing
   // the two files finds no speed change between them.
-  EXPECT_EQ(ReadFile(root / "self_eval" / "motion_gt_reference.csv"),
-            ReadFile(root / "self_eval" / "motion_gt.csv"));
+  EXPECT_EQ(ReadWholeFile(root / "self_eval" / "motion_gt_reference.csv"),
+            ReadWholeFile(root / "self_eval" / "motion_gt.csv"));
   const fs::path script =
       fs::path(ES_SOURCE_DIR) / "scripts" / "motion_speed_scale.py";
   log.clear();

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "core/base/input_error.h"
+#include "tests/expect_error.h"
 #include "tests/memory_limit.h"
 #include "tests/temp_dir_test.h"
 
@@ -110,14 +111,7 @@ TEST_F(FieldIoTest, ResidualFieldRoundTripsExactly) {
 template <typename F>
 void ExpectInputError(F load, const std::string& path,
                       const std::string& what) {
-  try {
-    load(path);
-    ADD_FAILURE() << "no error for " << path;
-  } catch (const InputError& e) {
-    const std::string message = e.what();
-    EXPECT_NE(message.find(path), std::string::npos) << message;
-    EXPECT_NE(message.find(what), std::string::npos) << message;
-  }
+  ExpectErrorNaming<InputError>([&] { load(path); }, {path, what});
 }
 
 TEST_F(FieldIoTest, TruncatedFilesAreRejected) {

@@ -11,6 +11,7 @@
 #include "core/loop/cycle_time.h"
 #include "tests/central_differences.h"
 #include "tests/plane_combination_name.h"
+#include "tests/small_fields.h"
 
 namespace es {
 namespace {
@@ -20,15 +21,6 @@ using central_differences::Uniform;
 
 const Eigen::Vector3d kBoxMin(-2.0, -1.0, 0.0);
 const Eigen::Vector3d kBoxMax(2.0, 1.0, 3.0);
-
-TriplaneOptions SmallPlanes(PlaneCombination combination) {
-  TriplaneOptions options;
-  options.resolution = 8;
-  options.channels = 4;
-  options.combination = combination;
-  options.init_noise = 0.5;
-  return options;
-}
 
 class MotionFieldGradientTest
     : public ::testing::TestWithParam<PlaneCombination> {};

@@ -19,16 +19,12 @@
 #include "synth/writer.h"
 #include "tests/temp_dir_test.h"
 #include "tests/tiny_synth_settings.h"
+#include "tests/whole_file.h"
 
 namespace es {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string ReadBytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
 
 class FlowInitStageTest : public TempDirTest {
  protected:
@@ -76,15 +72,15 @@ TEST_F(FlowInitStageTest, WritesItsFilesAndReplaysBitForBit) {
     EXPECT_TRUE(fs::exists(Path("a/") + name)) << name;
   }
   ASSERT_GT(a.fit.num_samples, 0);
-  EXPECT_EQ(ReadBytes(Path("a/motion_field.bin")),
-            ReadBytes(Path("b/motion_field.bin")));
-  EXPECT_EQ(ReadBytes(Path("a/scene_flow_samples.bin")),
-            ReadBytes(Path("b/scene_flow_samples.bin")));
+  EXPECT_EQ(ReadWholeFile(Path("a/motion_field.bin")),
+            ReadWholeFile(Path("b/motion_field.bin")));
+  EXPECT_EQ(ReadWholeFile(Path("a/scene_flow_samples.bin")),
+            ReadWholeFile(Path("b/scene_flow_samples.bin")));
   EXPECT_EQ(a.fit.fit_rmse, b.fit.fit_rmse);
   // The scene has gt/: V's and the samples' errors against it are written.
   ASSERT_TRUE(a.field_gt && a.samples_gt);
   const nlohmann::json json =
-      nlohmann::json::parse(ReadBytes(Path("a/flow_metrics.json")));
+      nlohmann::json::parse(ReadWholeFile(Path("a/flow_metrics.json")));
   EXPECT_EQ(json["num_samples"], a.fit.num_samples);
   EXPECT_EQ(json["num_dynamic"], a.num_dynamic);
   EXPECT_EQ(json["epe_gt"], a.field_gt->epe);

@@ -12,6 +12,7 @@
 #include "core/loop/cycle_time.h"
 #include "core/loop/euler_chain.h"
 #include "core/loop/loop_animator.h"
+#include "tests/small_fields.h"
 
 namespace es {
 namespace {
@@ -20,22 +21,13 @@ constexpr int kCycle = 4;
 
 // Small fields whose outputs are far from zero, so every path matters.
 MotionFieldOptions TinyMotion() {
-  MotionFieldOptions o;
-  o.triplane.resolution = 8;
-  o.triplane.channels = 4;
-  o.mlp_width = 16;
-  o.velocity_scale = 0.05;
-  o.last_layer_init_scale = 1.0;
+  MotionFieldOptions o = SmallMotionFieldOptions(0.05);
   o.seed = 5;
   return o;
 }
 
 ResidualFieldOptions TinyResidual() {
-  ResidualFieldOptions o;
-  o.triplane.resolution = 8;
-  o.triplane.channels = 4;
-  o.cycle_length = kCycle;
-  o.mlp_width = 16;
+  ResidualFieldOptions o = SmallResidualFieldOptions(kCycle);
   o.last_layer_init_scale = 1.0;
   o.seed = 7;
   return o;
@@ -168,6 +160,18 @@ struct LinearLoss {
     for (size_t i = 0; i < w_sh.size(); ++i) l += w_sh[i] * v.sh[i];
     return l;
   }
+
+  // Weights uniform in [-1, 1] for every value of the composed `g`.
+  static LinearLoss Random(const GaussianSet& g, std::mt19937* rng) {
+    std::uniform_real_distribution<double> u(-1, 1);
+    LinearLoss loss;
+    loss.w_means.resize(3 * g.size());
+    loss.w_opacity.resize(g.size());
+    loss.w_sh.resize(g.sh.size());
+    for (auto* w : {&loss.w_means, &loss.w_opacity, &loss.w_sh})
+      for (double& x : *w) x = u(*rng);
+    return loss;
+  }
 };
 
 // Compose (at the frame's own cycle numbers, or all at `cycle_number`)
@@ -178,13 +182,7 @@ void ExpectBackwardMatchesCentralDifferences(
   const int n = m.gaussians.size();
   const int frame = 9;  // cycle numbers 2, 1, 2, 1
   std::mt19937 rng(4);
-  std::uniform_real_distribution<double> u(-1, 1);
-  LinearLoss loss;
-  loss.w_means.resize(3 * n);
-  loss.w_opacity.resize(n);
-  loss.w_sh.resize(m.gaussians.sh.size());
-  for (auto* w : {&loss.w_means, &loss.w_opacity, &loss.w_sh})
-    for (double& x : *w) x = u(rng);
+  const LinearLoss loss = LinearLoss::Random(m.gaussians, &rng);
 
   FrameComposer composer;
   const SplatView& v =
@@ -378,12 +376,7 @@ TEST(FrameComposerTest, SharesAcrossThreadsMatchOneShare) {
           0, kCycle - 1)(rng));
     }
   }
-  LinearLoss loss;
-  loss.w_means.resize(3 * n);
-  loss.w_opacity.resize(n);
-  loss.w_sh.resize(m.gaussians.sh.size());
-  for (auto* w : {&loss.w_means, &loss.w_opacity, &loss.w_sh})
-    for (double& x : *w) x = u(rng);
+  const LinearLoss loss = LinearLoss::Random(m.gaussians, &rng);
   const int frame = 6;
 
   const int saved_threads = omp_get_max_threads();

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "core/base/input_error.h"
+#include "tests/expect_error.h"
 #include "tests/expect_same_gaussians.h"
 #include "tests/temp_dir_test.h"
 
@@ -112,14 +113,7 @@ TEST_F(LoopModelTest, AbsentFieldsStayAbsent) {
 
 void ExpectInputError(const std::string& dir, const std::string& file,
                       const std::string& what) {
-  try {
-    LoadLoopModel(dir);
-    ADD_FAILURE() << "no error; expected one about " << what;
-  } catch (const InputError& e) {
-    const std::string message = e.what();
-    EXPECT_NE(message.find(file), std::string::npos) << message;
-    EXPECT_NE(message.find(what), std::string::npos) << message;
-  }
+  ExpectErrorNaming<InputError>([&] { LoadLoopModel(dir); }, {file, what});
 }
 
 TEST_F(LoopModelTest, BadLoopFilesAreRejected) {

@@ -8,19 +8,14 @@
 
 #include "core/fields/mlp.h"
 #include "tests/central_differences.h"
+#include "tests/per_simd_level_test.h"
 
 namespace es {
 namespace {
 
 using central_differences::Uniform;
 
-class MlpKernelLevelTest : public ::testing::TestWithParam<SimdLevel> {
- protected:
-  void SetUp() override {
-    if (!SimdLevelSupported(GetParam()))
-      GTEST_SKIP() << "CPU lacks " << SimdLevelName(GetParam());
-  }
-};
+class MlpKernelLevelTest : public PerSimdLevelTest {};
 
 // Shapes with every kind of remainder: rows not a multiple of the row
 // tile, columns below, at and past the widest column tile, single rows and
@@ -129,12 +124,8 @@ TEST_P(MlpKernelLevelTest, NetworkMatchesSse2ToRounding) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Levels, MlpKernelLevelTest,
-                         ::testing::Values(SimdLevel::kSse2, SimdLevel::kAvx2,
-                                           SimdLevel::kAvx512),
-                         [](const ::testing::TestParamInfo<SimdLevel>& info) {
-                           return std::string(SimdLevelName(info.param));
-                         });
+INSTANTIATE_TEST_SUITE_P(Levels, MlpKernelLevelTest, AllSimdLevels(),
+                         SimdLevelTestName);
 
 }  // namespace
 }  // namespace es

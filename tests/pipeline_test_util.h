@@ -6,13 +6,13 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <regex>
-#include <sstream>
 #include <string>
 
 #include <sys/wait.h>
 #include <unistd.h>
+
+#include "tests/whole_file.h"
 
 namespace es {
 
@@ -33,6 +33,18 @@ inline int RunCommand(const std::string& command, std::string* out) {
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
+// A command's exit status (-1 where it did not exit) and its output.
+struct CommandResult {
+  int status = -1;
+  std::string output;  // stdout and stderr
+};
+
+inline CommandResult RunCommand(const std::string& command) {
+  CommandResult r;
+  r.status = RunCommand(command, &r.output);
+  return r;
+}
+
 // A fresh folder ES_BINARY_DIR/<name>_<pid> holding a tiny es_synth scene
 // (8 frames of 32x24) in scene/; empty path and *log says why on failure.
 inline std::filesystem::path MakeTinyDriverScene(const std::string& name,
@@ -48,13 +60,6 @@ inline std::filesystem::path MakeTinyDriverScene(const std::string& name,
                  log) != 0)
     return {};
   return root;
-}
-
-inline std::string ReadFile(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
 }
 
 // The number after "key": in a JSON text; NaN when it is null or missing.

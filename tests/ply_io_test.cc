@@ -16,8 +16,10 @@
 #include <gtest/gtest.h>
 
 #include "core/base/input_error.h"
+#include "tests/expect_error.h"
 #include "tests/expect_same_gaussians.h"
 #include "tests/temp_dir_test.h"
+#include "tests/whole_file.h"
 
 namespace es {
 namespace {
@@ -197,23 +199,21 @@ TEST_F(PlyIoTest, WrittenFileHasStandardHeader) {
 // Every bad input throws InputError naming the file.
 void ExpectInputErrorNaming(const std::string& path,
                             const std::string& detail) {
-  try {
-    ReadPly(path);
-    ADD_FAILURE() << "no error for " << detail;
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find(path), std::string::npos)
-        << detail << ": " << e.what();
-  }
+  SCOPED_TRACE(detail);
+  ExpectErrorNaming<InputError>([&] { ReadPly(path); }, {path});
 }
 
-void WriteText(const std::string& path, const std::string& text) {
-  std::ofstream(path, std::ios::binary) << text;
-}
 
-std::string ReadText(const std::string& path) {
-  std::ifstream f(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(f),
-                     std::istreambuf_iterator<char>());
+// The ASCII file of `ply` with one more element before the vertices: its
+// header lines `declaration`, and its rows `rows` first in the data.
+std::string WithElementFirst(const StandardPly& ply, const std::string& path,
+                             const std::string& declaration,
+                             const std::string& rows) {
+  ply.WriteAscii(path);
+  std::string text = ReadWholeFile(path);
+  text.insert(text.find("element vertex"), declaration);
+  text.insert(text.find("end_header\n") + 11, rows);
+  return text;
 }
 
 TEST_F(PlyIoTest, MissingFileNamesIt) {
@@ -236,10 +236,10 @@ TEST_F(PlyIoTest, BadRestCountNamesFile) {
 
 TEST_F(PlyIoTest, TruncatedFileNamesIt) {
   WritePly(RandomGaussians(5, 2, 3), Path("full.ply"));
-  const std::string full = ReadText(Path("full.ply"));
-  WriteText(Path("cut.ply"), full.substr(0, full.size() - 4));
+  const std::string full = ReadWholeFile(Path("full.ply"));
+  WriteWholeFile(Path("cut.ply"), full.substr(0, full.size() - 4));
   ExpectInputErrorNaming(Path("cut.ply"), "truncated body");
-  WriteText(Path("cut_header.ply"), full.substr(0, full.find("end_header")));
+  WriteWholeFile(Path("cut_header.ply"), full.substr(0, full.find("end_header")));
   ExpectInputErrorNaming(Path("cut_header.ply"), "truncated header");
 }
 
@@ -290,14 +290,14 @@ TEST_F(PlyIoTest, InfiniteOpacityIsClampedToRenderTheSame) {
 }
 
 TEST_F(PlyIoTest, BadHeaderNamesFile) {
-  WriteText(Path("notply.ply"), "hello\nend_header\n");
+  WriteWholeFile(Path("notply.ply"), "hello\nend_header\n");
   ExpectInputErrorNaming(Path("notply.ply"), "no magic");
-  WriteText(Path("bigendian.ply"),
-            "ply\nformat binary_big_endian 1.0\nelement vertex 0\n"
-            "end_header\n");
+  WriteWholeFile(Path("bigendian.ply"),
+                 "ply\nformat binary_big_endian 1.0\nelement vertex 0\n"
+                 "end_header\n");
   ExpectInputErrorNaming(Path("bigendian.ply"), "big endian");
-  WriteText(Path("novertex.ply"),
-            "ply\nformat ascii 1.0\nelement face 0\nend_header\n");
+  WriteWholeFile(Path("novertex.ply"),
+                 "ply\nformat ascii 1.0\nelement face 0\nend_header\n");
   ExpectInputErrorNaming(Path("novertex.ply"), "no vertex element");
 }
 
@@ -307,22 +307,21 @@ TEST_F(PlyIoTest, BadHeaderNamesFile) {
 TEST_F(PlyIoTest, HugeElementWithoutPropertiesIsSkipped) {
   StandardPly ply;
   ply.num_vertices = 1;
-  ply.WriteAscii(Path("base.ply"));
-  std::string text = ReadText(Path("base.ply"));
-  text.insert(text.find("element vertex"),
-              "element junk 9000000000000000000\n");
-  WriteText(Path("junk.ply"), text);
+  WriteWholeFile(Path("junk.ply"),
+                 WithElementFirst(ply, Path("base.ply"),
+                                  "element junk 9000000000000000000\n", ""));
   EXPECT_EQ(ReadPly(Path("junk.ply")).size(), 1);
 
-  WriteText(Path("junk0.ply"),
-            "ply\nformat ascii 1.0\nelement junk 9000000000000000000\n"
-            "element vertex 0\nproperty float x\nproperty float y\n"
-            "property float z\nproperty float f_dc_0\nproperty float f_dc_1\n"
-            "property float f_dc_2\nproperty float opacity\n"
-            "property float scale_0\nproperty float scale_1\n"
-            "property float scale_2\nproperty float rot_0\n"
-            "property float rot_1\nproperty float rot_2\n"
-            "property float rot_3\nend_header\n");
+  WriteWholeFile(
+      Path("junk0.ply"),
+      "ply\nformat ascii 1.0\nelement junk 9000000000000000000\n"
+      "element vertex 0\nproperty float x\nproperty float y\n"
+      "property float z\nproperty float f_dc_0\nproperty float f_dc_1\n"
+      "property float f_dc_2\nproperty float opacity\n"
+      "property float scale_0\nproperty float scale_1\n"
+      "property float scale_2\nproperty float rot_0\n"
+      "property float rot_1\nproperty float rot_2\n"
+      "property float rot_3\nend_header\n");
   EXPECT_EQ(ReadPly(Path("junk0.ply")).size(), 0);
 }
 
@@ -334,12 +333,10 @@ TEST_F(PlyIoTest, BadFloatListLengthIsAnInputError) {
   StandardPly ply;
   ply.num_vertices = 1;
   for (const char* length : {"nan", "inf", "-inf", "-1", "1.5", "1e300"}) {
-    ply.WriteAscii(Path("base.ply"));
-    std::string text = ReadText(Path("base.ply"));
-    text.insert(text.find("element vertex"),
-                "element f 1\nproperty list float int i\n");
-    text.insert(text.find("end_header\n") + 11, std::string(length) + " 7\n");
-    WriteText(Path("list.ply"), text);
+    WriteWholeFile(Path("list.ply"),
+                   WithElementFirst(ply, Path("base.ply"),
+                                    "element f 1\nproperty list float int i\n",
+                                    std::string(length) + " 7\n"));
     ExpectInputErrorNaming(Path("list.ply"), length);
   }
   // Binary: a float32 NaN length.
@@ -348,7 +345,7 @@ TEST_F(PlyIoTest, BadFloatListLengthIsAnInputError) {
       "ply\nformat binary_little_endian 1.0\nelement f 1\n"
       "property list float int i\nend_header\n";
   binary.append(reinterpret_cast<const char*>(&nan), sizeof(nan));
-  WriteText(Path("list_binary.ply"), binary);
+  WriteWholeFile(Path("list_binary.ply"), binary);
   ExpectInputErrorNaming(Path("list_binary.ply"), "binary NaN length");
 }
 
@@ -356,12 +353,10 @@ TEST_F(PlyIoTest, BadFloatListLengthIsAnInputError) {
 TEST_F(PlyIoTest, FloatListLengthThatIsWholeIsRead) {
   StandardPly ply;
   ply.num_vertices = 2;
-  ply.WriteAscii(Path("base.ply"));
-  std::string text = ReadText(Path("base.ply"));
-  text.insert(text.find("element vertex"),
-              "element f 2\nproperty list float int i\n");
-  text.insert(text.find("end_header\n") + 11, "2 7 8\n0\n");
-  WriteText(Path("list.ply"), text);
+  WriteWholeFile(Path("list.ply"),
+                 WithElementFirst(ply, Path("base.ply"),
+                                  "element f 2\nproperty list float int i\n",
+                                  "2 7 8\n0\n"));
   ply.ExpectMatches(ReadPly(Path("list.ply")));
 }
 

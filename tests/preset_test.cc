@@ -153,7 +153,7 @@ TEST(PresetTest, TheDriverRunsANamedPresetAndRefusesAnUnknownOne) {
             std::string::npos)
       << log;
   EXPECT_EQ(log.find("--preset auto chose"), std::string::npos) << log;
-  const std::string timings = ReadFile(out / "timings.json");
+  const std::string timings = ReadWholeFile(out / "timings.json");
   EXPECT_NE(timings.find("\"preset\": \"paper\""), std::string::npos)
       << timings;
   EXPECT_EQ(timings.find("preset_auto"), std::string::npos) << timings;

@@ -14,6 +14,7 @@
 
 #include "core/render/raster_project.h"
 #include "core/render/rasterizer.h"
+#include "tests/per_simd_level_test.h"
 #include "tests/reference_rasterizer.h"
 
 namespace es {
@@ -61,21 +62,29 @@ TestScene HardScene(unsigned seed) {
   return s;
 }
 
-class ProjectKernelsTest : public ::testing::TestWithParam<SimdLevel> {
- protected:
-  void SetUp() override {
-    if (!SimdLevelSupported(GetParam()))
-      GTEST_SKIP() << "CPU lacks " << SimdLevelName(GetParam());
-  }
+// HardScene(seed) and the views of it the projection kernels take (they
+// point into one another: not to be copied).
+struct ProjectionCase {
+  explicit ProjectionCase(unsigned seed)
+      : scene(HardScene(seed)),
+        view(scene.View()),
+        cam(scene.camera),
+        in(MakeProjectionInput(cam, view)) {}
+  ProjectionCase(const ProjectionCase&) = delete;
+
+  const TestScene scene;
+  const SplatView view;
+  const ProjectionCamera cam;
+  const ProjectionInput in;
 };
+
+class ProjectKernelsTest : public PerSimdLevelTest {};
 
 TEST_P(ProjectKernelsTest, ForwardMatchesDoubleReference) {
   const ProjectKernelSet& kernels = ProjectKernels(GetParam());
   for (unsigned seed = 0; seed < 3; ++seed) {
-    const TestScene scene = HardScene(seed);
-    const SplatView view = scene.View();
-    const ProjectionCamera cam(scene.camera);
-    const ProjectionInput in = MakeProjectionInput(cam, view);
+    const ProjectionCase c(seed);
+    const auto& [scene, view, cam, in] = c;
     const int n = view.count;
     std::vector<ProjectedSplat> mine(n);
     std::vector<char> keep(n);
@@ -143,10 +152,8 @@ double GroupError(const std::vector<double>& a, const std::vector<double>& b,
 TEST_P(ProjectKernelsTest, BackwardMatchesDoubleReference) {
   const ProjectKernelSet& kernels = ProjectKernels(GetParam());
   for (unsigned seed = 0; seed < 3; ++seed) {
-    const TestScene scene = HardScene(seed);
-    const SplatView view = scene.View();
-    const ProjectionCamera cam(scene.camera);
-    const ProjectionInput in = MakeProjectionInput(cam, view);
+    const ProjectionCase c(seed);
+    const auto& [scene, view, cam, in] = c;
     const int n = view.count, k_count = NumShCoeffs(view.sh_degree);
     constexpr int kStride = kTileGradHead + 4;
     std::vector<double> grad2d(static_cast<size_t>(kStride) * n);
@@ -254,12 +261,8 @@ TEST_P(ProjectKernelsTest, FloatRenderMatchesDoubleRender) {
   EXPECT_LT(rel(f.grads.sh, d.grads.sh), 1e-3);
 }
 
-INSTANTIATE_TEST_SUITE_P(Levels, ProjectKernelsTest,
-                         ::testing::Values(SimdLevel::kSse2, SimdLevel::kAvx2,
-                                           SimdLevel::kAvx512),
-                         [](const auto& info) {
-                           return std::string(SimdLevelName(info.param));
-                         });
+INSTANTIATE_TEST_SUITE_P(Levels, ProjectKernelsTest, AllSimdLevels(),
+                         SimdLevelTestName);
 
 }  // namespace
 }  // namespace es

@@ -49,19 +49,27 @@ int CountMismatches(const std::vector<double>& fast,
   return bad;
 }
 
+// A scene of the forward tests (seed 0 and 1: random, 2: stacked splats)
+// rendered by the rasterizer, in double or float, and by the reference.
+struct ForwardRenders {
+  TestScene scene;
+  RenderResult fast;
+  reference::Images<double> ref;
+};
+ForwardRenders RenderForward(unsigned seed, int degree, bool use_double) {
+  ForwardRenders r{seed == 2 ? StackedScene(seed, degree)
+                             : RandomScene(seed + 10 * degree, 20, degree, 2)};
+  Rasterizer().Forward(r.scene.camera, r.scene.View(), Options(use_double),
+                       &r.fast);
+  r.ref = reference::Render(r.scene.camera, r.scene.As<double>(), kBackground);
+  return r;
+}
+
 class ReferenceForwardTest : public ::testing::TestWithParam<int> {};
 
 TEST_P(ReferenceForwardTest, DoubleMatchesReference) {
-  const int degree = GetParam();
   for (unsigned seed = 0; seed < 3; ++seed) {
-    const TestScene s = seed == 2 ? StackedScene(seed, degree)
-                                  : RandomScene(seed + 10 * degree, 20,
-                                                degree, 2);
-    Rasterizer r;
-    RenderResult fast;
-    r.Forward(s.camera, s.View(), Options(true), &fast);
-    const auto ref =
-        reference::Render(s.camera, s.As<double>(), kBackground);
+    const auto [s, fast, ref] = RenderForward(seed, GetParam(), true);
     double max_diff = 0;
     EXPECT_EQ(CountMismatches(fast.rgb, ref.rgb, 1e-10, &max_diff), 0);
     EXPECT_EQ(CountMismatches(fast.alpha, ref.alpha, 1e-10, &max_diff), 0);
@@ -74,16 +82,8 @@ TEST_P(ReferenceForwardTest, DoubleMatchesReference) {
 }
 
 TEST_P(ReferenceForwardTest, FloatMatchesReference) {
-  const int degree = GetParam();
   for (unsigned seed = 0; seed < 3; ++seed) {
-    const TestScene s = seed == 2 ? StackedScene(seed, degree)
-                                  : RandomScene(seed + 10 * degree, 20,
-                                                degree, 2);
-    Rasterizer r;
-    RenderResult fast;
-    r.Forward(s.camera, s.View(), Options(false), &fast);
-    const auto ref =
-        reference::Render(s.camera, s.As<double>(), kBackground);
+    const auto [s, fast, ref] = RenderForward(seed, GetParam(), false);
     // Float may flip a decision exactly at a cut-off (alpha = 1/255,
     // T = 1e-4) in a rare pixel; everywhere else it agrees to float
     // rounding.

@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include "core/base/input_error.h"
+#include "tests/expect_error.h"
 
 namespace es {
 namespace {
@@ -68,12 +69,8 @@ TEST(SceneFlowIoTest, BadFilesAreInputErrorsNamingThem) {
   std::vector<SceneFlowSample> samples(2);
   SaveSceneFlowSamples(samples, path);
   auto expect_error = [&path](const std::string& what) {
-    try {
-      LoadSceneFlowSamples(path);
-      ADD_FAILURE() << what << ": no error";
-    } catch (const InputError& e) {
-      EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << what;
-    }
+    SCOPED_TRACE(what);
+    ExpectErrorNaming<InputError>([&] { LoadSceneFlowSamples(path); }, {path});
   };
   fs::resize_file(path, fs::file_size(path) - 8);
   expect_error("truncated");

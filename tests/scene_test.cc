@@ -14,6 +14,7 @@
 #include "core/io/colmap_io.h"
 #include "core/base/input_error.h"
 #include "core/io/split.h"
+#include "tests/expect_error.h"
 #include "tests/temp_dir_test.h"
 
 namespace es {
@@ -95,14 +96,8 @@ class SceneTest : public TempDirTest {
   // Loads dir_ and expects an InputError mentioning every one of `parts`.
   void ExpectLoadError(const std::vector<std::string>& parts,
                        const SceneOptions& options = {}) {
-    try {
-      LoadScene(dir_.string(), options);
-      ADD_FAILURE() << "no InputError; expected " << parts[0];
-    } catch (const InputError& e) {
-      for (const std::string& part : parts)
-        EXPECT_NE(std::string(e.what()).find(part), std::string::npos)
-            << "'" << part << "' not in: " << e.what();
-    }
+    ExpectErrorNaming<InputError>([&] { LoadScene(dir_.string(), options); },
+                                  parts);
   }
 
   ColmapModel model_;

@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 
 #include "core/render/rasterizer.h"
+#include "tests/per_simd_level_test.h"
 #include "tests/reference_rasterizer.h"
 
 namespace es {
@@ -83,13 +84,7 @@ TestScene Scene(unsigned seed) {
   return RandomScene(seed, 400, 3, 2, 83, 61);
 }
 
-class SimdLevelTest : public ::testing::TestWithParam<SimdLevel> {
- protected:
-  void SetUp() override {
-    if (!SimdLevelSupported(GetParam()))
-      GTEST_SKIP() << "CPU lacks " << SimdLevelName(GetParam());
-  }
-};
+class SimdLevelTest : public PerSimdLevelTest {};
 
 TEST_P(SimdLevelTest, FloatMatchesSse2WithinFloatTolerance) {
   for (unsigned seed = 0; seed < 3; ++seed) {
@@ -178,12 +173,8 @@ TEST_P(SimdLevelTest, NarrowFootprintsMatchSse2WithinFloatTolerance) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Levels, SimdLevelTest,
-                         ::testing::Values(SimdLevel::kSse2, SimdLevel::kAvx2,
-                                           SimdLevel::kAvx512),
-                         [](const auto& info) {
-                           return std::string(SimdLevelName(info.param));
-                         });
+INSTANTIATE_TEST_SUITE_P(Levels, SimdLevelTest, AllSimdLevels(),
+                         SimdLevelTestName);
 
 TEST(SimdLevelTest, AutoResolvesToASupportedLevel) {
   const SimdLevel best = BestSimdLevel();

@@ -16,6 +16,8 @@
 #include "core/metrics/image_metrics.h"
 #include "costs/photometric_loss.h"
 #include "costs/ssim_target_cache.h"
+#include "tests/central_differences.h"
+#include "tests/per_simd_level_test.h"
 
 namespace es {
 namespace {
@@ -83,13 +85,7 @@ double FastSsim(const cv::Mat& x, const cv::Mat& y, SimdLevel level,
                            grad->ptr<double>(), map->ptr<double>());
 }
 
-class SsimLevelTest : public ::testing::TestWithParam<SimdLevel> {
- protected:
-  void SetUp() override {
-    if (!SimdLevelSupported(GetParam()))
-      GTEST_SKIP() << "CPU lacks " << SimdLevelName(GetParam());
-  }
-};
+class SsimLevelTest : public PerSimdLevelTest {};
 
 // Odd sizes (rows shorter than a vector, a remainder after every vector)
 // and one large enough for the threaded path.
@@ -126,25 +122,13 @@ TEST_P(SsimLevelTest, GradientMatchesCentralDifferences) {
   const cv::Mat y = RandomImage(19, 26, 3, 4, CV_64F);
   cv::Mat map, grad;
   FastSsim<double>(x, y, GetParam(), &map, &grad);
-  double* px = x.ptr<double>();
   const int row = 26 * 3;
-  const double h = 1e-6;
-  double max_err = 0, max_grad = 0;
   // Corners, borders, a value 5 from the border and the interior.
-  for (int idx : {0, 2, row - 1, 5 * row + 15, 9 * row + 40,
-                  18 * row + 1, 18 * row + row - 2, 4 * row + 3 * 5 + 1}) {
-    const double saved = px[idx];
-    px[idx] = saved + h;
-    const double plus = cv::mean(ReferenceSsimMap(x, y).reshape(1))[0];
-    px[idx] = saved - h;
-    const double minus = cv::mean(ReferenceSsimMap(x, y).reshape(1))[0];
-    px[idx] = saved;
-    const double numeric = (plus - minus) / (2 * h);
-    max_err = std::max(max_err, std::abs(numeric - grad.ptr<double>()[idx]));
-    max_grad = std::max(max_grad, std::abs(numeric));
-  }
-  EXPECT_GT(max_grad, 1e-5);
-  EXPECT_LT(max_err, 1e-6 * max_grad + 1e-10);
+  central_differences::ExpectProbedGradientNear(
+      grad.ptr<double>(), x.ptr<double>(),
+      {0, 2, row - 1, 5 * row + 15, 9 * row + 40, 18 * row + 1,
+       18 * row + row - 2, 4 * row + 3 * 5 + 1},
+      [&] { return cv::mean(ReferenceSsimMap(x, y).reshape(1))[0]; });
 }
 
 // Training's float gradient against the double one: same direction, the
@@ -162,12 +146,8 @@ TEST_P(SsimLevelTest, FloatGradientMatchesDouble) {
   EXPECT_LT(MaxAbsDifference(grad_float, grad_double), 1e-3 * scale);
 }
 
-INSTANTIATE_TEST_SUITE_P(Levels, SsimLevelTest,
-                         ::testing::Values(SimdLevel::kSse2, SimdLevel::kAvx2,
-                                           SimdLevel::kAvx512),
-                         [](const auto& info) {
-                           return std::string(SimdLevelName(info.param));
-                         });
+INSTANTIATE_TEST_SUITE_P(Levels, SsimLevelTest, AllSimdLevels(),
+                         SimdLevelTestName);
 
 // The photometric loss (SSIM and L1 fused into one sweep) equals its terms
 // computed apart: 0.8 L1 + 0.2 (1 - SSIM), and its gradient likewise, in

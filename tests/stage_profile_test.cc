@@ -140,7 +140,7 @@ TEST(DriverTimingsTest, TimingsJsonTilesTheRun) {
   EXPECT_EQ(parts, 2u) << log;
 
   const nlohmann::json t =
-      nlohmann::json::parse(ReadFile(out / "timings.json"));
+      nlohmann::json::parse(ReadWholeFile(out / "timings.json"));
   EXPECT_EQ(t["preset"], "quick");
   EXPECT_TRUE(t.contains("preset_auto"));
   const std::vector<std::string> expected = {

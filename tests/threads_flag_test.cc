@@ -4,16 +4,15 @@
 #include "apps/common/threads_flag.h"
 
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
-#include <cstdio>
 #include <filesystem>
 #include <string>
 #include <thread>
 #include <tuple>
 
 #include "core/base/input_error.h"
+#include "tests/pipeline_test_util.h"
 
 namespace es {
 namespace {
@@ -40,23 +39,6 @@ TEST(ThreadsFlagTest, ANegativeCountIsRefusedByName) {
   }
 }
 
-struct Result {
-  int status = -1;
-  std::string output;
-};
-
-Result RunShell(const std::string& command) {
-  Result r;
-  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
-  if (pipe == nullptr) return r;
-  char buffer[4096];
-  for (size_t n; (n = fread(buffer, 1, sizeof(buffer), pipe)) > 0;)
-    r.output.append(buffer, n);
-  const int status = pclose(pipe);
-  r.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
-
 // bench_static prints the OpenMP threads it trains with: --threads sets
 // them over OMP_NUM_THREADS, and 0 leaves OMP_NUM_THREADS in charge.
 TEST(ThreadsFlagTest, AnAppTrainsWithTheThreadsItIsGiven) {
@@ -64,10 +46,10 @@ TEST(ThreadsFlagTest, AnAppTrainsWithTheThreadsItIsGiven) {
   const fs::path scene = fs::path(ES_BINARY_DIR) /
                          ("threads_flag_test_" + std::to_string(::getpid()));
   fs::remove_all(scene);
-  const Result synth = RunShell((bin / "es_synth").string() + " --out " +
-                           scene.string() +
-                           " --frames 6 --width 32 --height 24 "
-                           "--detail 0.02 --num_points 50");
+  const CommandResult synth =
+      RunCommand((bin / "es_synth").string() + " --out " + scene.string() +
+                 " --frames 6 --width 32 --height 24 "
+                 "--detail 0.02 --num_points 50");
   ASSERT_EQ(synth.status, 0) << synth.output;
   const std::string bench = (bin / "bench_static").string() + " --scene " +
                             scene.string() +
@@ -76,12 +58,13 @@ TEST(ThreadsFlagTest, AnAppTrainsWithTheThreadsItIsGiven) {
        {std::tuple{"OMP_NUM_THREADS=2", "--threads 3", "3 threads"},
         std::tuple{"OMP_NUM_THREADS=2", "--threads 1", "1 threads"},
         std::tuple{"OMP_NUM_THREADS=3", "--threads 0", "3 threads"}}) {
-    const Result r = RunShell(std::string("env ") + env + " " + bench + " " + flag);
+    const CommandResult r =
+        RunCommand(std::string("env ") + env + " " + bench + " " + flag);
     EXPECT_EQ(r.status, 0) << r.output;
     EXPECT_NE(r.output.find(std::string(", ") + expected), std::string::npos)
         << env << " " << flag << "\n" << r.output;
   }
-  const Result refused = RunShell(bench + " --threads -2");
+  const CommandResult refused = RunCommand(bench + " --threads -2");
   EXPECT_EQ(refused.status, 1) << refused.output;
   EXPECT_NE(refused.output.find("--threads=-2: must be >= 0"),
             std::string::npos)

@@ -10,6 +10,7 @@
 
 #include "tests/central_differences.h"
 #include "tests/plane_combination_name.h"
+#include "tests/small_fields.h"
 
 namespace es {
 namespace {
@@ -18,12 +19,7 @@ using central_differences::ExpectRelativeNear;
 using central_differences::NumericDerivative;
 
 Triplane MakeTriplane(PlaneCombination combination) {
-  TriplaneOptions options;
-  options.resolution = 8;
-  options.channels = 4;
-  options.combination = combination;
-  options.init_noise = 0.5;
-  Triplane triplane(options);
+  Triplane triplane(SmallPlanes(combination));
   triplane.SetBox(Eigen::Vector3d(-1.0, 0.0, 2.0),
                   Eigen::Vector3d(2.0, 1.0, 4.0));
   return triplane;

@@ -101,7 +101,7 @@ TEST(VideoEndToEndTest, FromAnMp4ToTheLoopingVideo) {
         "contact_sheet.png"}) {
     EXPECT_TRUE(fs::exists(out / file)) << file << "\n" << log;
   }
-  const std::string json = ReadFile(out / "eval" / "eval.json");
+  const std::string json = ReadWholeFile(out / "eval" / "eval.json");
   EXPECT_GT(JsonNumber(json, "psnr"), 10.0) << json;
   EXPECT_GT(JsonNumber(json, "dynamic_gaussians"), 0) << json;
 

@@ -5,13 +5,13 @@
 #include "apps/common/wait_policy.h"
 
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
-#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <map>
 #include <string>
+
+#include "tests/pipeline_test_util.h"
 
 namespace es {
 namespace {
@@ -124,16 +124,10 @@ std::string RunApp(const std::string& env, int* status) {
   const std::string command =
       "env -u OMP_WAIT_POLICY -u GOMP_SPINCOUNT -u " +
       std::string(kWaitPolicyMarker) + " " + env + " timeout 60 " + app +
-      " --v=1 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  if (pipe == nullptr) return "";
-  std::string output;
-  char buffer[256];
-  for (size_t n; (n = fread(buffer, 1, sizeof(buffer), pipe)) > 0;)
-    output.append(buffer, n);
-  const int s = pclose(pipe);
-  *status = WIFEXITED(s) ? WEXITSTATUS(s) : -1;
-  return output;
+      " --v=1";
+  const CommandResult r = RunCommand(command);
+  *status = r.status;
+  return r.output;
 }
 
 // A real binary from a clean environment starts again once with the

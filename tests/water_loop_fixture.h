@@ -9,30 +9,9 @@
 #include "core/loop/loop_model.h"
 #include "core/viz/camera_path.h"
 #include "tests/centered_camera.h"
+#include "tests/small_fields.h"
 
 namespace es {
-
-// Small fields (R = 8, 4 channels, width 16) whose outputs are far from
-// zero, for the tests of a moving, recolored loop.
-inline MotionFieldOptions SmallMotionFieldOptions(double velocity_scale) {
-  MotionFieldOptions mo;
-  mo.triplane.resolution = 8;
-  mo.triplane.channels = 4;
-  mo.mlp_width = 16;
-  mo.velocity_scale = velocity_scale;
-  mo.last_layer_init_scale = 1.0;
-  return mo;
-}
-
-inline ResidualFieldOptions SmallResidualFieldOptions(int cycle_length) {
-  ResidualFieldOptions ro;
-  ro.triplane.resolution = 8;
-  ro.triplane.channels = 4;
-  ro.cycle_length = cycle_length;
-  ro.mlp_width = 16;
-  ro.last_layer_init_scale = 0.3;
-  return ro;
-}
 
 // A small looping scene with a static half and a water half, for the export
 // tests: opaque static splats on a wall at x < -0.1, water splats at

@@ -10,9 +10,20 @@
 
 namespace es {
 
+// What BENCHMARK_MAIN does: the benchmark library's flags, then the
+// benchmarks they select. Header-only: only the bench_* binaries link the
+// library.
+inline int RunSelectedBenchmarks(int argc, char** argv) {
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
+
 // main() of a Google Benchmark binary: BENCHMARK_MAIN plus --version (the
 // version and git commit, as every other binary). --help is the benchmark
-// library's own. Header-only: only the bench_* binaries link the library.
+// library's own.
 inline int RunBenchmarks(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--version") == 0) {
@@ -20,11 +31,7 @@ inline int RunBenchmarks(int argc, char** argv) {
       return 0;
     }
   }
-  benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
+  return RunSelectedBenchmarks(argc, argv);
 }
 
 }  // namespace es

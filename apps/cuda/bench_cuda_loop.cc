@@ -80,37 +80,39 @@ void BM_CudaAlg2Frame(benchmark::State& state) {
   state.counters["dynamic"] = model.num_dynamic();
 }
 
-// The dynamic Gaussians' canonical positions on the device.
-struct DynamicPositions {
+// What the V benchmarks start from: the dynamic Gaussians' canonical
+// positions and V on the device, its parameters uploaded and its gradient
+// blocks zeroed.
+struct MotionFieldBench {
   LoopModel model = MakeLoopModel(Scene());
   DeviceBuffer<double> x0;
-  DynamicPositions() {
+  DeviceMotionField device{*model.motion};
+  DeviceFieldBlocks params, grads;
+  MotionFieldBench() {
     std::vector<double> x;
     for (int g : model.dynamic_index) {
       for (int j = 0; j < 3; ++j) x.push_back(model.gaussians.means[3 * g + j]);
     }
     x0.Upload(x);
+    const MotionField& field = *model.motion;
+    params.Upload(field.params(), field.triplane().num_params(),
+                  field.mlp().num_params());
+    grads.Zeros(field.triplane().num_params(), field.mlp().num_params());
   }
   int n() const { return model.num_dynamic(); }
 };
 
 void BM_CudaMotionFieldEvaluateBackward(benchmark::State& state) {
-  DynamicPositions p;
-  const MotionField& field = *p.model.motion;
-  DeviceMotionField device(field);
-  DeviceFieldBlocks params, grads;
-  params.Upload(field.params(), field.triplane().num_params(),
-                field.mlp().num_params());
-  grads.Zeros(field.triplane().num_params(), field.mlp().num_params());
+  MotionFieldBench p;
   DeviceBuffer<double> v(3 * p.n()), d_x(3 * p.n());
   d_x.Zero();
   DeviceFieldWorkspace ws;
   double sink = 0;
   for (auto _ : state) {
-    device.Evaluate(params.params(), p.n(), p.x0.data(), v.data(), &ws);
+    p.device.Evaluate(p.params.params(), p.n(), p.x0.data(), v.data(), &ws);
     // d loss / d v = v: any dense gradient does.
-    device.Backward(params.params(), v.data(), grads.gradients(), d_x.data(),
-                    &ws);
+    p.device.Backward(p.params.params(), v.data(), p.grads.gradients(),
+                      d_x.data(), &ws);
     CopyToHost(&sink, d_x.data(), sizeof(sink));
   }
   benchmark::DoNotOptimize(sink);
@@ -120,14 +122,8 @@ void BM_CudaMotionFieldEvaluateBackward(benchmark::State& state) {
 // One training frame of Alg. 1: every dynamic Gaussian advected to its
 // cycle index and back.
 void BM_CudaAlg1ForwardBackward(benchmark::State& state) {
-  DynamicPositions p;
-  const MotionField& field = *p.model.motion;
-  DeviceMotionField device(field);
-  DeviceFieldBlocks params, grads;
-  params.Upload(field.params(), field.triplane().num_params(),
-                field.mlp().num_params());
-  grads.Zeros(field.triplane().num_params(), field.mlp().num_params());
-  DeviceEulerChain chain(&device, EulerOptions());
+  MotionFieldBench p;
+  DeviceEulerChain chain(&p.device, EulerOptions());
   std::vector<int> steps(p.n());
   for (int k = 0; k < p.n(); ++k) {
     steps[k] = CycleIndex(kCycle - 1, p.model.start_times[k], kCycle);
@@ -136,9 +132,9 @@ void BM_CudaAlg1ForwardBackward(benchmark::State& state) {
   d_x0.Zero();
   double sink = 0;
   for (auto _ : state) {
-    chain.Forward(params.params(), p.n(), p.x0.data(), steps.data(),
+    chain.Forward(p.params.params(), p.n(), p.x0.data(), steps.data(),
                   x.data());
-    chain.Backward(params.params(), x.data(), grads.gradients(),
+    chain.Backward(p.params.params(), x.data(), p.grads.gradients(),
                    d_x0.data());
     CopyToHost(&sink, d_x0.data(), sizeof(sink));
   }

@@ -4,8 +4,7 @@
 #include <cstdio>
 #include <string>
 
-#include <benchmark/benchmark.h>
-
+#include "apps/common/benchmark_main.h"
 #include "core/base/cuda/cuda_error.h"
 
 namespace es {
@@ -21,11 +20,7 @@ inline int RunCudaBenchmarks(const char* name, int argc, char** argv) {
     return 0;
   }
   std::printf("device: %s\n", why.c_str());
-  benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
+  return RunSelectedBenchmarks(argc, argv);
 }
 
 }  // namespace cuda

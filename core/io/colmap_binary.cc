@@ -57,6 +57,23 @@ class BinaryReader {
     return v;
   }
 
+  // An id, count or size stored as the unsigned type `Stored`, as an int.
+  template <typename Stored>
+  int Int(const char* what) {
+    const uint64_t v = Read<Stored>();
+    if (v > static_cast<uint64_t>(std::numeric_limits<int>::max()))
+      Fail(std::string(what) + " out of range");
+    return static_cast<int>(v);
+  }
+
+  // N finite doubles, in file order.
+  template <int N>
+  Eigen::Matrix<double, N, 1> Doubles() {
+    Eigen::Matrix<double, N, 1> v;
+    for (int i = 0; i < N; ++i) v[i] = Double();
+    return v;
+  }
+
   std::string String() {
     const auto end = std::find(data_.begin() + pos_, data_.end(), '\0');
     if (end == data_.end()) Fail("truncated file (unterminated string)");
@@ -80,25 +97,19 @@ class BinaryReader {
   size_t pos_ = 0;
 };
 
-int CheckedInt32(BinaryReader& reader, uint64_t v, const char* what) {
-  if (v > static_cast<uint64_t>(std::numeric_limits<int>::max()))
-    reader.Fail(std::string(what) + " out of range");
-  return static_cast<int>(v);
-}
-
 void ReadCameras(const fs::path& path, ColmapModel* model) {
   BinaryReader reader(path);
   const uint64_t count = reader.Read<uint64_t>();
   for (uint64_t i = 0; i < count; ++i) {
     ColmapCamera camera;
-    camera.id = CheckedInt32(reader, reader.Read<uint32_t>(), "camera id");
+    camera.id = reader.Int<uint32_t>("camera id");
     const int model_id = reader.Read<int32_t>();
     const ColmapCameraModelInfo* info = FindColmapCameraModel(model_id);
     if (info == nullptr)
       reader.Fail("unknown camera model id " + std::to_string(model_id));
     camera.model = info->name;
-    camera.width = CheckedInt32(reader, reader.Read<uint64_t>(), "width");
-    camera.height = CheckedInt32(reader, reader.Read<uint64_t>(), "height");
+    camera.width = reader.Int<uint64_t>("width");
+    camera.height = reader.Int<uint64_t>("height");
     if (camera.width <= 0 || camera.height <= 0)
       reader.Fail("image size must be positive");
     for (int p = 0; p < info->num_params; ++p)
@@ -114,21 +125,17 @@ void ReadImages(const fs::path& path, ColmapModel* model) {
   const uint64_t count = reader.Read<uint64_t>();
   for (uint64_t i = 0; i < count; ++i) {
     ColmapImage image;
-    image.id = CheckedInt32(reader, reader.Read<uint32_t>(), "image id");
-    const double qw = reader.Double(), qx = reader.Double();
-    const double qy = reader.Double(), qz = reader.Double();
-    image.q_cw = Eigen::Quaterniond(qw, qx, qy, qz);
-    const double tx = reader.Double(), ty = reader.Double();
-    image.t_cw = {tx, ty, reader.Double()};
-    image.camera_id =
-        CheckedInt32(reader, reader.Read<uint32_t>(), "camera id");
+    image.id = reader.Int<uint32_t>("image id");
+    const Eigen::Vector4d q = reader.Doubles<4>();  // w, x, y, z
+    image.q_cw = Eigen::Quaterniond(q[0], q[1], q[2], q[3]);
+    image.t_cw = reader.Doubles<3>();
+    image.camera_id = reader.Int<uint32_t>("camera id");
     if (model->cameras.count(image.camera_id) == 0)
       reader.Fail("unknown camera id " + std::to_string(image.camera_id));
     image.name = reader.String();
     const uint64_t num_points = reader.Read<uint64_t>();
     for (uint64_t p = 0; p < num_points; ++p) {
-      const double x = reader.Double();
-      image.points2d.emplace_back(x, reader.Double());
+      image.points2d.push_back(reader.Doubles<2>());
       const uint64_t id = reader.Read<uint64_t>();
       image.point3d_ids.push_back(
           id == kInvalidPoint3dId ? -1 : static_cast<int64_t>(id));
@@ -145,16 +152,13 @@ void ReadPoints(const fs::path& path, ColmapModel* model) {
   for (uint64_t i = 0; i < count; ++i) {
     ColmapPoint3D point;
     point.id = static_cast<int64_t>(reader.Read<uint64_t>());
-    const double x = reader.Double(), y = reader.Double();
-    point.xyz = {x, y, reader.Double()};
+    point.xyz = reader.Doubles<3>();
     for (int c = 0; c < 3; ++c) point.rgb[c] = reader.Read<uint8_t>();
     point.error = reader.Double();
     const uint64_t track_length = reader.Read<uint64_t>();
     for (uint64_t t = 0; t < track_length; ++t) {
-      const int image_id =
-          CheckedInt32(reader, reader.Read<uint32_t>(), "image id");
-      point.track.emplace_back(
-          image_id, CheckedInt32(reader, reader.Read<uint32_t>(), "index"));
+      const int image_id = reader.Int<uint32_t>("image id");
+      point.track.emplace_back(image_id, reader.Int<uint32_t>("index"));
     }
     model->points.push_back(std::move(point));
   }

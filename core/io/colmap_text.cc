@@ -173,14 +173,14 @@ void ReadPoints(const fs::path& path, ColmapModel* model) {
   SortPointsById(path, &model->points);
 }
 
-std::ofstream OpenForWriting(const fs::path& path) {
+// Writes `path` through `write(std::ostream&)`; throws InputError naming
+// the file where it cannot be written.
+template <typename Write>
+void WriteModelFile(const fs::path& path, Write write) {
   std::ofstream file(path);
   if (!file) throw InputError(path.string() + ": cannot write file");
   file.precision(17);  // enough digits for doubles to round-trip
-  return file;
-}
-
-void CheckWritten(std::ofstream& file, const fs::path& path) {
+  write(file);
   file.close();
   if (!file) throw InputError(path.string() + ": write failed");
 }
@@ -199,53 +199,51 @@ void WriteColmapText(const ColmapModel& model, const std::string& dir) {
   std::error_code ec;
   fs::create_directories(dir, ec);
   if (ec) throw InputError(dir + ": cannot create directory: " + ec.message());
+  const fs::path root(dir);
 
-  const fs::path cameras_path = fs::path(dir) / "cameras.txt";
-  std::ofstream cameras = OpenForWriting(cameras_path);
-  cameras << "# Camera list with one line of data per camera:\n"
-          << "#   CAMERA_ID, MODEL, WIDTH, HEIGHT, PARAMS[]\n";
-  for (const auto& [id, camera] : model.cameras) {
-    cameras << id << ' ' << camera.model << ' ' << camera.width << ' '
-            << camera.height;
-    for (double p : camera.params) cameras << ' ' << p;
-    cameras << '\n';
-  }
-  CheckWritten(cameras, cameras_path);
-
-  const fs::path images_path = fs::path(dir) / "images.txt";
-  std::ofstream images = OpenForWriting(images_path);
-  images << "# Image list with two lines of data per image:\n"
-         << "#   IMAGE_ID, QW, QX, QY, QZ, TX, TY, TZ, CAMERA_ID, NAME\n"
-         << "#   POINTS2D[] as (X, Y, POINT3D_ID)\n";
-  for (const auto& [id, image] : model.images) {
-    const Eigen::Quaterniond& q = image.q_cw;
-    images << id << ' ' << q.w() << ' ' << q.x() << ' ' << q.y() << ' ' << q.z()
-           << ' ' << image.t_cw.x() << ' ' << image.t_cw.y() << ' '
-           << image.t_cw.z() << ' ' << image.camera_id << ' ' << image.name
-           << '\n';
-    for (size_t i = 0; i < image.points2d.size(); ++i) {
-      if (i > 0) images << ' ';
-      images << image.points2d[i].x() << ' ' << image.points2d[i].y() << ' '
-             << image.point3d_ids[i];
+  WriteModelFile(root / "cameras.txt", [&model](std::ostream& cameras) {
+    cameras << "# Camera list with one line of data per camera:\n"
+            << "#   CAMERA_ID, MODEL, WIDTH, HEIGHT, PARAMS[]\n";
+    for (const auto& [id, camera] : model.cameras) {
+      cameras << id << ' ' << camera.model << ' ' << camera.width << ' '
+              << camera.height;
+      for (double p : camera.params) cameras << ' ' << p;
+      cameras << '\n';
     }
-    images << '\n';
-  }
-  CheckWritten(images, images_path);
+  });
 
-  const fs::path points_path = fs::path(dir) / "points3D.txt";
-  std::ofstream points = OpenForWriting(points_path);
-  points << "# 3D point list with one line of data per point:\n"
-         << "#   POINT3D_ID, X, Y, Z, R, G, B, ERROR, "
-            "TRACK[] as (IMAGE_ID, POINT2D_IDX)\n";
-  for (const ColmapPoint3D& p : model.points) {
-    points << p.id << ' ' << p.xyz.x() << ' ' << p.xyz.y() << ' ' << p.xyz.z()
-           << ' ' << int{p.rgb[0]} << ' ' << int{p.rgb[1]} << ' '
-           << int{p.rgb[2]} << ' ' << p.error;
-    for (const auto& [image_id, point2d_idx] : p.track)
-      points << ' ' << image_id << ' ' << point2d_idx;
-    points << '\n';
-  }
-  CheckWritten(points, points_path);
+  WriteModelFile(root / "images.txt", [&model](std::ostream& images) {
+    images << "# Image list with two lines of data per image:\n"
+           << "#   IMAGE_ID, QW, QX, QY, QZ, TX, TY, TZ, CAMERA_ID, NAME\n"
+           << "#   POINTS2D[] as (X, Y, POINT3D_ID)\n";
+    for (const auto& [id, image] : model.images) {
+      const Eigen::Quaterniond& q = image.q_cw;
+      images << id << ' ' << q.w() << ' ' << q.x() << ' ' << q.y() << ' '
+             << q.z() << ' ' << image.t_cw.x() << ' ' << image.t_cw.y() << ' '
+             << image.t_cw.z() << ' ' << image.camera_id << ' ' << image.name
+             << '\n';
+      for (size_t i = 0; i < image.points2d.size(); ++i) {
+        if (i > 0) images << ' ';
+        images << image.points2d[i].x() << ' ' << image.points2d[i].y() << ' '
+               << image.point3d_ids[i];
+      }
+      images << '\n';
+    }
+  });
+
+  WriteModelFile(root / "points3D.txt", [&model](std::ostream& points) {
+    points << "# 3D point list with one line of data per point:\n"
+           << "#   POINT3D_ID, X, Y, Z, R, G, B, ERROR, "
+              "TRACK[] as (IMAGE_ID, POINT2D_IDX)\n";
+    for (const ColmapPoint3D& p : model.points) {
+      points << p.id << ' ' << p.xyz.x() << ' ' << p.xyz.y() << ' ' << p.xyz.z()
+             << ' ' << int{p.rgb[0]} << ' ' << int{p.rgb[1]} << ' '
+             << int{p.rgb[2]} << ' ' << p.error;
+      for (const auto& [image_id, point2d_idx] : p.track)
+        points << ' ' << image_id << ' ' << point2d_idx;
+      points << '\n';
+    }
+  });
 }
 
 }  // namespace es

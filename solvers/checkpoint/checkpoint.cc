@@ -7,33 +7,32 @@ namespace {
 
 constexpr CheckpointMagic kMagic = {'E', 'S', 'C', 'K', 'P', 'T', '0', '1'};
 
+// The records in file order. `io` is a CheckpointWriter (and `c` const) or
+// a CheckpointReader.
+template <typename Io, typename C>
+void Records(Io& io, C& c) {
+  io.Record(c.iteration);
+  io.Record(c.gaussians);
+  io.Record(c.adam);
+  io.Record(c.sampler);
+  io.Record(c.rng);
+  io.Record(c.grad_sum);
+  io.Record(c.grad_count);
+  io.Record(c.max_radius);
+}
+
 }  // namespace
 
 void WriteCheckpoint(const Checkpoint& c, const std::string& path) {
-  WriteCheckpointFile(path, kMagic, [&c](CheckpointWriter& w) {
-    w.Pod<int64_t>(c.iteration);
-    w.Gaussians(c.gaussians);
-    w.Adam(c.adam);
-    w.Sampler(c.sampler);
-    w.String(c.rng);
-    w.Vector(c.grad_sum);
-    w.Vector(c.grad_count);
-    w.Vector(c.max_radius);
-  });
+  WriteCheckpointFile(path, kMagic,
+                      [&c](CheckpointWriter& w) { Records(w, c); });
 }
 
 Checkpoint ReadCheckpoint(const std::string& path) {
   return ReadCheckpointFile(
       path, "checkpoint", kMagic, [](CheckpointReader& r) {
         Checkpoint c;
-        c.iteration = r.Pod<int64_t>();
-        c.gaussians = r.Gaussians();
-        c.adam = r.Adam();
-        c.sampler = r.Sampler();
-        c.rng = r.String();
-        c.grad_sum = r.Vector<double>();
-        c.grad_count = r.Vector<double>();
-        c.max_radius = r.Vector<double>();
+        Records(r, c);
         const size_t n = c.gaussians.size();
         if (c.adam.m.size() != static_cast<int>(n) ||
             c.adam.v.size() != static_cast<int>(n) || c.grad_sum.size() != n ||

@@ -51,6 +51,17 @@ class CheckpointWriter {
     Pod<int32_t>(s.position);
   }
 
+  // Record(x) writes x as its type's record; CheckpointReader::Record(x)
+  // reads it back into x, so a checkpoint lists its records once for both.
+  void Record(int64_t v) { Pod(v); }
+  template <typename T>
+  void Record(const std::vector<T>& v) { Vector(v); }
+  void Record(const std::vector<std::vector<double>>& vs) { Vectors(vs); }
+  void Record(const std::string& s) { String(s); }
+  void Record(const GaussianSet& g) { Gaussians(g); }
+  void Record(const GaussianAdamState& a) { Adam(a); }
+  void Record(const FrameSampler::State& s) { Sampler(s); }
+
  private:
   std::ofstream* out_;
 };
@@ -121,6 +132,15 @@ class CheckpointReader {
       Fail("frame sampler position out of range");
     return s;
   }
+  void Record(int64_t& v) { v = Pod<int64_t>(); }
+  template <typename T>
+  void Record(std::vector<T>& v) { v = Vector<T>(); }
+  void Record(std::vector<std::vector<double>>& vs) { vs = Vectors(); }
+  void Record(std::string& s) { s = String(); }
+  void Record(GaussianSet& g) { g = Gaussians(); }
+  void Record(GaussianAdamState& a) { a = Adam(); }
+  void Record(FrameSampler::State& s) { s = Sampler(); }
+
   [[noreturn]] void Fail(const std::string& what) {
     throw InputError(path_ + ": not a valid " + kind_ + " (" + what + ")");
   }

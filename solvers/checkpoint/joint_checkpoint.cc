@@ -17,41 +17,36 @@ bool SameShapes(const std::vector<std::vector<double>>& a,
   return true;
 }
 
+// The records in file order. `io` is a CheckpointWriter (and `c` const) or
+// a CheckpointReader.
+template <typename Io, typename C>
+void Records(Io& io, C& c) {
+  io.Record(c.iteration);
+  io.Record(c.gaussians);
+  io.Record(c.adam);
+  io.Record(c.dynamic_index);
+  io.Record(c.start_times);
+  io.Record(c.field_params);
+  io.Record(c.field_m);
+  io.Record(c.field_v);
+  io.Record(c.field_boxes);
+  io.Record(c.field_step);
+  io.Record(c.sampler);
+  io.Record(c.rng);
+}
+
 }  // namespace
 
 void WriteJointCheckpoint(const JointCheckpoint& c, const std::string& path) {
-  WriteCheckpointFile(path, kMagic, [&c](CheckpointWriter& w) {
-    w.Pod<int64_t>(c.iteration);
-    w.Gaussians(c.gaussians);
-    w.Adam(c.adam);
-    w.Vector(c.dynamic_index);
-    w.Vector(c.start_times);
-    w.Vectors(c.field_params);
-    w.Vectors(c.field_m);
-    w.Vectors(c.field_v);
-    w.Vector(c.field_boxes);
-    w.Pod<int64_t>(c.field_step);
-    w.Sampler(c.sampler);
-    w.String(c.rng);
-  });
+  WriteCheckpointFile(path, kMagic,
+                      [&c](CheckpointWriter& w) { Records(w, c); });
 }
 
 JointCheckpoint ReadJointCheckpoint(const std::string& path) {
   return ReadCheckpointFile(
       path, "joint checkpoint", kMagic, [](CheckpointReader& r) {
         JointCheckpoint c;
-        c.iteration = r.Pod<int64_t>();
-        c.gaussians = r.Gaussians();
-        c.adam = r.Adam();
-        c.dynamic_index = r.Vector<int>();
-        c.start_times = r.Vector<int>();
-        c.field_params = r.Vectors();
-        c.field_m = r.Vectors();
-        c.field_v = r.Vectors();
-        c.field_boxes = r.Vector<double>();
-        c.field_step = r.Pod<int64_t>();
-        c.sampler = r.Sampler();
-        c.rng = r.String();
+        Records(r, c);
         const int n = c.gaussians.size();
         if (c.adam.m.size() != n || c.adam.v.size() != n ||
             c.dynamic_index.size() != c.start_times.size() ||

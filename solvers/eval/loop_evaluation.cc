@@ -11,8 +11,7 @@
 #include "core/loop/euler_chain.h"
 #include "core/loop/frame_composer.h"
 #include "core/loop/loop_renderer.h"
-#include "core/metrics/image_metrics.h"
-#include "solvers/eval/finite_mean.h"
+#include "solvers/eval/held_out_means.h"
 
 namespace es {
 namespace {
@@ -74,26 +73,16 @@ LoopMetrics CompareWithFrames(const std::vector<cv::Mat>& images,
                               const std::vector<Frame>& frames,
                               const std::vector<int>& indices) {
   CHECK_EQ(images.size(), indices.size());
-  FiniteMean psnr, ssim, psnr_water, ssim_water, psnr_static;
+  HeldOutMeans means;
   for (size_t k = 0; k < indices.size(); ++k) {
     const Frame& f = frames[indices[k]];
     const cv::Mat& x = images[k];
     cv::Mat y;
     f.image.convertTo(y, CV_64F);
-    psnr.Add(Psnr(x, y));
-    ssim.Add(Ssim(x, y));
-    if (f.mask.empty()) continue;
-    psnr_water.Add(MaskedPsnr(x, y, f.mask));
-    ssim_water.Add(MaskedSsim(x, y, f.mask));
-    psnr_static.Add(MaskedPsnr(x, y, f.mask, /*invert=*/true));
+    means.Add(x, y, f.mask);
   }
   LoopMetrics out;
-  out.frames = static_cast<int>(indices.size());
-  out.psnr = psnr.Get();
-  out.ssim = ssim.Get();
-  out.psnr_water = psnr_water.Get();
-  out.ssim_water = ssim_water.Get();
-  out.psnr_static = psnr_static.Get();
+  means.WriteTo(static_cast<int>(indices.size()), &out);
   return out;
 }
 

@@ -4,7 +4,7 @@
 #include <limits>
 
 #include "core/metrics/image_metrics.h"
-#include "solvers/eval/finite_mean.h"
+#include "solvers/eval/held_out_means.h"
 
 namespace es {
 
@@ -21,7 +21,8 @@ StaticMetrics EvaluateStatic(const GaussianSet& g,
 
   Rasterizer rasterizer;
   RenderResult render;
-  FiniteMean psnr, ssim, psnr_water, ssim_water, psnr_static, ssim_static;
+  HeldOutMeans means;
+  FiniteMean ssim_static;
   double tp = 0, fp = 0, fn = 0;
   bool any_mask = false;
   for (int index : indices) {
@@ -30,13 +31,9 @@ StaticMetrics EvaluateStatic(const GaussianSet& g,
     const cv::Mat x(render.height, render.width, CV_64FC3, render.rgb.data());
     cv::Mat y;
     f.image.convertTo(y, CV_64F);
-    psnr.Add(Psnr(x, y));
-    ssim.Add(Ssim(x, y));
+    means.Add(x, y, f.mask);
     if (f.mask.empty()) continue;
     any_mask = true;
-    psnr_water.Add(MaskedPsnr(x, y, f.mask));
-    ssim_water.Add(MaskedSsim(x, y, f.mask));
-    psnr_static.Add(MaskedPsnr(x, y, f.mask, /*invert=*/true));
     ssim_static.Add(MaskedSsim(x, y, f.mask, /*invert=*/true));
     cv::Mat m;
     f.mask.convertTo(m, CV_64F);
@@ -51,12 +48,7 @@ StaticMetrics EvaluateStatic(const GaussianSet& g,
   }
   const double nan = std::numeric_limits<double>::quiet_NaN();
   StaticMetrics out;
-  out.frames = static_cast<int>(indices.size());
-  out.psnr = psnr.Get();
-  out.ssim = ssim.Get();
-  out.psnr_water = psnr_water.Get();
-  out.ssim_water = ssim_water.Get();
-  out.psnr_static = psnr_static.Get();
+  means.WriteTo(static_cast<int>(indices.size()), &out);
   out.ssim_static = ssim_static.Get();
   out.mask_precision = any_mask && tp + fp > 0 ? tp / (tp + fp) : nan;
   out.mask_recall = any_mask && tp + fn > 0 ? tp / (tp + fn) : nan;

@@ -24,6 +24,7 @@
 #include "tests/cuda/expect_twins_near.h"
 #include "tests/cuda/require_gpu.h"
 #include "tests/plane_combination_name.h"
+#include "tests/small_fields.h"
 
 namespace es {
 namespace cuda {
@@ -48,21 +49,12 @@ std::vector<double> HardPoints(int n, uint32_t seed) {
   return x;
 }
 
-TriplaneOptions Planes(PlaneCombination combination) {
-  TriplaneOptions options;
-  options.resolution = 8;
-  options.channels = 5;
-  options.combination = combination;
-  options.init_noise = 0.5;
-  return options;
-}
-
 class DeviceTriplaneTest
     : public ::testing::TestWithParam<PlaneCombination> {};
 
 TEST_P(DeviceTriplaneTest, SampleAndBackwardMatchCpuTwin) {
   ES_REQUIRE_GPU("CUDA triplane");
-  Triplane cpu(Planes(GetParam()));
+  Triplane cpu(SmallPlanes(GetParam(), 5));
   cpu.SetBox(kBoxMin, kBoxMax);
   std::vector<double> params(cpu.num_params());
   cpu.Initialize(3, params.data());
@@ -170,7 +162,7 @@ class DeviceMotionFieldTest
 TEST_P(DeviceMotionFieldTest, EvaluateAndBackwardMatchCpuTwin) {
   ES_REQUIRE_GPU("CUDA motion field");
   MotionFieldOptions options;
-  options.triplane = Planes(GetParam());
+  options.triplane = SmallPlanes(GetParam(), 5);
   options.mlp_width = 24;
   options.last_layer_init_scale = 1.0;
   options.velocity_scale = 0.1;

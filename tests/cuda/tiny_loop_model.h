@@ -6,6 +6,7 @@
 #include <Eigen/Core>
 
 #include "core/loop/loop_model.h"
+#include "tests/small_fields.h"
 
 namespace es {
 namespace cuda {
@@ -40,22 +41,13 @@ inline LoopModel TinyLoopModel(const TinyLoopModelCase& c, int cycle_length,
     m.start_times.push_back(start % cycle_length);
   const Eigen::Vector3d lo(-1, -1, 3), hi(1, 1, 5);
   if (c.motion) {
-    MotionFieldOptions o;
-    o.triplane.resolution = 8;
-    o.triplane.channels = 4;
-    o.mlp_width = 16;
-    o.velocity_scale = velocity_scale;
-    o.last_layer_init_scale = 1.0;
+    MotionFieldOptions o = SmallMotionFieldOptions(velocity_scale);
     o.seed = 5;
     m.motion.emplace(o);
     m.motion->SetBox(lo, hi);
   }
   if (c.residual) {
-    ResidualFieldOptions o;
-    o.triplane.resolution = 8;
-    o.triplane.channels = 4;
-    o.cycle_length = cycle_length;
-    o.mlp_width = 16;
+    ResidualFieldOptions o = SmallResidualFieldOptions(cycle_length);
     o.mlp_depth = 1;
     o.last_layer_init_scale = 1.0;
     o.seed = 7;

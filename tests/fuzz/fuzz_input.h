@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "core/base/input_error.h"
+
 namespace es {
 
 // The readers take paths, so each fuzz input is written to a file in a
@@ -54,6 +56,31 @@ inline std::vector<std::string> SplitFuzzInput(const uint8_t* data,
     }
   }
   return parts;
+}
+
+// The whole input as the file `name`; returns its path.
+inline std::string WriteFuzzInput(const std::string& name,
+                                  const uint8_t* data, size_t size) {
+  return WriteFuzzFile(name, reinterpret_cast<const char*>(data), size);
+}
+
+// The input split (SplitFuzzInput) into one file per name, in FuzzDir().
+inline void WriteFuzzParts(const std::vector<std::string>& names,
+                           const uint8_t* data, size_t size) {
+  const std::vector<std::string> parts =
+      SplitFuzzInput(data, size, static_cast<int>(names.size()));
+  for (size_t i = 0; i < names.size(); ++i)
+    WriteFuzzFile(names[i], parts[i].data(), parts[i].size());
+}
+
+// Runs a reader on the input: refusing it with InputError is a right
+// answer; a crash or any other exception is a finding.
+template <typename Read>
+void ReadAllowingRefusal(Read read) {
+  try {
+    read();
+  } catch (const InputError&) {
+  }
 }
 
 }  // namespace es

@@ -18,20 +18,12 @@
 #include "core/io/ply_io.h"
 #include "solvers/checkpoint/checkpoint.h"
 #include "solvers/checkpoint/joint_checkpoint.h"
+#include "tests/whole_file.h"
 
 namespace es {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string ReadAll(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
-void WriteAll(const fs::path& path, const std::string& bytes) {
-  std::ofstream(path, std::ios::binary) << bytes;
-}
 
 GaussianSet SmallGaussians(int n, int degree) {
   GaussianSet g;
@@ -148,20 +140,20 @@ void MakeSeeds(const fs::path& out) {
   const fs::path ply = dir("fuzz_ply");
   for (int degree : {0, 1}) {
     WritePly(SmallGaussians(2, degree), (tmp / "g.ply").string());
-    WriteAll(ply / ("seed_binary_sh" + std::to_string(degree)),
-             ReadAll(tmp / "g.ply"));
+    WriteWholeFile(ply / ("seed_binary_sh" + std::to_string(degree)),
+             ReadWholeFile(tmp / "g.ply"));
   }
-  WriteAll(ply / "seed_ascii", AsciiPly());
+  WriteWholeFile(ply / "seed_ascii", AsciiPly());
 
   const ColmapModel model = SmallColmapModel();
   WriteColmapText(model, tmp.string());
-  WriteAll(dir("fuzz_colmap_text") / "seed_model",
-           ReadAll(tmp / "cameras.txt") + "\n@@\n" +
-               ReadAll(tmp / "images.txt") + "\n@@\n" +
-               ReadAll(tmp / "points3D.txt"));
-  WriteAll(dir("fuzz_colmap_binary") / "seed_model", ColmapBinary(model));
+  WriteWholeFile(dir("fuzz_colmap_text") / "seed_model",
+           ReadWholeFile(tmp / "cameras.txt") + "\n@@\n" +
+               ReadWholeFile(tmp / "images.txt") + "\n@@\n" +
+               ReadWholeFile(tmp / "points3D.txt"));
+  WriteWholeFile(dir("fuzz_colmap_binary") / "seed_model", ColmapBinary(model));
 
-  WriteAll(dir("fuzz_split") / "seed_split",
+  WriteWholeFile(dir("fuzz_split") / "seed_split",
            "# held out\nframe_000001.png\n  frame_000003.png  # comment\n\n"
            "frame_000001.jpg\n");
 
@@ -171,7 +163,7 @@ void MakeSeeds(const fs::path& out) {
   mo.mlp_width = 3;
   mo.mlp_depth = 1;
   SaveMotionField(MotionField(mo), (tmp / "m.bin").string());
-  WriteAll(dir("fuzz_field") / "seed_motion", ReadAll(tmp / "m.bin"));
+  WriteWholeFile(dir("fuzz_field") / "seed_motion", ReadWholeFile(tmp / "m.bin"));
   ResidualFieldOptions ro;
   ro.triplane.resolution = 2;
   ro.triplane.channels = 2;
@@ -180,7 +172,7 @@ void MakeSeeds(const fs::path& out) {
   ro.t_frequencies = ro.p_frequencies = 1;
   ro.cycle_length = 3;
   SaveResidualField(ResidualField(ro), (tmp / "r.bin").string());
-  WriteAll(dir("fuzz_field") / "seed_residual", ReadAll(tmp / "r.bin"));
+  WriteWholeFile(dir("fuzz_field") / "seed_residual", ReadWholeFile(tmp / "r.bin"));
 
   Checkpoint c;
   c.iteration = 5;
@@ -192,7 +184,7 @@ void MakeSeeds(const fs::path& out) {
   c.rng = "4 5 6";
   c.grad_sum = c.grad_count = c.max_radius = {0, 1};
   WriteCheckpoint(c, (tmp / "c.bin").string());
-  WriteAll(dir("fuzz_checkpoint") / "seed_static", ReadAll(tmp / "c.bin"));
+  WriteWholeFile(dir("fuzz_checkpoint") / "seed_static", ReadWholeFile(tmp / "c.bin"));
   JointCheckpoint j;
   j.iteration = 3;
   j.gaussians = j.adam.m = j.adam.v = SmallGaussians(3, 0);
@@ -203,7 +195,7 @@ void MakeSeeds(const fs::path& out) {
   j.sampler = c.sampler;
   j.rng = "7";
   WriteJointCheckpoint(j, (tmp / "j.bin").string());
-  WriteAll(dir("fuzz_checkpoint") / "seed_joint", ReadAll(tmp / "j.bin"));
+  WriteWholeFile(dir("fuzz_checkpoint") / "seed_joint", ReadWholeFile(tmp / "j.bin"));
   fs::remove_all(tmp);
 }
 
