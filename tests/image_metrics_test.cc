@@ -106,5 +106,22 @@ TEST(ImageMetricsTest, MaskedMetricsUseOnlyTheRegion) {
   EXPECT_LT(MaskedSsim(x, y, mask), MaskedSsim(x, y, mask, true));
 }
 
+TEST(ImageMetricsTest, FarFromMaskKeepsOnlyPixelsBeyondTheDistance) {
+  cv::Mat mask(9, 21, CV_32FC1, cv::Scalar(0.0f));
+  mask.at<float>(4, 10) = 1.0f;  // one water pixel
+  const cv::Mat far = FarFromMask(mask, 3.0);
+  ASSERT_EQ(far.type(), CV_64FC1);
+  for (int i = 0; i < far.rows; ++i) {
+    for (int j = 0; j < far.cols; ++j) {
+      const double distance = std::hypot(i - 4, j - 10);
+      EXPECT_EQ(far.at<double>(i, j), distance > 3.0 ? 1.0 : 0.0)
+          << "(" << i << ", " << j << ") at distance " << distance;
+    }
+  }
+  // No water anywhere: all of it is far from the water.
+  const cv::Mat dry(9, 21, CV_32FC1, cv::Scalar(0.0f));
+  EXPECT_EQ(cv::countNonZero(FarFromMask(dry, 3.0)), 9 * 21);
+}
+
 }  // namespace
 }  // namespace es

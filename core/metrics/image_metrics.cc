@@ -1,6 +1,7 @@
 #include "core/metrics/image_metrics.h"
 
 #include <glog/logging.h>
+#include <opencv2/imgproc.hpp>
 
 #include <cmath>
 #include <limits>
@@ -104,6 +105,20 @@ double MaskedPsnr(const cv::Mat& x, const cv::Mat& y, const cv::Mat& mask,
 double MaskedSsim(const cv::Mat& x, const cv::Mat& y, const cv::Mat& mask,
                   bool invert) {
   return MaskedMean(SsimMap(x, y), mask, invert);
+}
+
+cv::Mat FarFromMask(const cv::Mat& mask, double distance) {
+  cv::Mat m;
+  mask.convertTo(m, CV_64F);
+  const cv::Mat dry = m <= 0.5;  // 255 off the water, 0 on it
+  if (cv::countNonZero(dry) == dry.total()) {
+    return cv::Mat::ones(mask.size(), CV_64FC1);
+  }
+  cv::Mat to_water;
+  cv::distanceTransform(dry, to_water, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+  cv::Mat far;
+  cv::Mat(to_water > distance).convertTo(far, CV_64F, 1.0 / 255);
+  return far;
 }
 
 }  // namespace es

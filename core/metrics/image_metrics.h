@@ -40,6 +40,11 @@ double MaskedPsnr(const cv::Mat& x, const cv::Mat& y, const cv::Mat& mask,
 double MaskedSsim(const cv::Mat& x, const cv::Mat& y, const cv::Mat& mask,
                   bool invert = false);
 
+// The pixels farther than `distance` pixels from every pixel where `mask`
+// (as above) is > 0.5, as a CV_64FC1 mask of 1 there and 0 elsewhere; all 1
+// where the mask has no water.
+cv::Mat FarFromMask(const cv::Mat& mask, double distance);
+
 }  // namespace es
 
 #endif  // EULERSPLAT_CORE_METRICS_IMAGE_METRICS_H_

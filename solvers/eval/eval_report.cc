@@ -12,16 +12,22 @@ nlohmann::ordered_json HeldOutJson(const LoopMetrics& m) {
           {"ssim", m.ssim},
           {"psnr_water", m.psnr_water},
           {"ssim_water", m.ssim_water},
-          {"psnr_static", m.psnr_static}};
+          {"psnr_static", m.psnr_static},
+          {"psnr_far_scenery", m.psnr_far_scenery}};
 }
 
-void PrintHeldOutRows(const LoopMetrics& m, bool has_masks) {
+void PrintHeldOutRows(const LoopMetrics& m, bool has_masks,
+                      double stage1_far_scenery) {
   std::printf("  held-out (%d frames)   PSNR %6.2f dB   SSIM %.4f\n",
               m.frames, m.psnr, m.ssim);
   std::printf("  water region          PSNR %6.2f dB   SSIM %.4f%s\n",
               m.psnr_water, m.ssim_water, has_masks ? "" : "   (no masks)");
-  if (has_masks)
-    std::printf("  scenery (not water)   PSNR %6.2f dB\n", m.psnr_static);
+  if (!has_masks) return;
+  std::printf("  scenery (not water)   PSNR %6.2f dB\n", m.psnr_static);
+  std::printf("  scenery far from water PSNR %5.2f dB", m.psnr_far_scenery);
+  if (std::isfinite(stage1_far_scenery))
+    std::printf("   (Stage 1 %.2f dB)", stage1_far_scenery);
+  std::printf("\n");
 }
 
 nlohmann::ordered_json RealismRegionJson(const RealismRegion& r) {
@@ -112,7 +118,7 @@ void PrintEvalSummary(const EvalStageOptions& o, const LoopModel& model,
   std::printf("%s: %d Gaussians (%d dynamic), L = %d\n",
               o.model_dir.c_str(), model.gaussians.size(),
               model.num_dynamic(), model.cycle_length);
-  PrintHeldOutRows(e.held_out, scene.has_masks);
+  PrintHeldOutRows(e.held_out, scene.has_masks, e.training.stage1_far_scenery);
   PrintTrainingWaterPsnr(e.training);
   if (e.has_motion_gt) {
     std::printf("  motion vs truth       EPE %.4g (%.1f%% of mean speed "

@@ -14,8 +14,11 @@ namespace es {
 // How es_eval and es_compare write and print held-out and realism
 // figures, so their JSON files and tables read the same.
 nlohmann::ordered_json HeldOutJson(const LoopMetrics& metrics);
-// The held-out and water-region PSNR / SSIM rows of the table.
-void PrintHeldOutRows(const LoopMetrics& metrics, bool has_masks);
+// The held-out and water-region PSNR / SSIM rows of the table; with
+// `stage1_far_scenery` (finite) Stage 1's far-scenery PSNR beside the
+// model's.
+void PrintHeldOutRows(const LoopMetrics& metrics, bool has_masks,
+                      double stage1_far_scenery = NAN);
 nlohmann::ordered_json RealismRegionJson(const RealismRegion& region);
 // {"water", "static", "frame"} of RealismRegionJson.
 nlohmann::ordered_json RealismJson(const RealismMetrics& metrics);

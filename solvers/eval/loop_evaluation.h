@@ -25,6 +25,9 @@ struct LoopMetrics {
   double psnr = 0, ssim = 0;
   double psnr_water = 0, ssim_water = 0;
   double psnr_static = 0;
+  // The scenery farther from the water than kFarSceneryDiagonals of the
+  // image diagonal (held_out_means.h): what Stage 3 should not change.
+  double psnr_far_scenery = 0;
 };
 
 // `rasterizer` renders the compositions (CPU or device); the options

@@ -19,6 +19,7 @@ struct StaticMetrics {
   double psnr = 0, ssim = 0;
   double psnr_water = 0, ssim_water = 0;
   double psnr_static = 0, ssim_static = 0;
+  double psnr_far_scenery = 0;  // held_out_means.h's kFarSceneryDiagonals
   double mask_precision = 0, mask_recall = 0;
 };
 

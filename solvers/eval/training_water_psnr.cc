@@ -25,10 +25,12 @@ TrainingWaterPsnr ReadTrainingWaterPsnr(const std::string& model_dir) {
     if (json.is_discarded()) {
       throw InputError(metrics.string() + ": not valid JSON");
     }
-    const auto stage1 = json.find("stage1_psnr_test_water");
-    if (stage1 != json.end() && stage1->is_number()) {
-      p.stage1 = stage1->get<double>();
-    }
+    const auto read = [&json](const char* key, double* value) {
+      const auto it = json.find(key);
+      if (it != json.end() && it->is_number()) *value = it->get<double>();
+    };
+    read("stage1_psnr_test_water", &p.stage1);
+    read("stage1_psnr_test_far_scenery", &p.stage1_far_scenery);
   }
   const fs::path history = fs::path(model_dir) / "history.csv";
   if (!fs::exists(history)) return p;
@@ -56,7 +58,8 @@ nlohmann::ordered_json TrainingWaterPsnrJson(const TrainingWaterPsnr& p) {
           {"stage3_first", number(p.first)},
           {"stage3_first_iteration", p.first_iteration},
           {"stage3_last", number(p.last)},
-          {"stage3_last_iteration", p.last_iteration}};
+          {"stage3_last_iteration", p.last_iteration},
+          {"stage1_far_scenery", number(p.stage1_far_scenery)}};
 }
 
 void PrintTrainingWaterPsnr(const TrainingWaterPsnr& p) {

@@ -21,9 +21,13 @@ struct TrainingWaterPsnr {
   int64_t first_iteration = -1;
   double last = NAN;
   int64_t last_iteration = -1;
+  // Stage 1's held-out PSNR of the scenery far from the water
+  // (LoopMetrics::psnr_far_scenery); NaN: not recorded.
+  double stage1_far_scenery = NAN;
 };
 
-// Reads MODEL_DIR/metrics.json ("stage1_psnr_test_water") and
+// Reads MODEL_DIR/metrics.json ("stage1_psnr_test_water",
+// "stage1_psnr_test_far_scenery") and
 // MODEL_DIR/history.csv (the first and last rows with a
 // psnr_test_water); a missing file or key leaves its figures NaN. Throws
 // InputError naming the file when one exists but does not parse.

@@ -61,6 +61,7 @@ void WriteMetrics(const std::string& path, const JointStageResult& r,
                        {"psnr_test_water", m.psnr_water},
                        {"ssim_test_water", m.ssim_water},
                        {"psnr_test_static", m.psnr_static},
+                       {"psnr_test_far_scenery", m.psnr_far_scenery},
                        {"test_frames", m.frames},
                        {"seconds", r.seconds},
                        {"iterations", r.iterations},
@@ -74,7 +75,9 @@ void WriteMetrics(const std::string& path, const JointStageResult& r,
                        {"final_loss", r.final_loss},
                        {"stage1_psnr_test", r.stage1.psnr},
                        {"stage1_psnr_test_water", r.stage1.psnr_water},
-                       {"stage1_psnr_test_static", r.stage1.psnr_static}});
+                       {"stage1_psnr_test_static", r.stage1.psnr_static},
+                       {"stage1_psnr_test_far_scenery",
+                        r.stage1.psnr_far_scenery}});
 }
 
 // The water losses' input noise (costs/water_input_noise.h): `sigma` on
@@ -373,8 +376,9 @@ JointStageResult RunJointStage(const JointStageOptions& options,
     // without motion.
     const StaticMetrics stage1 = EvaluateStatic(
         initial, scene.frames, scene.test, JointRenderOptions(o.trainer));
-    r.stage1 = {stage1.frames,     stage1.psnr,       stage1.ssim,
-                stage1.psnr_water, stage1.ssim_water, stage1.psnr_static};
+    r.stage1 = {stage1.frames,      stage1.psnr,       stage1.ssim,
+                stage1.psnr_water,  stage1.ssim_water, stage1.psnr_static,
+                stage1.psnr_far_scenery};
   }
   std::optional<MotionField> motion = PretrainedMotion(o, &r.flow_init);
   SplitWater(o, scene, &initial);

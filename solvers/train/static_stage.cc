@@ -66,6 +66,7 @@ void WriteMetrics(const StaticStageResult& r, const std::string& path) {
                        {"psnr_test_water", r.test.psnr_water},
                        {"ssim_test_water", r.test.ssim_water},
                        {"psnr_test_static", r.test.psnr_static},
+                       {"psnr_test_far_scenery", r.test.psnr_far_scenery},
                        {"ssim_test_static", r.test.ssim_static},
                        {"num_gaussians", r.num_gaussians},
                        {"num_dynamic", r.num_dynamic},
