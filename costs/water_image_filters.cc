@@ -1,6 +1,7 @@
 #include "costs/water_image_filters.h"
 
 #include <algorithm>
+#include <utility>
 
 #include <glog/logging.h>
 
@@ -159,6 +160,20 @@ void Band(const std::vector<double>& y, int w, int h, int k,
   }
   Blur(y, w, h, kernels[k], tmp, out);
   for (size_t p = 0; p < y.size(); ++p) (*out)[p] = (*fine)[p] - (*out)[p];
+}
+
+void Bands(const std::vector<double>& y, int w, int h, int count,
+           const std::vector<std::vector<double>>& kernels, BlurScratch* tmp,
+           std::vector<double>* low, std::vector<double>* next,
+           std::vector<double>* out) {
+  for (int k = 0; k < count; ++k) {
+    const std::vector<double>& fine = k == 0 ? y : *low;
+    Blur(y, w, h, kernels[k], tmp, next);
+    std::vector<double>& band = out[k];
+    band.resize(y.size());
+    for (size_t p = 0; p < y.size(); ++p) band[p] = fine[p] - (*next)[p];
+    std::swap(*low, *next);
+  }
 }
 
 void AddBandAdjoint(const std::vector<double>& g, int w, int h, int k,
