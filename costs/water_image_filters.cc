@@ -144,10 +144,16 @@ void WaterOf(const cv::Mat& mask, size_t pixels, std::vector<double>* out) {
   if (mask.empty()) return;
   CHECK(mask.type() == CV_32FC1 || mask.type() == CV_64FC1) << mask.type();
   CHECK_EQ(mask.total(), pixels);
-  cv::Mat d;
-  mask.convertTo(d, CV_64FC1);
-  const double* m = d.ptr<double>();
-  for (size_t p = 0; p < pixels; ++p) (*out)[p] = m[p] > 0.5 ? 1.0 : 0.0;
+  // Read in place (no converted copy per call): a float above 0.5 is one
+  // whose double is.
+  const cv::Mat m = mask.isContinuous() ? mask : mask.clone();
+  if (m.type() == CV_32FC1) {
+    const float* v = m.ptr<float>();
+    for (size_t p = 0; p < pixels; ++p) (*out)[p] = v[p] > 0.5f ? 1.0 : 0.0;
+  } else {
+    const double* v = m.ptr<double>();
+    for (size_t p = 0; p < pixels; ++p) (*out)[p] = v[p] > 0.5 ? 1.0 : 0.0;
+  }
 }
 
 void Band(const std::vector<double>& y, int w, int h, int k,

@@ -16,6 +16,9 @@ namespace {
 
 constexpr int kChannels = internal::kWaterChannels;
 constexpr int kNeighbours = 9;  // 3 x 3
+// Rows of the projections that one thread updates at a time: small enough
+// for their n x projections block to stay in cache across the features.
+constexpr Eigen::Index kRowBlock = 512;
 
 // Offset o of the 3 x 3 neighbourhood, spaced `step` pixels, clamped.
 inline int Neighbour(int x, int y, int o, int step, int w, int h) {
@@ -70,37 +73,25 @@ void WaterTextureLoss::FindTaps() {
 void WaterTextureLoss::Project(const std::vector<std::vector<double>>& bands,
                                Eigen::MatrixXd* out) {
   const Eigen::Index n = static_cast<Eigen::Index>(water_.size());
-  const int projections = options_.projections;
-  out->resize(n, projections);
-  // The directions row by row (feature f's weights contiguous), so a
-  // pixel's projections are one pass over its features: each sum runs
-  // over the features in the order (band, offset), one product added at
-  // a time, as a rank-1 update per feature would, without reading and
-  // writing the n x projections block once per feature.
-  directions_by_row_.resize(static_cast<size_t>(dims()) * projections);
-  for (int f = 0; f < dims(); ++f)
-    for (int j = 0; j < projections; ++j)
-      directions_by_row_[static_cast<size_t>(f) * projections + j] =
-          directions_(f, j);
-  const double* d = directions_by_row_.data();
-  const int num_bands = static_cast<int>(bands.size());
-#pragma omp parallel
-  {
-    std::vector<double> sums(projections);
-#pragma omp for schedule(static)
-    for (Eigen::Index i = 0; i < n; ++i) {
-      std::fill(sums.begin(), sums.end(), 0.0);
-      for (int b = 0; b < num_bands; ++b) {
-        const int* taps = taps_[b % options_.bands].data() + i * kNeighbours;
-        const double* band = bands[b].data();
-        for (int o = 0; o < kNeighbours; ++o) {
-          const double v = band[taps[o]];
-          const double* row =
-              d + static_cast<size_t>(b * kNeighbours + o) * projections;
-          for (int j = 0; j < projections; ++j) sums[j] += v * row[j];
-        }
+  out->setZero(n, options_.projections);
+  const Eigen::Index blocks = (n + kRowBlock - 1) / kRowBlock;
+  // Per block of pixels, feature (b, o) of each at once times its row of
+  // the directions: no n x dims feature matrix is ever held. Each block
+  // is its own rows, so the threads do not change the sums.
+#pragma omp parallel for schedule(static)
+  for (Eigen::Index k = 0; k < blocks; ++k) {
+    const Eigen::Index begin = k * kRowBlock;
+    const Eigen::Index rows = std::min(kRowBlock, n - begin);
+    Eigen::VectorXd values(rows);
+    auto block = out->middleRows(begin, rows);
+    for (size_t b = 0; b < bands.size(); ++b) {
+      const int* taps = taps_[b % options_.bands].data() + begin * kNeighbours;
+      const double* band = bands[b].data();
+      for (int o = 0; o < kNeighbours; ++o) {
+        for (Eigen::Index i = 0; i < rows; ++i)
+          values[i] = band[taps[i * kNeighbours + o]];
+        block.noalias() += values * directions_.row(b * kNeighbours + o);
       }
-      for (int j = 0; j < projections; ++j) (*out)(i, j) = sums[j];
     }
   }
 }
@@ -172,7 +163,8 @@ double WaterTextureLoss::Evaluate(const double* rendered,
   if (d_rendered != nullptr) {
     // The projections' adjoint: feature (b, o)'s gradient, scattered to
     // its taps.
-    d_bands_.assign(rendered_bands_.size(), std::vector<double>(pixels, 0.0));
+    d_bands_.resize(rendered_bands_.size());
+    for (std::vector<double>& d : d_bands_) d.assign(pixels, 0.0);
     const int num_bands = static_cast<int>(d_bands_.size());
 #pragma omp parallel for schedule(dynamic)
     for (int b = 0; b < num_bands; ++b) {  // each band its own array

@@ -88,7 +88,6 @@ class WaterTextureLoss {
   internal::BlurScratch blur_;
   std::vector<std::vector<double>> rendered_bands_, input_bands_, d_bands_;
   Eigen::MatrixXd directions_;  // dims x projections, unit columns
-  std::vector<double> directions_by_row_;  // its rows, one after another
   Eigen::MatrixXd proj_r_, proj_i_, d_proj_;  // n x projections
   // Per direction, both sets' rank orders (one per thread at a time).
   struct DirectionSort {
