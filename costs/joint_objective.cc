@@ -31,6 +31,8 @@ JointObjective::JointObjective(const Frame* frame,
                        ImageGradientOnlyTerms(), options.render, &rasterizer_,
                        options_.euler);
     loop_cost_->set_cycle_number(0);
+    // The frame just fitted: its Euler chain is reused.
+    loop_cost_->RecomposeFrom(&cost_);
     loop_texture_.emplace(options_.loop_texture());
   }
   if (options_.pair_on()) {

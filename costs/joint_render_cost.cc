@@ -70,6 +70,11 @@ void JointRenderCost::Reset(const Frame* frame, int frame_index,
   *mutable_parameter_block_sizes() = layout_.sizes();
 }
 
+void JointRenderCost::RecomposeFrom(const JointRenderCost* source) {
+  CHECK(source != nullptr && source != this && cycle_number_);
+  source_ = source;
+}
+
 LoopModelView JointRenderCost::View(double const* const* parameters) const {
   LoopModelView v;
   v.structure = structure_;
@@ -151,14 +156,21 @@ void JointRenderCost::BackwardWithImageGradient(
 
 double JointRenderCost::Forward(const LoopModelView& model,
                                 bool want_grad) const {
-  const SplatView& view = composer_.Compose(model, frame_index_, cycle_number_);
-  rasterizer_->Forward(frame_->camera, view, options_, &render_);
+  const SplatView* view;
+  if (source_ != nullptr) {
+    CHECK_EQ(source_->frame_index_, frame_index_)
+        << "recomposing another frame than the source's";
+    view = &composer().Recompose(model, *cycle_number_);
+  } else {
+    view = &composer_.Compose(model, frame_index_, cycle_number_);
+  }
+  rasterizer_->Forward(frame_->camera, *view, options_, &render_);
   double loss = image_loss_.Score(render_, *frame_, want_grad);
   last_residual_ = 0;
   if (residual_on()) {
-    d_residuals_.resize(composer_.residuals().size());
+    d_residuals_.resize(composer().residuals().size());
     last_residual_ =
-        ResidualL2Loss(composer_.residuals(), residual_weight_,
+        ResidualL2Loss(composer().residuals(), residual_weight_,
                        want_grad ? d_residuals_.data() : nullptr);
     loss += residual_weight_ * last_residual_;
   }
@@ -190,7 +202,7 @@ void JointRenderCost::Backward(const LoopModelView& model,
                     jacobians[layout_.residual_mlp()],
                     chunks(layout_.residual_triplane())};
   }
-  composer_.Backward(model, grads_,
+  composer().Backward(model, grads_,
                      residual_on() ? d_residuals_.data() : nullptr, out);
   // The extra channel is the canonical probability (D does not touch it).
   double* jac = jacobians[kDynamicBlock];

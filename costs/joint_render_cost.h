@@ -73,6 +73,14 @@ class JointRenderCost : public ceres::CostFunction {
     cycle_number_ = cycle_number;
   }
 
+  // From now on this cost composes through `source`'s composer
+  // (FrameComposer::Recompose at its cycle number, which must be set):
+  // the frame `source` composed last, its Euler chain reused. For a cost
+  // of the same frame and parameters whose forward pass follows
+  // `source`'s backward pass (the loop texture's render of the frame
+  // just fitted); `source` must outlive it.
+  void RecomposeFrom(const JointRenderCost* source);
+
   bool Evaluate(double const* const* parameters, double* residuals,
                 double** jacobians) const override;
 
@@ -115,10 +123,13 @@ class JointRenderCost : public ceres::CostFunction {
   double last_mask() const { return image_loss_.last_mask(); }
   double last_residual() const { return last_residual_; }
   const EulerStats& last_euler_stats() const {
-    return composer_.euler_stats();
+    return composer().euler_stats();
   }
 
  private:
+  FrameComposer& composer() const {
+    return source_ != nullptr ? source_->composer_ : composer_;
+  }
   LoopModelView View(double const* const* parameters) const;
   // View with the dynamic-probability channel attached for the mask loss.
   LoopModelView AttachedView(double const* const* parameters) const;
@@ -149,6 +160,7 @@ class JointRenderCost : public ceres::CostFunction {
   // Reused between evaluations.
   mutable RenderedFrameLoss image_loss_;
   mutable FrameComposer composer_;
+  const JointRenderCost* source_ = nullptr;  // RecomposeFrom's
   mutable std::vector<double> d_residuals_;
   mutable RenderResult render_;
   mutable SplatGradients grads_;

@@ -1,6 +1,7 @@
 #include "costs/water_image_filters.h"
 
 #include <algorithm>
+#include <utility>
 
 #include <glog/logging.h>
 
@@ -143,10 +144,16 @@ void WaterOf(const cv::Mat& mask, size_t pixels, std::vector<double>* out) {
   if (mask.empty()) return;
   CHECK(mask.type() == CV_32FC1 || mask.type() == CV_64FC1) << mask.type();
   CHECK_EQ(mask.total(), pixels);
-  cv::Mat d;
-  mask.convertTo(d, CV_64FC1);
-  const double* m = d.ptr<double>();
-  for (size_t p = 0; p < pixels; ++p) (*out)[p] = m[p] > 0.5 ? 1.0 : 0.0;
+  // Read in place (no converted copy per call): a float above 0.5 is one
+  // whose double is.
+  const cv::Mat m = mask.isContinuous() ? mask : mask.clone();
+  if (m.type() == CV_32FC1) {
+    const float* v = m.ptr<float>();
+    for (size_t p = 0; p < pixels; ++p) (*out)[p] = v[p] > 0.5f ? 1.0 : 0.0;
+  } else {
+    const double* v = m.ptr<double>();
+    for (size_t p = 0; p < pixels; ++p) (*out)[p] = v[p] > 0.5 ? 1.0 : 0.0;
+  }
 }
 
 void Band(const std::vector<double>& y, int w, int h, int k,
@@ -159,6 +166,20 @@ void Band(const std::vector<double>& y, int w, int h, int k,
   }
   Blur(y, w, h, kernels[k], tmp, out);
   for (size_t p = 0; p < y.size(); ++p) (*out)[p] = (*fine)[p] - (*out)[p];
+}
+
+void Bands(const std::vector<double>& y, int w, int h, int count,
+           const std::vector<std::vector<double>>& kernels, BlurScratch* tmp,
+           std::vector<double>* low, std::vector<double>* next,
+           std::vector<double>* out) {
+  for (int k = 0; k < count; ++k) {
+    const std::vector<double>& fine = k == 0 ? y : *low;
+    Blur(y, w, h, kernels[k], tmp, next);
+    std::vector<double>& band = out[k];
+    band.resize(y.size());
+    for (size_t p = 0; p < y.size(); ++p) band[p] = fine[p] - (*next)[p];
+    std::swap(*low, *next);
+  }
 }
 
 void AddBandAdjoint(const std::vector<double>& g, int w, int h, int k,

@@ -52,6 +52,14 @@ void Band(const std::vector<double>& y, int w, int h, int k,
           const std::vector<std::vector<double>>& kernels, BlurScratch* tmp,
           std::vector<double>* low, std::vector<double>* out);
 
+// Band(y, .., k, ..) for k = 0 .. count - 1 into out[0 .. count - 1],
+// each blur once (band k's coarse blur is band k + 1's fine one); *low
+// and *next are scratch.
+void Bands(const std::vector<double>& y, int w, int h, int count,
+           const std::vector<std::vector<double>>& kernels, BlurScratch* tmp,
+           std::vector<double>* low, std::vector<double>* next,
+           std::vector<double>* out);
+
 // Adds the adjoint of band k applied to g, (G_{k-1}^T - G_k^T) g, to *dy
 // (G_{-1} = identity); *low and *coarse are scratch.
 void AddBandAdjoint(const std::vector<double>& g, int w, int h, int k,

@@ -53,9 +53,8 @@ void WaterTextureLoss::Bands(const double* rgb, std::mt19937_64* noise,
       std::normal_distribution<double> normal(0.0, options_.input_noise[c]);
       for (double& v : channel_) v += normal(*noise);
     }
-    for (int k = 0; k < options_.bands; ++k)
-      internal::Band(channel_, w_, h_, k, kernels_, &blur_, &low_,
-                     &(*bands)[c * options_.bands + k]);
+    internal::Bands(channel_, w_, h_, options_.bands, kernels_, &blur_,
+                    &low_, &coarse_, &(*bands)[c * options_.bands]);
   }
 }
 
@@ -164,7 +163,8 @@ double WaterTextureLoss::Evaluate(const double* rendered,
   if (d_rendered != nullptr) {
     // The projections' adjoint: feature (b, o)'s gradient, scattered to
     // its taps.
-    d_bands_.assign(rendered_bands_.size(), std::vector<double>(pixels, 0.0));
+    d_bands_.resize(rendered_bands_.size());
+    for (std::vector<double>& d : d_bands_) d.assign(pixels, 0.0);
     const int num_bands = static_cast<int>(d_bands_.size());
 #pragma omp parallel for schedule(dynamic)
     for (int b = 0; b < num_bands; ++b) {  // each band its own array

@@ -287,12 +287,11 @@ struct ComposeResult {
   int shares = 0;
 };
 
-ComposeResult ComposeAndBackward(const LoopModel& m, int frame,
-                                 const LinearLoss& loss,
-                                 FrameComposer* composer) {
+// The composed view `v` of `composer` and its Backward of `loss`.
+ComposeResult BackwardOf(const LoopModel& m, const SplatView& v,
+                         const LinearLoss& loss, FrameComposer* composer) {
   const int n = m.gaussians.size();
   const LoopModelView view = LoopModelView::Of(m);
-  const SplatView& v = composer->Compose(view, frame);
   ComposeResult r;
   r.shares = composer->num_shares();
   r.means.assign(v.means, v.means + 3 * n);
@@ -322,6 +321,15 @@ ComposeResult ComposeAndBackward(const LoopModel& m, int frame,
   return r;
 }
 
+ComposeResult ComposeAndBackward(const LoopModel& m, int frame,
+                                 const LinearLoss& loss,
+                                 FrameComposer* composer,
+                                 std::optional<int> cycle_number = {}) {
+  return BackwardOf(
+      m, composer->Compose(LoopModelView::Of(m), frame, cycle_number), loss,
+      composer);
+}
+
 void ExpectClose(const std::vector<double>& a, const std::vector<double>& b,
                  const char* name) {
   ASSERT_EQ(a.size(), b.size()) << name;
@@ -342,11 +350,9 @@ void ExpectFlagged(const std::vector<double>& grad,
   }
 }
 
-// The dynamic Gaussians cut into one share per thread (each advected and
-// evaluated by its thread, gradients summed at the end) give what one
-// share gives, including on a second pass (the shares' gradient buffers
-// must come back zero), and flag every triplane chunk they write.
-TEST(FrameComposerTest, SharesAcrossThreadsMatchOneShare) {
+// 400 Gaussians, 300 of them dynamic, on planes of 32^2 with the points
+// in a corner of the box (most triplane chunks get no gradient).
+LoopModel ManyPointModel(std::mt19937* rng) {
   LoopModel m = TinyModel(1);
   // Finer planes and points in a corner of the box, so that most triplane
   // chunks get no gradient.
@@ -361,21 +367,30 @@ TEST(FrameComposerTest, SharesAcrossThreadsMatchOneShare) {
                      Eigen::Vector3d::Constant(1));
   const int n = 400;
   m.gaussians.Resize(n);
-  std::mt19937 rng(3);
   std::uniform_real_distribution<double> u(-1, 1);
-  for (double& v : m.gaussians.means) v = 0.3 * u(rng) - 0.5;
-  for (double& v : m.gaussians.log_scales) v = -2 + 0.2 * u(rng);
-  for (double& v : m.gaussians.opacity_logits) v = u(rng);
-  for (double& v : m.gaussians.sh) v = 0.5 * u(rng);
+  for (double& v : m.gaussians.means) v = 0.3 * u(*rng) - 0.5;
+  for (double& v : m.gaussians.log_scales) v = -2 + 0.2 * u(*rng);
+  for (double& v : m.gaussians.opacity_logits) v = u(*rng);
+  for (double& v : m.gaussians.sh) v = 0.5 * u(*rng);
   m.dynamic_index.clear();
   m.start_times.clear();
   for (int i = 0; i < n; i += 4) {  // 300 dynamic
     for (int j = i + 1; j < i + 4; ++j) {
       m.dynamic_index.push_back(j);
       m.start_times.push_back(std::uniform_int_distribution<int>(
-          0, kCycle - 1)(rng));
+          0, kCycle - 1)(*rng));
     }
   }
+  return m;
+}
+
+// The dynamic Gaussians cut into one share per thread (each advected and
+// evaluated by its thread, gradients summed at the end) give what one
+// share gives, including on a second pass (the shares' gradient buffers
+// must come back zero), and flag every triplane chunk they write.
+TEST(FrameComposerTest, SharesAcrossThreadsMatchOneShare) {
+  std::mt19937 rng(3);
+  const LoopModel m = ManyPointModel(&rng);
   const LinearLoss loss = LinearLoss::Random(m.gaussians, &rng);
   const int frame = 6;
 
@@ -405,6 +420,51 @@ TEST(FrameComposerTest, SharesAcrossThreadsMatchOneShare) {
     ExpectFlagged(r->d_vt, r->vt_chunks, "V triplane");
     ExpectFlagged(r->d_dt, r->dt_chunks, "D triplane");
   }
+}
+
+void ExpectSame(const ComposeResult& a, const ComposeResult& b) {
+  EXPECT_EQ(a.means, b.means);
+  EXPECT_EQ(a.opacity, b.opacity);
+  EXPECT_EQ(a.sh, b.sh);
+  EXPECT_EQ(a.d_means, b.d_means);
+  EXPECT_EQ(a.d_opacity, b.d_opacity);
+  EXPECT_EQ(a.d_sh, b.d_sh);
+  EXPECT_EQ(a.d_vt, b.d_vt);
+  EXPECT_EQ(a.d_vm, b.d_vm);
+  EXPECT_EQ(a.d_dt, b.d_dt);
+  EXPECT_EQ(a.d_dm, b.d_dm);
+  EXPECT_EQ(a.vt_chunks, b.vt_chunks);
+  EXPECT_EQ(a.dt_chunks, b.dt_chunks);
+}
+
+// Recompose after a Compose + Backward of the same frame (the loop
+// texture's render after the fit's) is Compose at that cycle number, bit
+// for bit, forward and backward: with shares across threads, with every
+// step's activations kept and with none kept (the backward pass
+// evaluates V again).
+TEST(FrameComposerTest, RecomposeEqualsComposeAtThatCycleNumber) {
+  std::mt19937 rng(8);
+  const LoopModel m = ManyPointModel(&rng);
+  const LinearLoss fit_loss = LinearLoss::Random(m.gaussians, &rng);
+  const LinearLoss loop_loss = LinearLoss::Random(m.gaussians, &rng);
+  const int frame = 9;  // cycle numbers 1 and 2
+  const int saved_threads = omp_get_max_threads();
+  omp_set_num_threads(4);
+  for (size_t kept_bytes : {size_t{1} << 30, size_t{0}}) {
+    EulerOptions euler;
+    euler.max_kept_activation_bytes = kept_bytes;
+    FrameComposer reused(euler), fresh(euler);
+    const ComposeResult fit = ComposeAndBackward(m, frame, fit_loss, &reused);
+    const ComposeResult recomposed = BackwardOf(
+        m, reused.Recompose(LoopModelView::Of(m), 0), loop_loss, &reused);
+    for (int p : reused.cycle_numbers()) EXPECT_EQ(p, 0);
+    EXPECT_EQ(reused.num_shares(), 4);
+    const ComposeResult composed =
+        ComposeAndBackward(m, frame, loop_loss, &fresh, 0);
+    ExpectSame(composed, recomposed);
+    EXPECT_NE(fit.opacity, recomposed.opacity);  // D sees the cycle number
+  }
+  omp_set_num_threads(saved_threads);
 }
 
 }  // namespace

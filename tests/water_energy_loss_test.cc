@@ -269,6 +269,26 @@ TEST(WaterEnergyLossTest, NoiseGainIsTheBandsShareOfWhiteNoise) {
   EXPECT_GT(kernels.noise_gain[0], kernels.noise_gain[1]);
 }
 
+// Bands (each blur once) is Band of every k, bit for bit.
+TEST(WaterEnergyLossTest, BandsIsBandOfEveryOctave) {
+  const int w = 37, h = 29;
+  WaterEnergyOptions options;
+  options.detail_octaves = 3;
+  const WaterEnergyKernels kernels = MakeWaterEnergyKernels(options);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::vector<double> y(static_cast<size_t>(w) * h), low, next, band;
+  for (double& v : y) v = u(rng);
+  internal::BlurScratch scratch;
+  std::vector<std::vector<double>> bands(3);
+  internal::Bands(y, w, h, 3, kernels.detail, &scratch, &low, &next,
+                  bands.data());
+  for (int k = 0; k < 3; ++k) {
+    internal::Band(y, w, h, k, kernels.detail, &scratch, &low, &band);
+    EXPECT_EQ(bands[k], band) << "band " << k;
+  }
+}
+
 // Input frames = clean water + new noise each frame. Told the noise, the
 // loss prefers the clean render to one that paints noise of its own;
 // not told, it asks for the noise.

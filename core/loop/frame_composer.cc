@@ -76,6 +76,31 @@ void FrameComposer::PlanShares(const LoopStructure& s, int m, bool advect) {
   }
 }
 
+template <typename Run>
+void FrameComposer::RunShares(const Run& run) {
+  if (num_shares_ == 1) {
+    run(0);
+    return;
+  }
+#pragma omp parallel for schedule(static, 1) num_threads(num_shares_)
+  for (int g = 0; g < num_shares_; ++g) run(g);
+}
+
+void FrameComposer::ResidualOnShare(const LoopModelView& model, int g) {
+  Share& share = shares_[g];
+  const int b = share.begin, n = share.end - share.begin;
+  model.structure.residual->Evaluate(
+      model.residual_params, n, &canonical_[3 * b], &cycle_index_[b],
+      &cycle_number_[b], &residuals_[static_cast<size_t>(b) * kResidualDim],
+      &share.residual_ws);
+}
+
+void FrameComposer::EvaluateResidual(const LoopModelView& model) {
+  ScopedStage timer(Stage::kFieldsForward);
+  if (model.structure.num_dynamic() == 0) return;
+  RunShares([&](int g) { ResidualOnShare(model, g); });
+}
+
 void FrameComposer::EvaluateFields(const LoopModelView& model, bool advect) {
   ScopedStage timer(Stage::kFieldsForward);
   const LoopStructure& s = model.structure;
@@ -103,19 +128,9 @@ void FrameComposer::EvaluateFields(const LoopModelView& model, bool advect) {
                            &cycle_index_[b], &positions_[3 * b]);
       share.stats = share.chain->stats();
     }
-    if (s.residual != nullptr) {
-      s.residual->Evaluate(model.residual_params, n, &canonical_[3 * b],
-                           &cycle_index_[b], &cycle_number_[b],
-                           &residuals_[static_cast<size_t>(b) * kResidualDim],
-                           &share.residual_ws);
-    }
+    if (s.residual != nullptr) ResidualOnShare(model, g);
   };
-  if (num_shares_ == 1) {
-    run(0);
-  } else {
-#pragma omp parallel for schedule(static, 1) num_threads(num_shares_)
-    for (int g = 0; g < num_shares_; ++g) run(g);
-  }
+  RunShares(run);
   for (int g = 0; g < num_shares_; ++g) {
     const EulerStats& e = shares_[g].stats;
     euler_stats_.velocity_evaluations += e.velocity_evaluations;
@@ -152,6 +167,19 @@ const SplatView& FrameComposer::Compose(const LoopModelView& model,
   positions_ = canonical_;
   EvaluateFields(model, /*advect=*/true);
   backward_ready_ = true;
+  return Assemble(model);
+}
+
+const SplatView& FrameComposer::Recompose(const LoopModelView& model,
+                                          int cycle_number) {
+  ScopedStage timer(Stage::kComposition);
+  const LoopStructure& s = model.structure;
+  const int m = s.num_dynamic();
+  CHECK(backward_ready_ && static_cast<int>(cycle_index_.size()) == m)
+      << "FrameComposer::Recompose without a matching Compose";
+  cycle_number_.assign(m, cycle_number);
+  // positions_ still holds the chain's output; D alone is evaluated.
+  if (s.residual != nullptr) EvaluateResidual(model);
   return Assemble(model);
 }
 

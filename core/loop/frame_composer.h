@@ -70,6 +70,15 @@ class FrameComposer {
   const SplatView& Compose(const LoopModelView& model, int frame,
                            std::optional<int> cycle_number = std::nullopt);
 
+  // The last Compose's frame again with every dynamic Gaussian at cycle
+  // number `cycle_number`: the Euler chain's positions (and its state,
+  // which Backward runs through again) are reused, only D is evaluated
+  // anew. Equals Compose(model, frame, cycle_number) of the same frame
+  // bit for bit, provided V's parameters and the canonical means are
+  // those of the last Compose (the loop texture's render of the frame
+  // just fitted). Keeps what Backward needs.
+  const SplatView& Recompose(const LoopModelView& model, int cycle_number);
+
   // Animation (Alg. 2): dynamic positions already advected elsewhere
   // (num_dynamic x 3, in dynamic order, e.g. LoopAnimator::positions()),
   // their cycle indices, and one cycle number for all (0 at inference).
@@ -122,6 +131,13 @@ class FrameComposer {
   // Forward of V (when advect) and D on every share into positions_ and
   // residuals_.
   void EvaluateFields(const LoopModelView& model, bool advect);
+  // D on share g (its canonical positions, cycle indices and numbers)
+  // into its rows of residuals_; on every share, in parallel.
+  void ResidualOnShare(const LoopModelView& model, int g);
+  void EvaluateResidual(const LoopModelView& model);
+  // run(g) for every share, one thread each.
+  template <typename Run>
+  void RunShares(const Run& run);
   // The composed arrays from positions_ and residuals_.
   const SplatView& Assemble(const LoopModelView& model);
   // D's and (when the last Compose advected) V's backward on every share,
