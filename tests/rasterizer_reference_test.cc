@@ -57,8 +57,9 @@ struct ForwardRenders {
   reference::Images<double> ref;
 };
 ForwardRenders RenderForward(unsigned seed, int degree, bool use_double) {
-  ForwardRenders r{seed == 2 ? StackedScene(seed, degree)
-                             : RandomScene(seed + 10 * degree, 20, degree, 2)};
+  ForwardRenders r;
+  r.scene = seed == 2 ? StackedScene(seed, degree)
+                      : RandomScene(seed + 10 * degree, 20, degree, 2);
   Rasterizer().Forward(r.scene.camera, r.scene.View(), Options(use_double),
                        &r.fast);
   r.ref = reference::Render(r.scene.camera, r.scene.As<double>(), kBackground);
