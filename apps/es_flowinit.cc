@@ -5,6 +5,7 @@
 
 #include "apps/common/app_main.h"
 #include "apps/common/flowinit_flags.h"
+#include "apps/common/world.h"
 #include "solvers/train/flow_init_stage.h"
 
 int main(int argc, char** argv) {
@@ -13,7 +14,7 @@ int main(int argc, char** argv) {
       "Stage 2: motion-field initialization from optical flow.\n"
       "  es_flowinit --scene DIR [--static DIR/static.ply] [--out DIR]\n"
       "              [--flow dis|farneback|...] [--solver adam|lbfgs|lm]\n"
-      "              [--device cpu|cuda]\n"
+      "              [--device cpu|cuda] [--batch_shards S]\n"
       "Lifts the optical flow of training frames --frame_gap apart (by "
       "default of each frame minus the static model's render of it) to 3D "
       "with the static model's depth, keeps water pixels (masks/ or the "
@@ -22,11 +23,18 @@ int main(int argc, char** argv) {
       "--flow_prior_weight keeps them as a prior), flow_history.csv and "
       "flow_metrics.json (epe_gt, rel_epe_gt when the scene has gt/). "
       "Exits 1 and writes nothing when the model has no dynamic Gaussians "
-      "or no sample survives.",
+      "or no sample survives. Under mpiexec the ranks share each "
+      "pretraining batch (--batch_shards).",
       [] {
-        es::CheckFlowInitFlags();
-        const es::FlowPretrainer pretrain = es::FlowPretrainerFromFlags();
-        es::RunFlowInitStage(es::FlowInitStageOptionsFromFlags(), pretrain);
-        return 0;
+        es::AppWorld world;
+        return world.Run([&world] {
+          es::CheckFlowInitFlags();
+          const es::FlowPretrainer pretrain =
+              es::FlowPretrainerFromFlags(*world.comm());
+          es::FlowInitStageOptions o = es::FlowInitStageOptionsFromFlags();
+          o.pretrain.comm = world.comm();
+          es::RunFlowInitStage(o, pretrain);
+          return 0;
+        });
       });
 }

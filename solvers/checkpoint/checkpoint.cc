@@ -5,7 +5,7 @@
 namespace es {
 namespace {
 
-constexpr CheckpointMagic kMagic = {'E', 'S', 'C', 'K', 'P', 'T', '0', '1'};
+constexpr CheckpointMagic kMagic = {'E', 'S', 'C', 'K', 'P', 'T', '0', '2'};
 
 }  // namespace
 
@@ -19,6 +19,7 @@ void WriteCheckpoint(const Checkpoint& c, const std::string& path) {
     w.Vector(c.grad_sum);
     w.Vector(c.grad_count);
     w.Vector(c.max_radius);
+    w.Pod<int32_t>(c.batch_frames);
   });
 }
 
@@ -34,6 +35,8 @@ Checkpoint ReadCheckpoint(const std::string& path) {
         c.grad_sum = r.Vector<double>();
         c.grad_count = r.Vector<double>();
         c.max_radius = r.Vector<double>();
+        c.batch_frames = r.Pod<int32_t>();
+        if (c.batch_frames < 1) r.Fail("batch of no frames");
         const size_t n = c.gaussians.size();
         if (c.adam.m.size() != static_cast<int>(n) ||
             c.adam.v.size() != static_cast<int>(n) || c.grad_sum.size() != n ||

@@ -7,7 +7,7 @@
 namespace es {
 namespace {
 
-constexpr CheckpointMagic kMagic = {'E', 'S', 'J', 'C', 'K', 'P', 'T', '1'};
+constexpr CheckpointMagic kMagic = {'E', 'S', 'J', 'C', 'K', 'P', 'T', '2'};
 
 bool SameShapes(const std::vector<std::vector<double>>& a,
                 const std::vector<std::vector<double>>& b) {
@@ -33,6 +33,7 @@ void WriteJointCheckpoint(const JointCheckpoint& c, const std::string& path) {
     w.Pod<int64_t>(c.field_step);
     w.Sampler(c.sampler);
     w.String(c.rng);
+    w.Pod<int32_t>(c.batch_frames);
   });
 }
 
@@ -52,6 +53,8 @@ JointCheckpoint ReadJointCheckpoint(const std::string& path) {
         c.field_step = r.Pod<int64_t>();
         c.sampler = r.Sampler();
         c.rng = r.String();
+        c.batch_frames = r.Pod<int32_t>();
+        if (c.batch_frames < 1) r.Fail("batch of no frames");
         const int n = c.gaussians.size();
         if (c.adam.m.size() != n || c.adam.v.size() != n ||
             c.dynamic_index.size() != c.start_times.size() ||
