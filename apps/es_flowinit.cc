@@ -23,8 +23,7 @@ int main(int argc, char** argv) {
       "--flow_prior_weight keeps them as a prior), flow_history.csv and "
       "flow_metrics.json (epe_gt, rel_epe_gt when the scene has gt/). "
       "Exits 1 and writes nothing when the model has no dynamic Gaussians "
-      "or no sample survives. Under mpiexec the ranks share each "
-      "pretraining batch (--batch_shards).",
+      "or no sample survives.",
       [] {
         es::AppWorld world;
         return world.Run([&world] {
