@@ -5,13 +5,14 @@
 
 #include "apps/common/app_main.h"
 #include "apps/common/flowinit_flags.h"
+#include "apps/common/world.h"
 #include "solvers/train/flow_init_stage.h"
 
 constexpr char kUsage[] =
     "Stage 2: motion-field initialization from optical flow.\n"
     "  es_flowinit --scene DIR [--static DIR/static.ply] [--out DIR]\n"
     "              [--flow dis|farneback|...] [--solver adam|lbfgs|lm]\n"
-    "              [--device cpu|cuda]\n"
+    "              [--device cpu|cuda] [--batch_shards S]\n"
     "Lifts the optical flow of training frames --frame_gap apart (by "
     "default of each frame minus the static model's render of it) to 3D "
     "with the static model's depth, keeps water pixels (masks/ or the "
@@ -24,9 +25,15 @@ constexpr char kUsage[] =
 
 int main(int argc, char** argv) {
   return es::RunApp(argc, argv, kUsage, [] {
-    es::CheckFlowInitFlags();
-    const es::FlowPretrainer pretrain = es::FlowPretrainerFromFlags();
-    es::RunFlowInitStage(es::FlowInitStageOptionsFromFlags(), pretrain);
-    return 0;
+    es::AppWorld world;
+    return world.Run([&world] {
+      es::CheckFlowInitFlags();
+      const es::FlowPretrainer pretrain =
+          es::FlowPretrainerFromFlags(*world.comm());
+      es::FlowInitStageOptions o = es::FlowInitStageOptionsFromFlags();
+      o.pretrain.comm = world.comm();
+      es::RunFlowInitStage(o, pretrain);
+      return 0;
+    });
   });
 }

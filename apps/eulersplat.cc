@@ -8,6 +8,9 @@
 //   eulersplat --video FILE --out DIR [--preset auto|quick|paper]
 //   eulersplat --scene DIR --out DIR [--preset auto|quick|paper]
 //              [--device cpu|cuda] [--ranks N]
+//   eulersplat --scenes A,B,C --out DIR [--ranks N] [--groups G]
+//              (a batch: each scene on a group of the ranks, into
+//              OUT/<name>; apps/common/driver_batch.h)
 //
 // OUT/scene/           the frames of --video, or a view of --scene that
 //                      adds what it lacks (poses, masks) without writing
@@ -39,6 +42,8 @@
 namespace {
 
 int Main() {
+  if (es::SceneBatchAsked())
+    return es::RunSceneBatch(es::SceneBatchOptionsFromFlags()) > 0 ? 1 : 0;
   es::PipelineController(es::DriverOptionsFromFlags()).Run();
   return 0;
 }
@@ -54,8 +59,11 @@ int main(int argc, char** argv) {
                     "auto|quick|paper] [--device cpu|cuda]\n"
                     "  eulersplat --scene DIR --out DIR [--preset "
                     "auto|quick|paper] [--device cpu|cuda]\n"
-                    "  ... --ranks N: es_static and es_train on N MPI "
-                    "ranks (mpiexec)\n"
+                    "  ... --ranks N: es_static, es_flowinit and es_train "
+                    "on N MPI ranks (mpiexec)\n"
+                    "  eulersplat --scenes A,B,C --out DIR [--ranks N] "
+                    "[--groups G]: a batch, each scene on a group of the "
+                    "ranks, into OUT/<name>\n"
                     "Writes OUT/static, OUT/model, OUT/animate, "
                     "OUT/animate_fixed, OUT/eval, OUT/plots and "
                     "OUT/contact_sheet.png; a stage whose outputs exist is "

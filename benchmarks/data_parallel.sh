@@ -9,7 +9,10 @@
 #      measured per-frame compute, the fixed per-iteration work (Adam) and
 #      the allreduce's size: on this machine's loopback, as measured, and
 #      on 10 Gbit/s Ethernet between machines (a ring allreduce moves
-#      2 (p-1)/p of the buffer per rank).
+#      2 (p-1)/p of the buffer per rank). The 2-rank runs send only the
+#      chunks some rank holds non-zero (their MB); 8 frames touch more of
+#      the fields, so the model takes the whole buffer (the one-process
+#      runs' MB), an upper bound.
 # Each line carries the load average at its start (above ~0.5: not an
 # idle figure). Needs a build with MPI (-DES_MPI) and mpiexec on PATH.
 #
@@ -86,11 +89,12 @@ done
 echo "[ranks] model: 8 ranks, one frame each, against one process on the same 8 frames"
 for stage in static joint; do
   python3 - "$stage" "$(row "${log[${stage}1]}" total ms)" "$(row "${log[${stage}1]}" Adam ms)" \
-      "$(row "${log[${stage}2]}" allreduce ms)" "$(mb "${log[${stage}2]}")" <<'PY'
+      "$(row "${log[${stage}2]}" allreduce ms)" "$(mb "${log[${stage}2]}")" \
+      "$(mb "${log[${stage}1]}")" <<'PY'
 import sys
-stage, total, adam, reduce_ms, mbytes = sys.argv[1], *map(float, sys.argv[2:])
+stage, total, adam, reduce_ms, sent, mbytes = sys.argv[1], *map(float, sys.argv[2:])
 frame = (total - adam) / 2            # one frame's render, loss and backward
-loopback = mbytes / max(reduce_ms, 1e-9)  # MB per ms moved at p = 2 (ring: 1x the buffer)
+loopback = sent / max(reduce_ms, 1e-9)  # MB per ms moved at p = 2 (ring: 1x the buffer)
 for name, mb_per_ms in (("loopback as measured", loopback), ("10 Gbit/s Ethernet", 1.25)):
     p = 8
     ring = 2 * (p - 1) / p * mbytes / mb_per_ms

@@ -1,6 +1,7 @@
 // A batch of B frames in one process steps on the mean of the B frames'
 // own gradients (solvers/train/data_parallel.h), in Stage 1 and in Stage 3
-// with the pair terms, whose halving belongs to one frame's pair only.
+// with the pair terms, whose halving belongs to one frame's pair only; the
+// checkpoints keep B.
 
 #include <gtest/gtest.h>
 
@@ -15,13 +16,20 @@
 #include "costs/joint_objective.h"
 #include "costs/scalar_loss.h"
 #include "costs/splat_render_cost.h"
+#include "solvers/checkpoint/checkpoint.h"
+#include "solvers/checkpoint/joint_checkpoint.h"
 #include "solvers/optim/frame_sampler.h"
 #include "solvers/train/data_parallel.h"
 #include "solvers/train/joint_trainer.h"
 #include "solvers/train/joint_training_steps.h"
+#include "solvers/train/static_stage.h"
 #include "solvers/train/static_trainer.h"
+#include "synth/scene.h"
+#include "synth/writer.h"
 #include "tests/expect_same_gaussians.h"
+#include "tests/temp_dir_test.h"
 #include "tests/tiny_loop_scene.h"
+#include "tests/tiny_synth_settings.h"
 
 namespace es {
 namespace {
@@ -179,6 +187,48 @@ TEST(DataParallelTest, JointPairBatchStepsOnTheMeanOfItsFramesGradients) {
   EXPECT_LT(RelativeError(fields_batch, fields_mean), 1e-12);
   for (const std::vector<double>& one : each)
     EXPECT_GT(RelativeError(one, mean), 1e-3);
+}
+
+// The checkpoints keep the batch size, and a resume with another is
+// refused before any work: its batches would draw other frames.
+class BatchCheckpointTest : public TempDirTest {};
+
+TEST_F(BatchCheckpointTest, ResumeWithAnotherBatchSizeIsRefused) {
+  WriteSynthScene(GenerateSynthScene(TinySynthSettings()), Path("scene"));
+  StaticStageOptions o;
+  o.scene_dir = Path("scene");
+  o.out_dir = Path("out");
+  o.checkpoint_every = 2;
+  o.log_every = 0;
+  o.eval_every = 0;
+  o.trainer.iterations = 2;
+  o.trainer.batch_frames = 2;
+  RunStaticStage(o);
+  EXPECT_EQ(ReadCheckpoint(Path("out/checkpoint.bin")).batch_frames, 2);
+  o.resume = true;
+  o.trainer.iterations = 4;
+  o.trainer.batch_frames = 1;
+  try {
+    RunStaticStage(o);
+    FAIL() << "a resume with another batch size went on";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("--batch_frames 2, this one has 1"),
+              std::string::npos)
+        << e.what();
+  }
+  o.trainer.batch_frames = 2;
+  EXPECT_EQ(RunStaticStage(o).num_gaussians,
+            ReadCheckpoint(Path("out/checkpoint.bin")).gaussians.size());
+}
+
+TEST_F(BatchCheckpointTest, JointCheckpointKeepsTheBatchSize) {
+  JointCheckpoint c;
+  c.batch_frames = 3;
+  c.sampler.rng = "1";
+  WriteJointCheckpoint(c, Path("joint.bin"));
+  EXPECT_EQ(ReadJointCheckpoint(Path("joint.bin")).batch_frames, 3);
+  EXPECT_NO_THROW(CheckResumedBatch(3, 3, "joint.bin"));
+  EXPECT_THROW(CheckResumedBatch(3, 2, "joint.bin"), InputError);
 }
 
 }  // namespace

@@ -185,8 +185,9 @@ TEST(StageProcessRunnerTest, RunsTheTrainingStagesUnderMpiexec) {
   runner.SetRanks(ranks);
   runner.Run("es_static", {"--x"});
   runner.Run("es_train", {"--batch_frames", "6"});  // the caller's batch
-  runner.Run("es_flowinit", {"--x"});  // not data-parallel: as before
-  ASSERT_EQ(launched.size(), 3u);
+  runner.Run("es_flowinit", {"--x"});  // ranks, but no frame batches
+  runner.Run("es_eval", {"--x"});      // not data-parallel: as before
+  ASSERT_EQ(launched.size(), 4u);
   EXPECT_EQ(launched[0].first, "/usr/bin/mpiexec");
   EXPECT_EQ(launched[0].second,
             (Args{"-n", "2", "-x", "OMP_NUM_THREADS=1", "/bin_dir/es_static",
@@ -194,8 +195,12 @@ TEST(StageProcessRunnerTest, RunsTheTrainingStagesUnderMpiexec) {
   EXPECT_EQ(launched[1].second,
             (Args{"-n", "2", "-x", "OMP_NUM_THREADS=1", "/bin_dir/es_train",
                   "--batch_frames", "6", "--device", "cpu"}));
-  EXPECT_EQ(launched[2].first, "/bin_dir/es_flowinit");
-  EXPECT_EQ(launched[2].second, (Args{"--x", "--device", "cpu"}));
+  EXPECT_EQ(launched[2].first, "/usr/bin/mpiexec");
+  EXPECT_EQ(launched[2].second,
+            (Args{"-n", "2", "-x", "OMP_NUM_THREADS=1",
+                  "/bin_dir/es_flowinit", "--x", "--device", "cpu"}));
+  EXPECT_EQ(launched[3].first, "/bin_dir/es_eval");
+  EXPECT_EQ(launched[3].second, (Args{"--x", "--device", "cpu"}));
 }
 
 }  // namespace

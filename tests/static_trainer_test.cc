@@ -289,7 +289,7 @@ TEST(CheckpointTest, HugeArrayLengthIsRejectedBeforeAllocating) {
       std::string(ES_BINARY_DIR) + "/checkpoint_huge_test.ckpt";
   {
     std::ofstream out(path, std::ios::binary | std::ios::trunc);
-    out.write("ESCKPT01", 8);
+    out.write("ESCKPT02", 8);
     const int64_t iteration = 1;
     const int32_t sh_degree = 0;
     const uint64_t length = uint64_t{1} << 37;

@@ -1,7 +1,10 @@
 #include "apps/common/driver_flags.h"
 
 #include <cstdio>
+#include <filesystem>
+#include <set>
 #include <string>
+#include <vector>
 
 #include <gflags/gflags.h>
 #include <omp.h>
@@ -81,10 +84,12 @@ DEFINE_string(train_flags, "", "Extra flags for es_train, space-separated, "
 DEFINE_bool(animate, true, "Render the looping videos and contact sheet "
             "(off: train and evaluate only).");
 DEFINE_string(device, "cpu", kDeviceHelp.c_str());
-DEFINE_int32(ranks, 1, "Train es_static and es_train on this many MPI ranks "
-             "(processes), started by mpiexec, which must be on PATH; each "
-             "renders its share of --batch_frames frames per iteration. "
-             "Needs a build with MPI (-DES_MPI) and --device cpu.");
+DEFINE_int32(ranks, 1, "Train es_static, es_flowinit and es_train on this "
+             "many MPI ranks (processes), started by mpiexec, which must be "
+             "on PATH; each renders its share of --batch_frames frames per "
+             "iteration (es_flowinit: of each batch of flow samples). Needs "
+             "a build with MPI (-DES_MPI) and --device cpu. With --scenes: "
+             "the ranks of the whole batch, shared by its groups.");
 DEFINE_int32(batch_frames, -1, "Frames per iteration of es_static and "
              "es_train (-1: one per rank, --ranks).");
 DEFINE_bool(profile, false, "Pass --profile to es_static and es_train: "
@@ -92,6 +97,17 @@ DEFINE_bool(profile, false, "Pass --profile to es_static and es_train: "
             "part (render, loop texture render, fields, Euler chain, "
             "backward, Adam, densification, evaluation). OUT/timings.json "
             "has every stage's seconds in any case.");
+DEFINE_string(scenes, "", "A batch of scenes instead of --scene: directories "
+              "separated by commas, or a text file listing one per line. "
+              "Each runs as its own eulersplat on a group of the --ranks "
+              "(--groups side by side), into OUT/<its folder's name>, its "
+              "log in OUT/<name>.log; its stage lines are printed prefixed "
+              "with its name. A scene that fails is reported, the others "
+              "go on, and the batch exits 1. Every other flag applies to "
+              "each scene.");
+DEFINE_int32(groups, 0, "--scenes: groups of ranks, each running one scene "
+             "at a time (1 to --ranks; 0: one per scene, at most --ranks). "
+             "The ranks are shared as evenly as can be.");
 DEFINE_string(pose_script, "", "Run as `bash SCRIPT SCENE` instead of "
               "es_poses (COLMAP) when the scene has no sparse/0; it must "
               "write SCENE/sparse/0.");
@@ -99,15 +115,17 @@ DEFINE_string(pose_script, "", "Run as `bash SCRIPT SCENE` instead of "
 namespace es {
 namespace {
 
+namespace fs = std::filesystem;
+
 // -1 (the preset's value) or at least `min`.
 void RequirePresetOrAtLeast(const std::string& flag, int value, int min) {
   if (value != -1) RequireAtLeast(flag, value, min);
 }
 
-void CheckFlags() {
-  if (FLAGS_out.empty() || FLAGS_scene.empty() == FLAGS_video.empty()) {
-    throw InputError("--out and one of --scene or --video are required");
-  }
+// The checks of one run's flags but its scene; `largest_group`: the most
+// ranks a run gets (a batch's groups share --ranks), which need MPI when
+// above 1 and --batch_frames to cover them.
+void CheckRunFlags(int largest_group) {
   RequireAtLeast("cycle_length", FLAGS_cycle_length, 1);
   RequirePresetOrAtLeast("static_iterations", FLAGS_static_iterations, 1);
   RequirePresetOrAtLeast("flow_iterations", FLAGS_flow_iterations, 0);
@@ -117,11 +135,10 @@ void CheckFlags() {
     RequirePositive("image_scale", FLAGS_image_scale);
   }
   RequireInOpenRange("dynamic_threshold", FLAGS_dynamic_threshold, 0, 1);
-  RequireAtLeast("ranks", FLAGS_ranks, 1);
   if (FLAGS_batch_frames != -1) {
-    RequireAtLeast("batch_frames", FLAGS_batch_frames, FLAGS_ranks);
+    RequireAtLeast("batch_frames", FLAGS_batch_frames, largest_group);
   }
-  if (FLAGS_ranks > 1 && !BuiltWithMpi()) {
+  if (largest_group > 1 && !BuiltWithMpi()) {
     throw InputError("--ranks " + std::to_string(FLAGS_ranks) +
                      ": this build has no MPI (install libopenmpi-dev and "
                      "openmpi-bin, configure with -DES_MPI=ON)");
@@ -129,7 +146,7 @@ void CheckFlags() {
   CheckPresetName(FLAGS_preset);
   std::string name;
   if (ParseDeviceFlag(FLAGS_device, &name) != ComputeDevice::kCpu) {
-    if (FLAGS_ranks > 1 || FLAGS_batch_frames > 1) {
+    if (largest_group > 1 || FLAGS_batch_frames > 1) {
       throw InputError("--ranks and --batch_frames train on the CPU only "
                        "(--device cpu)");
     }
@@ -138,7 +155,55 @@ void CheckFlags() {
   }
 }
 
+void CheckFlags() {
+  if (FLAGS_out.empty() || FLAGS_scene.empty() == FLAGS_video.empty()) {
+    throw InputError("--out and one of --scene, --scenes or --video are "
+                     "required");
+  }
+  if (FLAGS_groups != 0)
+    throw InputError("--groups: only with a batch of --scenes");
+  RequireAtLeast("ranks", FLAGS_ranks, 1);
+  CheckRunFlags(FLAGS_ranks);
+}
+
+// The flags the user set that each scene of a batch gets too: all but
+// those the batch sets per scene and gflags' own.
+std::vector<std::string> PassedOnFlags() {
+  static const std::set<std::string> kPerScene = {
+      "scenes", "groups", "scene", "video", "out", "ranks", "threads",
+      "flagfile", "fromenv", "tryfromenv", "undefok"};
+  std::vector<gflags::CommandLineFlagInfo> all;
+  gflags::GetAllFlags(&all);
+  std::vector<std::string> flags;
+  for (const gflags::CommandLineFlagInfo& f : all) {
+    if (!f.is_default && !kPerScene.count(f.name))
+      flags.push_back("--" + f.name + "=" + f.current_value);
+  }
+  return flags;
+}
+
 }  // namespace
+
+bool SceneBatchAsked() { return !FLAGS_scenes.empty(); }
+
+SceneBatchOptions SceneBatchOptionsFromFlags() {
+  if (FLAGS_out.empty() || !FLAGS_scene.empty() || !FLAGS_video.empty())
+    throw InputError("--scenes needs --out, and takes neither --scene nor "
+                     "--video");
+  RequireAtLeast("ranks", FLAGS_ranks, 1);
+  RequireAtLeast("groups", FLAGS_groups, 0);
+  SceneBatchOptions o;
+  o.scenes = ParseSceneList(FLAGS_scenes);
+  o.out = FLAGS_out;
+  o.ranks = FLAGS_ranks;
+  o.groups = FLAGS_groups;
+  o = CheckSceneBatch(o);
+  CheckRunFlags(GroupRanks(o.ranks, o.groups).front());
+  o.threads = omp_get_max_threads();  // --threads, resolved by RunApp
+  o.self = fs::read_symlink("/proc/self/exe").string();
+  o.flags = PassedOnFlags();
+  return o;
+}
 
 PipelineOptions DriverOptionsFromFlags() {
   CheckFlags();

@@ -5,6 +5,7 @@
 // iteration overrides, --device, ...). Defined here, they exist in the
 // binary that calls DriverOptionsFromFlags only: eulersplat.
 
+#include "apps/common/driver_batch.h"
 #include "solvers/pipeline/pipeline_options.h"
 
 namespace es {
@@ -14,6 +15,13 @@ namespace es {
 // cuda where no GPU can be used. Prints which stages run on the GPU when
 // --device is not cpu.
 PipelineOptions DriverOptionsFromFlags();
+
+// Whether --scenes asks for a batch of scenes.
+bool SceneBatchAsked();
+// The batch --scenes, --groups, --ranks and --out ask for, checked before
+// any work (InputError naming the flag); the other flags the user set are
+// passed on to every scene's run.
+SceneBatchOptions SceneBatchOptionsFromFlags();
 
 }  // namespace es
 

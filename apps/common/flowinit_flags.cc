@@ -7,6 +7,7 @@
 
 #include "apps/common/flag_checks.h"
 #include "core/base/input_error.h"
+#include "solvers/train/data_parallel.h"
 
 DEFINE_string(scene, "", "Scene directory (images/, sparse/0/, masks/).");
 DEFINE_string(static, "",
@@ -105,6 +106,13 @@ DEFINE_int32(lbfgs_max_samples, 200000,
              "LBFGS fits a random subset of at most this many samples.");
 DEFINE_string(device, "cpu", es::kDeviceFlagHelp);
 DEFINE_int32(seed, 1, "Seed of the field's initialization and sampling.");
+DEFINE_int32(batch_shards, 0,
+             "Cut each Adam mini-batch into this many runs of samples, "
+             "spread over the MPI ranks (mpiexec -n N es_flowinit ..., or "
+             "eulersplat --ranks N), which sum their gradients; 0: one per "
+             "rank. The fit depends on the shards, not on the ranks: one "
+             "process with --batch_shards 2 fits what 2 ranks fit. CPU and "
+             "--solver adam only.");
 DEFINE_int32(log_every, 100, "Print pretraining progress this often.");
 DEFINE_bool(profile, false,
             "Print where the time goes, per stage (optical flow and "
@@ -152,6 +160,7 @@ FlowPretrainOptions PretrainOptionsFromFlags() {
   o.lbfgs_max_samples = FLAGS_lbfgs_max_samples;
   o.seed = FLAGS_seed;
   o.log_every = FLAGS_log_every;
+  o.shards = FLAGS_batch_shards;
   return o;
 }
 
@@ -179,6 +188,7 @@ void CheckFlowInitFlags() {
   RequireAtLeast("max_samples", FLAGS_max_samples, 1);
   RequireAtLeast("lbfgs_max_samples", FLAGS_lbfgs_max_samples, 1);
   RequireAtLeast("log_every", FLAGS_log_every, 0);
+  RequireAtLeast("batch_shards", FLAGS_batch_shards, 0);
   RequireAtLeast("triplane_res", FLAGS_triplane_res, 2);
   RequireAtLeast("triplane_channels", FLAGS_triplane_channels, 1);
   RequireAtLeast("mlp_width", FLAGS_mlp_width, 1);
@@ -195,9 +205,21 @@ void CheckFlowInitFlags() {
   ParseOracleVelocity(FLAGS_oracle_velocity);
 }
 
-FlowPretrainer FlowPretrainerFromFlags() {
+FlowPretrainer FlowPretrainerFromFlags(const Communicator& comm) {
   std::string device_name;
   const ComputeDevice device = ParseDeviceFlag(FLAGS_device, &device_name);
+  if (FLAGS_batch_shards != 0) {
+    CheckBatchFrames(FLAGS_batch_shards, comm, "--batch_shards");
+  }
+  if (comm.size() > 1 || FLAGS_batch_shards > 1) {
+    if (device != ComputeDevice::kCpu)
+      throw InputError("several ranks or --batch_shards: V is pretrained "
+                       "data-parallel on the CPU only (--device cpu)");
+    if (ParsePretrainSolver(FLAGS_solver) != PretrainSolver::kAdam)
+      throw InputError("several ranks or --batch_shards: V is pretrained "
+                       "data-parallel with --solver adam only, not " +
+                       FLAGS_solver);
+  }
   if (device == ComputeDevice::kCuda) {
     if (ParsePretrainSolver(FLAGS_solver) != PretrainSolver::kAdam)
       throw InputError("--device cuda pretrains with --solver adam only, "

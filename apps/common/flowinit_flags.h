@@ -8,6 +8,7 @@
 // same name.
 
 #include "apps/common/device_flag.h"
+#include "core/base/communicator.h"
 #include "solvers/train/flow_init_options.h"
 #include "solvers/train/flow_pretrain_options.h"
 
@@ -16,8 +17,10 @@ namespace es {
 // Checks every flag's value (before any work); throws InputError naming it.
 void CheckFlowInitFlags();
 // --device's pretraining, checked before the optical flow is computed: the
-// CUDA device fits V with --solver adam only (InputError otherwise).
-FlowPretrainer FlowPretrainerFromFlags();
+// CUDA device fits V with --solver adam only, and several ranks (`comm`)
+// or --batch_shards need the CPU and adam, a shard per rank at least
+// (InputError otherwise).
+FlowPretrainer FlowPretrainerFromFlags(const Communicator& comm);
 // The stage's options; throws InputError for a value no parser knows.
 FlowInitStageOptions FlowInitStageOptionsFromFlags();
 

@@ -27,6 +27,7 @@ class Communicator {
   virtual void AllreduceSum(float* data, size_t count) = 0;
   // data[i] <- largest of the ranks' data[i], on every rank.
   virtual void AllreduceMax(double* data, size_t count) = 0;
+  virtual void AllreduceMax(unsigned char* data, size_t count) = 0;
   // Every rank's `bytes` bytes at `data` <- those of rank `root`.
   virtual void Broadcast(void* data, size_t bytes, int root) = 0;
   virtual void Barrier() = 0;
@@ -44,6 +45,7 @@ class SingleProcessCommunicator : public Communicator {
   void AllreduceSum(double*, size_t) override {}
   void AllreduceSum(float*, size_t) override {}
   void AllreduceMax(double*, size_t) override {}
+  void AllreduceMax(unsigned char*, size_t) override {}
   void Broadcast(void*, size_t, int root) override;
   void Barrier() override {}
   std::unique_ptr<Communicator> Split(int color) override;

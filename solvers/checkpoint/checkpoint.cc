@@ -5,7 +5,7 @@
 namespace es {
 namespace {
 
-constexpr CheckpointMagic kMagic = {'E', 'S', 'C', 'K', 'P', 'T', '0', '1'};
+constexpr CheckpointMagic kMagic = {'E', 'S', 'C', 'K', 'P', 'T', '0', '2'};
 
 // The records in file order. `io` is a CheckpointWriter (and `c` const) or
 // a CheckpointReader.
@@ -19,6 +19,7 @@ void Records(Io& io, C& c) {
   io.Record(c.grad_sum);
   io.Record(c.grad_count);
   io.Record(c.max_radius);
+  io.Record(c.batch_frames);
 }
 
 }  // namespace
@@ -33,6 +34,7 @@ Checkpoint ReadCheckpoint(const std::string& path) {
       path, "checkpoint", kMagic, [](CheckpointReader& r) {
         Checkpoint c;
         Records(r, c);
+        if (c.batch_frames < 1) r.Fail("batch of no frames");
         const size_t n = c.gaussians.size();
         if (c.adam.m.size() != static_cast<int>(n) ||
             c.adam.v.size() != static_cast<int>(n) || c.grad_sum.size() != n ||

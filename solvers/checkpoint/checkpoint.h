@@ -20,6 +20,8 @@ struct Checkpoint {
   FrameSampler::State sampler;
   std::string rng;  // the densification RNG (std::mt19937_64 text form)
   std::vector<double> grad_sum, grad_count, max_radius;  // DensityStats
+  // Frames per iteration (--batch_frames): a resume must draw the same.
+  int32_t batch_frames = 1;
 };
 
 // Writes a binary file atomically (core/base/atomic_file.h), so a run killed

@@ -54,6 +54,7 @@ class CheckpointWriter {
   // Record(x) writes x as its type's record; CheckpointReader::Record(x)
   // reads it back into x, so a checkpoint lists its records once for both.
   void Record(int64_t v) { Pod(v); }
+  void Record(int32_t v) { Pod(v); }
   template <typename T>
   void Record(const std::vector<T>& v) { Vector(v); }
   void Record(const std::vector<std::vector<double>>& vs) { Vectors(vs); }
@@ -133,6 +134,7 @@ class CheckpointReader {
     return s;
   }
   void Record(int64_t& v) { v = Pod<int64_t>(); }
+  void Record(int32_t& v) { v = Pod<int32_t>(); }
   template <typename T>
   void Record(std::vector<T>& v) { v = Vector<T>(); }
   void Record(std::vector<std::vector<double>>& vs) { vs = Vectors(); }

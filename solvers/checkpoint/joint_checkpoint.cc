@@ -7,7 +7,7 @@
 namespace es {
 namespace {
 
-constexpr CheckpointMagic kMagic = {'E', 'S', 'J', 'C', 'K', 'P', 'T', '1'};
+constexpr CheckpointMagic kMagic = {'E', 'S', 'J', 'C', 'K', 'P', 'T', '2'};
 
 bool SameShapes(const std::vector<std::vector<double>>& a,
                 const std::vector<std::vector<double>>& b) {
@@ -33,6 +33,7 @@ void Records(Io& io, C& c) {
   io.Record(c.field_step);
   io.Record(c.sampler);
   io.Record(c.rng);
+  io.Record(c.batch_frames);
 }
 
 }  // namespace
@@ -47,6 +48,7 @@ JointCheckpoint ReadJointCheckpoint(const std::string& path) {
       path, "joint checkpoint", kMagic, [](CheckpointReader& r) {
         JointCheckpoint c;
         Records(r, c);
+        if (c.batch_frames < 1) r.Fail("batch of no frames");
         const int n = c.gaussians.size();
         if (c.adam.m.size() != n || c.adam.v.size() != n ||
             c.dynamic_index.size() != c.start_times.size() ||

@@ -28,6 +28,8 @@ struct JointCheckpoint {
   int64_t field_step = 0;
   FrameSampler::State sampler;
   std::string rng;  // the start-time RNG (std::mt19937_64 text form)
+  // Frames per iteration (--batch_frames): a resume must draw the same.
+  int32_t batch_frames = 1;
 };
 
 // Binary, written atomically (core/base/atomic_file.h).

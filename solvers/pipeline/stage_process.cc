@@ -22,10 +22,11 @@ std::string Join(const std::vector<std::string>& args) {
   return out;
 }
 
-bool IsRankStage(const std::string& binary) {
+template <size_t N>
+bool IsOneOf(const std::string& binary, const char* const (&stages)[N]) {
   const std::string name = fs::path(binary).filename().string();
-  return std::find(std::begin(kRankStages), std::end(kRankStages), name) !=
-         std::end(kRankStages);
+  return std::find(std::begin(stages), std::end(stages), name) !=
+         std::end(stages);
 }
 
 bool HasFlag(const std::vector<std::string>& args, const std::string& flag) {
@@ -90,12 +91,12 @@ int StageProcessRunner::Run(const std::string& binary,
     args.insert(args.end(), {"--device", device_});
   }
   std::string program = path;
-  if (ranks_.batch_frames > 1 && IsRankStage(binary) &&
+  if (ranks_.batch_frames > 1 && IsOneOf(binary, kBatchFrameStages) &&
       !HasFlag(args, "--batch_frames")) {
     args.insert(args.end(),
                 {"--batch_frames", std::to_string(ranks_.batch_frames)});
   }
-  if (ranks_.ranks > 1 && IsRankStage(binary)) {
+  if (ranks_.ranks > 1 && IsOneOf(binary, kRankStages)) {
     std::vector<std::string> mpi = {"-n", std::to_string(ranks_.ranks)};
     if (ranks_.threads_per_rank > 0) {
       mpi.insert(mpi.end(), {"-x", "OMP_NUM_THREADS=" +

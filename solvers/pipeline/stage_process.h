@@ -24,9 +24,12 @@ bool PassesDevice(const std::string& binary,
                   const std::vector<std::string>& args);
 
 // The stage binaries that train data-parallel over MPI ranks
-// (--batch_frames; solvers/train/data_parallel.h): with several ranks the
-// driver starts them under mpiexec.
-inline constexpr const char* kRankStages[] = {"es_static", "es_train"};
+// (solvers/train/data_parallel.h): with several ranks the driver starts
+// them under mpiexec. Of those, the ones that take --batch_frames
+// (es_flowinit shares each batch of samples, a shard per rank).
+inline constexpr const char* kRankStages[] = {"es_static", "es_flowinit",
+                                              "es_train"};
+inline constexpr const char* kBatchFrameStages[] = {"es_static", "es_train"};
 
 // How the driver runs kRankStages (eulersplat --ranks).
 struct RankLaunch {
@@ -56,7 +59,7 @@ class StageProcessRunner {
   explicit StageProcessRunner(std::string device);
 
   // From now on kRankStages run on `ranks.ranks` ranks under mpiexec
-  // (when above 1) with --batch_frames (when above 1).
+  // (when above 1), kBatchFrameStages with --batch_frames (when above 1).
   void SetRanks(RankLaunch ranks) { ranks_ = std::move(ranks); }
 
   // Runs `binary` with `args` (plus --device where it takes it) and

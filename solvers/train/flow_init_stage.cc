@@ -123,7 +123,11 @@ FlowInitStageResult RunFlowInitStage(const FlowInitStageOptions& o,
       o.static_path.empty() ? o.scene_dir + "/static.ply" : o.static_path;
   const std::string out_dir = o.out_dir.empty() ? o.scene_dir : o.out_dir;
 
-  PrepareOutputDirectory(out_dir, o.out_dir.empty() ? "scene" : "out");
+  // With several ranks (o.pretrain.comm), each lifts every frame pair and
+  // fits its shards of each batch; rank 0 alone writes.
+  const bool lead = o.pretrain.comm == nullptr || o.pretrain.comm->rank() == 0;
+  if (lead)
+    PrepareOutputDirectory(out_dir, o.out_dir.empty() ? "scene" : "out");
   const Scene scene = LoadScene(o.scene_dir, o.scene);
   const GaussianSet model = ReadPly(static_path);
   const std::vector<int> dynamic = DynamicSet(model, o.dynamic_threshold);
@@ -151,9 +155,12 @@ FlowInitStageResult RunFlowInitStage(const FlowInitStageOptions& o,
       " pretraining iterations of " + std::to_string(o.pretrain.batch_size) +
       " samples (optical flow + lifting: once, before them)");
 
-  SaveMotionField(field, out_dir + "/motion_field.bin");
-  SaveSceneFlowSamples(r.lifted.samples, out_dir + "/scene_flow_samples.bin");
-  history.Write();
+  if (lead) {
+    SaveMotionField(field, out_dir + "/motion_field.bin");
+    SaveSceneFlowSamples(r.lifted.samples,
+                         out_dir + "/scene_flow_samples.bin");
+    history.Write();
+  }
   r.seconds = SecondsSince(start);
   if (HasMotionGt(o.scene_dir)) {
     std::vector<Eigen::Vector3d> points;
@@ -171,7 +178,7 @@ FlowInitStageResult RunFlowInitStage(const FlowInitStageOptions& o,
                 r.field_gt->speed_ratio, r.samples_gt->rel_epe,
                 r.samples_gt->speed_ratio);
   }
-  WriteFlowMetrics(out_dir + "/flow_metrics.json", o, r);
+  if (lead) WriteFlowMetrics(out_dir + "/flow_metrics.json", o, r);
   std::printf("wrote %s/motion_field.bin, scene_flow_samples.bin, "
               "flow_metrics.json and flow_history.csv (%.1f s)\n",
               out_dir.c_str(), r.seconds);

@@ -13,6 +13,7 @@
 #include "core/base/stage_profile.h"
 #include "costs/scene_flow_cost.h"
 #include "solvers/optim/adam.h"
+#include "solvers/train/data_parallel.h"
 #include "solvers/train/divergence_guard.h"
 #include "solvers/train/flow_pretrain_steps.h"
 
@@ -29,6 +30,73 @@ std::vector<int> RandomSubset(int n, int k, std::mt19937* rng) {
   return all;
 }
 
+// One Adam mini-batch's loss and gradient, the batch cut into shards
+// spread over the ranks (FlowPretrainOptions::shards): each shard's mean
+// loss and gradient weighted by its share of the batch, summed in shard
+// order on each rank, then over the ranks.
+class ShardedSceneFlowLoss {
+ public:
+  ShardedSceneFlowLoss(const MotionField* field,
+                       const FlowPretrainOptions& options)
+      : field_(field),
+        cost_(field, &shard_),
+        comm_(options.comm != nullptr ? options.comm : &SingleProcess()),
+        shards_(options.shards > 0 ? options.shards : comm_->size()),
+        sizes_{static_cast<size_t>(field->triplane().num_params()),
+               static_cast<size_t>(field->mlp().num_params()), 1},
+        grad_tri_(sizes_[0]),
+        grad_mlp_(sizes_[1]) {
+    CheckBatchFrames(shards_, *comm_, "--batch_shards");
+  }
+
+  // The loss; its gradient into g_tri and g_mlp (overwritten).
+  double Evaluate(const std::vector<SceneFlowSample>& samples,
+                  const std::vector<int>& batch, double* g_tri,
+                  double* g_mlp) {
+    if (shards_ == 1) {  // one process, the batch whole
+      shard_.Assign(samples, batch);
+      std::fill_n(g_tri, sizes_[0], 0.0);
+      std::fill_n(g_mlp, sizes_[1], 0.0);
+      return cost_.Loss(field_->params(), {g_tri, g_mlp});
+    }
+    sum_.Reset(sizes_);
+    const size_t n = batch.size();
+    for (int k = 0; k < shards_; ++k) {
+      if (!RendersBatchFrame(*comm_, k)) continue;
+      const size_t begin = n * k / shards_, end = n * (k + 1) / shards_;
+      if (end == begin) continue;
+      shard_indices_.assign(batch.begin() + begin, batch.begin() + end);
+      shard_.Assign(samples, shard_indices_);
+      std::fill(grad_tri_.begin(), grad_tri_.end(), 0.0);
+      std::fill(grad_mlp_.begin(), grad_mlp_.end(), 0.0);
+      const double weight = static_cast<double>(end - begin) / n;
+      double loss =
+          weight * cost_.Loss(field_->params(),
+                              {grad_tri_.data(), grad_mlp_.data()});
+      for (double& g : grad_tri_) g *= weight;
+      for (double& g : grad_mlp_) g *= weight;
+      sum_.Add(0, grad_tri_.data());
+      sum_.Add(1, grad_mlp_.data());
+      sum_.Add(2, &loss);
+    }
+    sum_.AllreduceSum(comm_);
+    std::copy_n(sum_.at(0), sizes_[0], g_tri);
+    std::copy_n(sum_.at(1), sizes_[1], g_mlp);
+    return sum_.at(2)[0];
+  }
+
+ private:
+  const MotionField* field_;
+  SceneFlowBatch shard_;
+  const SceneFlowCost cost_;
+  Communicator* comm_;
+  int shards_;
+  std::vector<size_t> sizes_;
+  std::vector<double> grad_tri_, grad_mlp_;
+  std::vector<int> shard_indices_;
+  PackedSum sum_;
+};
+
 // `loss_scale`: PretrainLossScale.
 int FitWithAdam(const std::vector<SceneFlowSample>& samples,
                 const FlowPretrainOptions& options,
@@ -38,8 +106,7 @@ int FitWithAdam(const std::vector<SceneFlowSample>& samples,
   const int n_mlp = field->mlp().num_params();
   std::vector<double> g_tri(n_tri), m_tri(n_tri, 0.0), v_tri(n_tri, 0.0);
   std::vector<double> g_mlp(n_mlp), m_mlp(n_mlp, 0.0), v_mlp(n_mlp, 0.0);
-  SceneFlowBatch batch;
-  const SceneFlowCost cost(field, &batch);
+  ShardedSceneFlowLoss cost(field, options);
   PretrainBatches batches(options.seed, static_cast<int>(samples.size()),
                           options.batch_size);
   const AdamOptions adam = PretrainAdamOptions(options);
@@ -49,11 +116,9 @@ int FitWithAdam(const std::vector<SceneFlowSample>& samples,
       PretrainGuardedBlocks(options, *field);
   for (int it = 1; it <= options.iterations; ++it) {
     ScopedStage timer(Stage::kIteration);
-    batch.Assign(samples, batches.Next());
-    std::fill(g_tri.begin(), g_tri.end(), 0.0);
-    std::fill(g_mlp.begin(), g_mlp.end(), 0.0);
-    const double loss =
-        cost.Loss(field->params(), {g_tri.data(), g_mlp.data()});
+    const double loss = cost.Evaluate(samples, batches.Next(), g_tri.data(),
+                                      g_mlp.data());
+    // Added after the sum: a term of the step, not of a shard.
     if (options.tv_weight > 0) {
       field->triplane().TotalVariation(field->triplane_params().data(),
                                        options.tv_weight, g_tri.data());
@@ -228,6 +293,12 @@ FlowPretrainReport PretrainMotionField(
     const std::vector<SceneFlowSample>& samples,
     const FlowPretrainOptions& options, MotionField* field) {
   CHECK(field != nullptr);
+  if (options.solver != PretrainSolver::kAdam && options.comm != nullptr &&
+      options.comm->size() > 1) {
+    throw InputError("the " + PretrainSolverName(options.solver) +
+                     " pretraining solver runs in one process; on several "
+                     "ranks use --solver adam");
+  }
   FlowPretrainReport report;
   // The fits below take the TV weight in the data term's units.
   const FlowPretrainOptions fit = StartPretraining(samples, options, &report);

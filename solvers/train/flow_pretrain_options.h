@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "core/base/communicator.h"
 #include "core/fields/motion_field.h"
 #include "core/flow/flow_lifting.h"
 
@@ -58,6 +59,15 @@ struct FlowPretrainOptions {
   // throws TrainingDiverged rather than return a non-finite field or one
   // whose fit RMSE grew by orders of magnitude.
   int max_nonfinite_steps = 10;
+  // Data-parallel Adam: each mini-batch is cut into `shards` runs of
+  // samples, shard k evaluated on rank k mod comm->size(), and their
+  // gradients, weighted by their share of the batch, summed over the ranks
+  // (solvers/train/data_parallel.h). 0: one shard per rank. The fit depends
+  // on the shards, not on the ranks: 2 ranks give bit for bit what one
+  // process gives with 2 shards (more ranks: to reassociation). Null comm:
+  // one process. The other solvers run in one process only.
+  Communicator* comm = nullptr;
+  int shards = 0;
   // Called every log_every iterations (and at the end) with the iteration,
   // the seconds so far and the RMSE on the current batch / subset.
   int log_every = 100;

@@ -22,6 +22,7 @@
 #include "core/loop/loop_model.h"
 #include "costs/water_input_noise.h"
 #include "solvers/checkpoint/joint_checkpoint.h"
+#include "solvers/train/data_parallel.h"
 #include "solvers/eval/loop_evaluation.h"
 #include "solvers/eval/static_eval.h"
 #include "solvers/train/joint_training_steps.h"
@@ -397,7 +398,10 @@ JointStageResult RunJointStage(const JointStageOptions& options,
               trainer.uses_masks() ? "on" : "off");
   const std::string checkpoint_path = InDir(o.out_dir, "joint_checkpoint.bin");
   if (o.resume && fs::exists(checkpoint_path)) {
-    trainer.Restore(ReadJointCheckpoint(checkpoint_path), checkpoint_path);
+    const JointCheckpoint checkpoint = ReadJointCheckpoint(checkpoint_path);
+    CheckResumedBatch(checkpoint.batch_frames, o.trainer.batch_frames,
+                      checkpoint_path);
+    trainer.Restore(checkpoint, checkpoint_path);
     std::printf("resumed from %s at iteration %lld\n",
                 checkpoint_path.c_str(),
                 static_cast<long long>(trainer.iteration()));

@@ -276,9 +276,11 @@ JointCheckpoint JointTrainer::Save() const {
     m.push_back(adam.m());
     v.push_back(adam.v());
   }
-  return PackJointCheckpoint(model_, iteration_, adam_.state(), std::move(m),
-                             std::move(v), field_step_, sampler_.state(),
-                             rng_);
+  JointCheckpoint c = PackJointCheckpoint(
+      model_, iteration_, adam_.state(), std::move(m), std::move(v),
+      field_step_, sampler_.state(), rng_);
+  c.batch_frames = options_.batch_frames;
+  return c;
 }
 
 void JointTrainer::Restore(const JointCheckpoint& c,

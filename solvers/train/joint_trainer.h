@@ -64,7 +64,7 @@ class JointTrainer : public JointStageTrainer {
     return batch_sum_.data();
   }
   size_t allreduce_bytes() const override {
-    return sizeof(double) * batch_sum_.data().size();
+    return batch_sum_.bytes_per_reduction();
   }
 
  private:

@@ -14,6 +14,7 @@
 #include "core/base/iteration_parts.h"
 #include "core/base/stage_profile.h"
 #include "solvers/checkpoint/checkpoint.h"
+#include "solvers/train/data_parallel.h"
 #include "solvers/train/densify_eta.h"
 #include "solvers/train/training_history.h"
 
@@ -133,6 +134,8 @@ StaticStageResult RunStaticStage(const StaticStageOptions& o,
       make_trainer(scene, o.trainer);
   StaticStageTrainer& trainer = *trainer_owner;
   if (o.resume) {
+    CheckResumedBatch(checkpoint.batch_frames, o.trainer.batch_frames,
+                      checkpoint_path);
     if (checkpoint.gaussians.sh_degree > o.trainer.max_sh_degree)
       throw InputError(checkpoint_path + ": SH degree " +
                        std::to_string(checkpoint.gaussians.sh_degree) +

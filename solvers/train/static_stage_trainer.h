@@ -41,8 +41,9 @@ class StaticStageTrainer {
   // How the model is rendered for evaluation.
   virtual RenderOptions render_options() const = 0;
 
-  // Bytes one step sums over the ranks (data-parallel batches), 0 for a
-  // one-frame step.
+  // Bytes one step sends to sum over the ranks, on average (data-parallel
+  // batches: the gradients' non-zero chunks; in one process all it would
+  // sum), 0 for a one-frame step.
   virtual size_t allreduce_bytes() const { return 0; }
 
   virtual Checkpoint Save() const = 0;

@@ -211,6 +211,7 @@ Checkpoint StaticTrainer::Save() const {
   c.grad_sum = stats_.grad_sum;
   c.grad_count = stats_.count;
   c.max_radius = stats_.max_radius;
+  c.batch_frames = options_.batch_frames;
   return c;
 }
 

@@ -96,7 +96,7 @@ class StaticTrainer : public StaticStageTrainer {
   // batch's mean over every rank).
   const GaussianSet& last_gradient() const { return grad_; }
   size_t allreduce_bytes() const override {
-    return sizeof(double) * batch_sum_.data().size();
+    return batch_sum_.bytes_per_reduction();
   }
 
  private:

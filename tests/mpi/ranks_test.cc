@@ -1,7 +1,8 @@
 // Run under mpiexec (ctest runs it on 2 ranks): data-parallel training
-// over the ranks gives the model that one process gets with the same
-// batch. With two ranks the sum over them is the one process's sum, so
-// the models are equal bit for bit; more ranks may only reassociate it.
+// over the ranks (Stages 1, 2 and 3) gives the model that one process gets
+// with the same batch. With two ranks the sum over them is the one
+// process's sum, so the models are equal bit for bit; more ranks may only
+// reassociate it.
 
 #include <gtest/gtest.h>
 
@@ -13,10 +14,14 @@
 
 #include "core/base/communicator.h"
 #include "core/base/mpi/mpi_world.h"
+#include "solvers/train/data_parallel.h"
+#include "solvers/train/flow_pretrain.h"
 #include "solvers/train/joint_trainer.h"
 #include "solvers/train/joint_training_steps.h"
 #include "solvers/train/static_trainer.h"
 #include "tests/expect_same_gaussians.h"
+#include "tests/random_scene_flow_samples.h"
+#include "tests/small_motion_field.h"
 #include "tests/tiny_loop_scene.h"
 
 namespace es {
@@ -118,6 +123,63 @@ TEST(RanksTest, JointTrainingOnRanksEqualsOneProcess) {
     ExpectRanksAgree(*fields_r[b], "a field block");
   }
   ExpectRanksAgree(AllGaussianValues(r.gaussians), "splats");
+}
+
+TEST(RanksTest, PackedSumSendsOnlyChunksSomeRankHoldsNonZero) {
+  if (world->size() < 2) GTEST_SKIP() << "needs 2 ranks";
+  // Four chunks: one non-zero on this rank only, one on every rank, one
+  // nowhere, one NaN on rank 1 only.
+  const size_t n = 4 * kSumChunk;
+  PackedSum sum;
+  sum.Reset({n - 3, 3});
+  std::vector<double> a(n - 3, 0.0);
+  a[world->rank() % 2 == 0 ? 1 : kSumChunk + 2] = 1.5 + world->rank();
+  a[kSumChunk + 5] = 1.0;
+  if (world->rank() == 1) a[3 * kSumChunk] = std::nan("");
+  sum.Add(0, a.data());
+  sum.AllreduceSum(world);
+  std::vector<double> expected(n - 3, 0.0);
+  for (int r = 0; r < world->size(); ++r)
+    expected[r % 2 == 0 ? 1 : kSumChunk + 2] += 1.5 + r;
+  expected[kSumChunk + 5] = world->size();
+  for (size_t i = 0; i < n - 3; ++i) {
+    if (i == 3 * kSumChunk) {
+      EXPECT_TRUE(std::isnan(sum.data()[i]));  // a NaN reaches every rank
+    } else {
+      EXPECT_EQ(sum.data()[i], expected[i]) << i;
+    }
+  }
+  // The flags and three chunks of 64 doubles, not four.
+  EXPECT_EQ(sum.bytes_per_reduction(), 4 + 3 * kSumChunk * sizeof(double));
+}
+
+TEST(RanksTest, FlowPretrainingOnRanksEqualsOneProcessWithAsManyShards) {
+  const std::vector<SceneFlowSample> samples =
+      RandomSceneFlowSamples(600, 3, 0.8, 0.05);
+  FlowPretrainOptions options;
+  options.iterations = 40;
+  options.batch_size = 150;
+  options.seed = 5;
+  options.log_every = 0;
+  options.shards = world->size();
+  MotionField alone = SmallMotionField(9), ranks = SmallMotionField(9);
+  const FlowPretrainReport a = PretrainMotionField(samples, options, &alone);
+  options.comm = world;
+  const FlowPretrainReport r = PretrainMotionField(samples, options, &ranks);
+  ExpectSameValues(ranks.triplane_params(), alone.triplane_params(),
+                   "V's triplane");
+  ExpectSameValues(ranks.mlp_params(), alone.mlp_params(), "V's MLP");
+  ExpectRanksAgree(ranks.triplane_params(), "V's triplane");
+  ExpectRanksAgree(ranks.mlp_params(), "V's MLP");
+  EXPECT_LT(r.fit_rmse, r.initial_rmse);  // it did fit
+  if (world->size() <= 2) EXPECT_EQ(r.fit_rmse, a.fit_rmse);
+  // The shards' sum is the whole batch's but for reassociation, which
+  // Adam's steps may amplify: the fit is as good.
+  options.comm = nullptr;
+  options.shards = 1;
+  MotionField whole = SmallMotionField(9);
+  const FlowPretrainReport w = PretrainMotionField(samples, options, &whole);
+  EXPECT_NEAR(r.fit_rmse, w.fit_rmse, 0.05 * w.fit_rmse);
 }
 
 TEST(RanksTest, SplitMakesGroupsThatSumOnlyTheirOwnRanks) {

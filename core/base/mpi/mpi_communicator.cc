@@ -58,6 +58,10 @@ void MpiCommunicator::AllreduceMax(double* data, size_t count) {
   AllreducePieces(data, count, MPI_DOUBLE, MPI_MAX, comm_);
 }
 
+void MpiCommunicator::AllreduceMax(unsigned char* data, size_t count) {
+  AllreducePieces(data, count, MPI_UNSIGNED_CHAR, MPI_MAX, comm_);
+}
+
 void MpiCommunicator::Broadcast(void* data, size_t bytes, int root) {
   char* bytes_data = static_cast<char*>(data);
   for (size_t begin = 0; begin < bytes; begin += kMaxPiece) {

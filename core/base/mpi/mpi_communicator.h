@@ -23,6 +23,7 @@ class MpiCommunicator : public Communicator {
   void AllreduceSum(double* data, size_t count) override;
   void AllreduceSum(float* data, size_t count) override;
   void AllreduceMax(double* data, size_t count) override;
+  void AllreduceMax(unsigned char* data, size_t count) override;
   void Broadcast(void* data, size_t bytes, int root) override;
   void Barrier() override;
   std::unique_ptr<Communicator> Split(int color) override;
