@@ -2,11 +2,12 @@
 // where a static model fitted without masks cannot explain the frames, by
 // non-rigid optical flow and by how its misfit changes over time, then
 // within them per pixel, where the water's share of the colour is over
-// one half, plus the calm water joined to them that is water-coloured in every
-// frame (core/masks/water_masks.h, water_matting.h). Writes one PNG per
-// registered frame (same names as the images, .png; white = water) that a
-// person can inspect and edit, a sheet to check them with, and a report;
-// with --truth also the IoU, precision and recall against true masks.
+// one half (with a margin), plus the calm water joined to them that is
+// water-coloured in every frame (core/masks/water_masks.h,
+// water_matting.h). Writes one PNG per registered frame (same names as the
+// images, .png; white = water) that a person can inspect and edit, a sheet
+// to check them with, and a report; with --truth also the IoU, precision
+// and recall against true masks.
 //
 //   es_masks --scene DIR --static static.ply --out MASKS_DIR
 //            [--sheet FILE] [--report FILE] [--truth TRUE_MASKS_DIR]
