@@ -1,19 +1,19 @@
 // Water masks from the video itself (no segmentation network): regions
 // where a static model fitted without masks cannot explain the frames, by
 // non-rigid optical flow and by how its misfit changes over time, then
-// within them per pixel, where the water's share of the colour passes one
-// half, plus the calm water joined to them that is water-coloured in every
-// frame (core/masks/water_masks.h, water_matting.h). Writes one PNG per
-// registered frame (same names as the images, .png; white = water) that a
-// person can inspect and edit, a sheet to check them with, and a report;
-// with --truth also the IoU, precision and recall against true masks.
+// within them per pixel, where the water's share of the colour is over
+// one half (with a margin), plus the calm water joined to them that is
+// water-coloured in every frame (core/masks/water_masks.h,
+// water_matting.h). Writes one PNG per registered frame (same names as the
+// images, .png; white = water) that a person can inspect and edit, a sheet
+// to check them with, and a report; with --truth also the IoU, precision
+// and recall against true masks.
 //
 //   es_masks --scene DIR --static static.ply --out MASKS_DIR
 //            [--sheet FILE] [--report FILE] [--truth TRUE_MASKS_DIR]
 
 #include <cstdio>
 #include <filesystem>
-#include <sstream>
 #include <string>
 
 #include <gflags/gflags.h>
@@ -27,6 +27,7 @@
 #include "core/base/input_error.h"
 #include "core/io/ply_io.h"
 #include "core/io/scene.h"
+#include "core/masks/mask_scores.h"
 #include "core/masks/water_masks.h"
 
 DEFINE_string(scene, "", "Scene directory (images/, sparse/0/).");
@@ -72,12 +73,6 @@ DEFINE_bool(calm_water, true, "With --matting, also the pixels beyond the "
             "regions whose colour is water's in every frame and that "
             "connect to the water found (a calm pool next to a fall); "
             "false: only near the regions.");
-DEFINE_double(scenery_recurrence, 0, "With --matting, the scenery "
-              "behind a pixel is the least water-like of its colours over "
-              "time that recurs in at least this share of them (0: the "
-              "least water-like colour, seen once).");
-DEFINE_double(recurrence_tolerance, 0.15, "Colours this close (L1 over RGB "
-              "in [0, 1]) count as the same for --scenery_recurrence.");
 DEFINE_bool(white_background, false, "The static model was trained on "
             "white.");
 
@@ -95,24 +90,6 @@ cv::Size StoredSize(const es::Scene& scene) {
         size = image.size();
       });
   return size;
-}
-
-// --cues as WaterCues; throws InputError naming a cue it does not know.
-es::WaterCues ParseCues(const std::string& list) {
-  es::WaterCues cues{false, false, false};
-  std::stringstream in(list);
-  std::string name;
-  while (std::getline(in, name, ',')) {
-    if (name == "flow") cues.flow = true;
-    else if (name == "change") cues.change = true;
-    else if (name == "misfit") cues.misfit = true;
-    else
-      throw es::InputError("--cues: unknown cue '" + name +
-                           "' (flow, change or misfit)");
-  }
-  if (!cues.flow && !cues.change && !cues.misfit)
-    throw es::InputError("--cues: name at least one cue");
-  return cues;
 }
 
 std::string MaskName(const std::string& image_name) {
@@ -136,25 +113,20 @@ void WriteMasks(const es::Scene& scene, const es::WaterMaskResult& result,
   fs::rename(staging, out);
 }
 
-// Mean per-frame scores against the masks in truth_dir (at the working
-// size).
-es::MaskScore MeanScore(const es::Scene& scene,
-                        const es::WaterMaskResult& result,
-                        const std::string& truth_dir) {
+// Mean per-frame scores against the masks in truth_dir (read at the
+// working size).
+es::MaskScore ScoreAgainst(const es::Scene& scene,
+                           const es::WaterMaskResult& result,
+                           const std::string& truth_dir) {
   std::vector<std::string> names;
   for (const es::Frame& f : scene.frames) names.push_back(f.camera.image_name);
-  const std::vector<std::string> files = es::FindMaskFiles(truth_dir, names);
-  es::MaskScore mean{0, 0, 0};
-  for (size_t i = 0; i < files.size(); ++i) {
-    cv::Mat truth;
-    cv::resize(es::ReadMask(files[i]), truth, result.masks[i].size(), 0, 0,
-               cv::INTER_AREA);
-    const es::MaskScore s = es::ScoreMask(result.masks[i], truth);
-    mean.iou += s.iou / files.size();
-    mean.precision += s.precision / files.size();
-    mean.recall += s.recall / files.size();
+  std::vector<cv::Mat> truths;
+  for (const std::string& file : es::FindMaskFiles(truth_dir, names)) {
+    truths.emplace_back();
+    cv::resize(es::ReadMask(file), truths.back(), result.masks[0].size(), 0,
+               0, cv::INTER_AREA);
   }
-  return mean;
+  return es::MeanMaskScore(result.masks, truths);
 }
 
 int Main() {
@@ -170,7 +142,7 @@ int Main() {
     throw es::InputError("--change_tolerance must be >= 0");
   if (!(FLAGS_misfit_blur >= 0))
     throw es::InputError("--misfit_blur must be >= 0");
-  const es::WaterCues cues = ParseCues(FLAGS_cues);
+  const es::WaterCues cues = es::ParseWaterCues(FLAGS_cues);
   const std::string sheet =
       FLAGS_sheet.empty() ? FLAGS_out + "_sheet.png" : FLAGS_sheet;
   const std::string report =
@@ -191,8 +163,6 @@ int Main() {
   options.min_water_fraction = FLAGS_min_water_fraction;
   options.matting = FLAGS_matting;
   options.matting_options.calm_water = FLAGS_calm_water;
-  options.matting_options.recurrence = FLAGS_scenery_recurrence;
-  options.matting_options.recurrence_tolerance = FLAGS_recurrence_tolerance;
   if (FLAGS_white_background) options.render.background.setOnes();
   std::printf("[masks] %zu frames at %dx%d: residual change over time, "
               "optical flow vs camera motion, then the water's share of "
@@ -215,7 +185,7 @@ int Main() {
   json["threshold"] = result.threshold;
   json["mean_iou"] = nullptr;
   if (!FLAGS_truth.empty()) {
-    const es::MaskScore score = MeanScore(scene, result, FLAGS_truth);
+    const es::MaskScore score = ScoreAgainst(scene, result, FLAGS_truth);
     json["mean_iou"] = score.iou;
     json["mean_precision"] = score.precision;
     json["mean_recall"] = score.recall;

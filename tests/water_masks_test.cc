@@ -87,7 +87,7 @@ TEST(WaterMasksTest, FindsTheDropletsOfASprayInEachFrame) {
   std::printf("droplets IoU: regions %.3f, matted %.3f\n", regions, matted);
   EXPECT_TRUE(result.has_water);
   // 12 frames only: the cliff behind the densest spray is seldom seen
-  // (regions 0.35, matted 0.53 when written).
+  // (regions 0.35, matted 0.55 when written).
   EXPECT_GT(matted, 0.45);
   EXPECT_GT(matted, regions + 0.1);
 }
@@ -109,9 +109,9 @@ MaskScore MeanScore(const WaterMaskResult& result, const SynthScene& synth,
 // The trap (issue #48): the path-traced spray in front of walls of fine
 // boards with dark seams, which a spray's matting can take for water where
 // it sees them between droplets. 12 frames (6 samples of each pixel) and
-// the true scenery as the static model: IoU 0.597, precision 0.598,
-// recall 0.996 when written; the scenery estimate of
-// --scenery_recurrence 0.25 scored 0.575 / 0.577 / 0.996.
+// the true scenery as the static model: IoU 0.623, precision 0.634,
+// recall 0.974 with the share measured against the water within a few
+// pixels (0.597 / 0.598 / 0.996 against the pixel's own wettest sample).
 TEST(WaterMasksTest, FineBoardsBehindASprayKeepTheirScores) {
   const SynthScene synth = GenerateSynthScene(SmallSettings("planks"));
   const Scene scene = ToScene(synth);
@@ -121,8 +121,8 @@ TEST(WaterMasksTest, FineBoardsBehindASprayKeepTheirScores) {
   std::printf("planks IoU / precision / recall: %.3f / %.3f / %.3f\n",
               score.iou, score.precision, score.recall);
   EXPECT_TRUE(result.has_water);
-  EXPECT_GT(score.iou, 0.585);
-  EXPECT_GT(score.precision, 0.585);
+  EXPECT_GT(score.iou, 0.61);
+  EXPECT_GT(score.precision, 0.62);
   EXPECT_GT(score.recall, 0.95);
 }
 

@@ -29,6 +29,21 @@ MaskScore ScoreMask(const cv::Mat& estimate, const cv::Mat& truth) {
   return s;
 }
 
+MaskScore MeanMaskScore(const std::vector<cv::Mat>& estimates,
+                        const std::vector<cv::Mat>& truths) {
+  CHECK_EQ(estimates.size(), truths.size());
+  if (estimates.empty()) return MaskScore();
+  MaskScore mean{0, 0, 0};
+  const double n = static_cast<double>(estimates.size());
+  for (size_t i = 0; i < estimates.size(); ++i) {
+    const MaskScore s = ScoreMask(estimates[i], truths[i]);
+    mean.iou += s.iou / n;
+    mean.precision += s.precision / n;
+    mean.recall += s.recall / n;
+  }
+  return mean;
+}
+
 double MaskIou(const cv::Mat& a, const cv::Mat& b) {
   return ScoreMask(a, b).iou;
 }

@@ -1,6 +1,8 @@
 #ifndef EULERSPLAT_CORE_MASKS_MASK_SCORES_H_
 #define EULERSPLAT_CORE_MASKS_MASK_SCORES_H_
 
+#include <vector>
+
 #include <opencv2/core.hpp>
 
 namespace es {
@@ -16,6 +18,11 @@ struct MaskScore {
 };
 
 MaskScore ScoreMask(const cv::Mat& estimate, const cv::Mat& truth);
+
+// The mean of each score over the frames (estimates[i] against
+// truths[i]); all 1 when there are none.
+MaskScore MeanMaskScore(const std::vector<cv::Mat>& estimates,
+                        const std::vector<cv::Mat>& truths);
 
 // Intersection over union of two binary masks; 1 when both are empty.
 double MaskIou(const cv::Mat& a, const cv::Mat& b);

@@ -3,10 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <sstream>
 
 #include <glog/logging.h>
 #include <opencv2/imgproc.hpp>
 
+#include "core/base/input_error.h"
 #include "core/flow/flow_lifting.h"
 #include "core/flow/optical_flow.h"
 #include "core/masks/camera_flow.h"
@@ -125,6 +127,23 @@ std::vector<std::vector<int>> TemporalNeighbours(
 }
 
 }  // namespace
+
+WaterCues ParseWaterCues(const std::string& list) {
+  WaterCues cues{false, false, false};
+  std::stringstream in(list);
+  std::string name;
+  while (std::getline(in, name, ',')) {
+    if (name == "flow") cues.flow = true;
+    else if (name == "change") cues.change = true;
+    else if (name == "misfit") cues.misfit = true;
+    else
+      throw InputError("--cues: unknown cue '" + name +
+                       "' (flow, change or misfit)");
+  }
+  if (!cues.flow && !cues.change && !cues.misfit)
+    throw InputError("--cues: name at least one cue");
+  return cues;
+}
 
 WaterMaskResult EstimateWaterMasks(
     const Scene& scene, const GaussianSet& static_model,

@@ -2,6 +2,7 @@
 #define EULERSPLAT_CORE_MASKS_WATER_MASKS_H_
 
 #include <functional>
+#include <string>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -34,8 +35,9 @@ namespace es {
 // temporal window, thresholded (Otsu on the log, never below min_score),
 // cleaned with morphology, voted over the same window, and small blobs are
 // dropped. These regions are smooth; the masks within them are per pixel:
-// where the water's share of the colour passes one half, plus the calm
-// water joined to them that is water-coloured in every frame (MatWater).
+// where the water's share of the colour is over one half (with a margin:
+// min_share), plus the calm water joined to them that is water-coloured in
+// every frame (MatWater).
 // Which cues the evidence takes (all by default; the others for measuring
 // what each brings).
 struct WaterCues {
@@ -43,6 +45,10 @@ struct WaterCues {
   bool change = true;
   bool misfit = true;
 };
+
+// A comma-separated list of cue names (flow, change, misfit) as WaterCues;
+// throws InputError for an unknown name or an empty list.
+WaterCues ParseWaterCues(const std::string& list);
 
 struct WaterMaskOptions {
   WaterCues cues;

@@ -33,51 +33,46 @@ cv::Mat ConnectedTo(const cv::Mat& seeds, const cv::Mat& through) {
   return out;
 }
 
-// The scenery behind a pixel, from its colours over time (the frame's
-// own first). Without `recurrence`: the colour least like water. With it:
-// the least water-like colour that recurs, i.e. that at least that share
-// of the colours lie within `recurrence_tolerance` of (the mean of those):
-// the scenery is seen whenever the water leaves it, the water changes, and
-// one stray sample (a misregistered edge of fine texture) is not the
-// scenery. When no colour recurs that often, the most recurrent one.
-// far, order: scratch.
+// The scenery behind a pixel: of its colours over time (the frame's own
+// first), the one least like water.
 cv::Vec3f SceneryColour(const std::vector<cv::Vec3f>& colours,
-                        const cv::Vec3f& water,
-                        const WaterMattingOptions& options,
-                        std::vector<float>* far, std::vector<int>* order) {
-  const int m = static_cast<int>(colours.size());
-  if (options.recurrence <= 0) {
-    cv::Vec3f scenery = colours[0];
-    float farthest = L1(colours[0], water);
-    for (int k = 1; k < m; ++k) {
-      const float d = L1(colours[k], water);
-      if (d > farthest) farthest = d, scenery = colours[k];
+                        const cv::Vec3f& water) {
+  cv::Vec3f scenery = colours[0];
+  float farthest = L1(colours[0], water);
+  for (size_t k = 1; k < colours.size(); ++k) {
+    const float d = L1(colours[k], water);
+    if (d > farthest) farthest = d, scenery = colours[k];
+  }
+  return scenery;
+}
+
+// The water in front of `scenery`: the palette colour nearest the colour
+// most unlike the scenery among `wettest` (the wettest sample of each
+// pixel) within `radius` of (x, y). Droplets are translucent: one pixel's
+// wettest sample is often a faint droplet's blend with the scenery, and
+// measured against it a faint droplet's share came out too high; over a
+// few pixels some sample holds dense water, while on a shaded sheet the
+// neighbours' water is as shaded (docs/results/masks-2026-12-06b.md).
+cv::Vec3f PurestWater(const WaterColourModel& colours,
+                      const cv::Vec3f& scenery, const cv::Mat& wettest,
+                      int x, int y, int radius) {
+  cv::Vec3f deepest = wettest.at<cv::Vec3f>(y, x);
+  float apart = L1(deepest, scenery);
+  for (int v = std::max(0, y - radius);
+       v <= std::min(wettest.rows - 1, y + radius); ++v)
+    for (int u = std::max(0, x - radius);
+         u <= std::min(wettest.cols - 1, x + radius); ++u) {
+      const cv::Vec3f c = wettest.at<cv::Vec3f>(v, u);
+      const float d = L1(c, scenery);
+      if (d > apart) apart = d, deepest = c;
     }
-    return scenery;
+  cv::Vec3f pure = colours.mean_water();
+  float nearest = std::numeric_limits<float>::max();
+  for (const cv::Vec3f& c : colours.palette()) {
+    const cv::Vec3f e = c - deepest;
+    if (e.dot(e) < nearest) nearest = e.dot(e), pure = c;
   }
-  far->resize(m);
-  order->resize(m);
-  for (int k = 0; k < m; ++k) {
-    (*far)[k] = L1(colours[k], water);
-    (*order)[k] = k;
-  }
-  std::sort(order->begin(), order->end(),
-            [&](int a, int b) { return (*far)[a] > (*far)[b]; });
-  const int needed =
-      std::max(1, static_cast<int>(std::ceil(options.recurrence * m)));
-  const float tolerance = static_cast<float>(options.recurrence_tolerance);
-  cv::Vec3f mode = colours[0];
-  int mode_count = 0;
-  for (int k : *order) {
-    cv::Vec3f sum(0.f, 0.f, 0.f);
-    int count = 0;
-    for (const cv::Vec3f& c : colours)
-      if (L1(c, colours[k]) <= tolerance) sum += c, ++count;
-    const cv::Vec3f mean = sum / static_cast<float>(count);
-    if (count >= needed) return mean;
-    if (count > mode_count) mode_count = count, mode = mean;
-  }
-  return mode;
+  return pure;
 }
 
 // One pass of the matting with the given colour model: the mask of every
@@ -92,10 +87,9 @@ std::vector<cv::Mat> MatFrames(const std::vector<ResidualFrame>& frames,
   std::vector<cv::Mat> masks(n);
   const cv::Vec3f water = colours.mean_water();
   const cv::Mat grow = Disk(std::lround(options.grow * images[0].cols));
+  const int radius = std::lround(options.water_radius * images[0].cols);
   std::vector<cv::Mat> samples, known;
   std::vector<cv::Vec3f> seen_colours;
-  std::vector<float> far;
-  std::vector<int> order;
   for (int i = 0; i < n; ++i) {
     const ResidualFrame& f = frames[i];
     samples.clear();
@@ -112,6 +106,7 @@ std::vector<cv::Mat> MatFrames(const std::vector<ResidualFrame>& frames,
     cv::GaussianBlur(ratio, ratio, cv::Size(0, 0), 1.0);
     cv::Mat share(image.size(), CV_32FC1, cv::Scalar(0.f));
     cv::Mat seen(image.size(), CV_8UC1, cv::Scalar(0));
+    cv::Mat scenery(image.size(), CV_32FC3), wettest(image.size(), CV_32FC3);
     const int m = static_cast<int>(samples.size());
     for (int p = 0; p < static_cast<int>(image.total()); ++p) {
       const cv::Vec3f colour = image.at<cv::Vec3f>(p);
@@ -119,31 +114,27 @@ std::vector<cv::Mat> MatFrames(const std::vector<ResidualFrame>& frames,
       for (int k = 0; k < m; ++k)
         if (known[k].at<uchar>(p))
           seen_colours.push_back(samples[k].at<cv::Vec3f>(p));
-      const cv::Vec3f scenery =
-          SceneryColour(seen_colours, water, options, &far, &order);
-      if (colours.LogRatio(scenery) < 0) seen.at<uchar>(p) = 255;
-      // The water: the sample most unlike that scenery, as a palette colour.
-      cv::Vec3f wettest = colour;
-      float apart = L1(colour, scenery);
-      for (int k = 0; k < m; ++k) {
-        if (!known[k].at<uchar>(p)) continue;
-        const cv::Vec3f s = samples[k].at<cv::Vec3f>(p);
-        const float d = L1(s, scenery);
-        if (d > apart) apart = d, wettest = s;
-      }
-      cv::Vec3f pure = water;
-      float nearest = std::numeric_limits<float>::max();
-      for (const cv::Vec3f& c : colours.palette()) {
-        const cv::Vec3f e = c - wettest;
-        if (e.dot(e) < nearest) nearest = e.dot(e), pure = c;
-      }
-      const cv::Vec3f axis = pure - scenery;
-      share.at<float>(p) =
-          (colour - scenery).dot(axis) / std::max(axis.dot(axis), 1e-6f);
+      const cv::Vec3f behind = SceneryColour(seen_colours, water);
+      scenery.at<cv::Vec3f>(p) = behind;
+      if (colours.LogRatio(behind) < 0) seen.at<uchar>(p) = 255;
+      // The pixel's wettest colour: its sample most unlike that scenery.
+      cv::Vec3f wet = colour;
+      float apart = L1(colour, behind);
+      for (const cv::Vec3f& c : seen_colours)
+        if (L1(c, behind) > apart) apart = L1(c, behind), wet = c;
+      wettest.at<cv::Vec3f>(p) = wet;
     }
+    for (int y = 0; y < image.rows; ++y)
+      for (int x = 0; x < image.cols; ++x) {
+        const cv::Vec3f behind = scenery.at<cv::Vec3f>(y, x);
+        const cv::Vec3f axis =
+            PurestWater(colours, behind, wettest, x, y, radius) - behind;
+        share.at<float>(y, x) = (image.at<cv::Vec3f>(y, x) - behind).dot(axis) /
+                                std::max(axis.dot(axis), 1e-6f);
+      }
     cv::GaussianBlur(share, share, cv::Size(0, 0), 0.5);
     cv::Mat by_share, by_colour, region;
-    cv::compare(share, 0.5, by_share, cv::CMP_GT);
+    cv::compare(share, options.min_share, by_share, cv::CMP_GT);
     cv::compare(ratio, 0, by_colour, cv::CMP_GT);
     cv::dilate(regions[i], region, grow);
     const cv::Mat water_here = (by_share & seen) | (by_colour & ~seen);

@@ -21,27 +21,32 @@ struct WaterMattingOptions {
   // Beyond the grown regions, also the pixels water-coloured in every
   // sample (calm water) that connect to the water found.
   bool calm_water = true;
-  // The scenery behind a pixel is the least water-like of its colours
-  // over time that recurs in at least this share of them (within
-  // recurrence_tolerance, L1 over RGB in [0, 1]); 0 (default): the least
-  // water-like colour, seen once. Recurrence lost IoU on planks, droplets
-  // and pathtraced (docs/results/masks-2026-12-06.md).
-  double recurrence = 0;
-  double recurrence_tolerance = 0.15;
+  // A pixel whose scenery was seen is water where the water's share of
+  // its colour passes this: above the true masks' one half, as the share
+  // is blurred and droplets' edges took the blur (measured:
+  // docs/results/masks-2026-12-06b.md).
+  double min_share = 0.55;
+  // The water a share is measured against: the palette colour nearest the
+  // wettest colour of the pixels within this radius (fraction of the
+  // width; 0: the pixel's own).
+  double water_radius = 0.01;
 };
 
 // Per-frame water masks at the resolution of single droplets, inside
 // regions found by motion and change (which are smooth over space and time
 // and so cover a whole curtain of spray, droplets and the gaps between
 // them alike). A pixel is water where the water's share of its colour
-// passes one half: colour = share * water + (1 - share) * scenery behind.
+// passes min_share: colour = share * water + (1 - share) * scenery behind.
 //  - The scenery behind: of the pixel's surface point seen in every
 //    stride-th frame (carried by the camera's motion over the static
 //    depth), the colour least like water. Where water hides the scenery in
 //    every frame, that colour is still water's (the colour model says so):
 //    the pixel's own colour decides, water-like or not.
-//  - The water: the palette colour nearest to the sample most unlike the
-//    scenery (a pool's blue, a spray's white).
+//  - The water: the palette colour (a pool's blue, a spray's white)
+//    nearest the sample most unlike that scenery among those of the
+//    pixels within water_radius: a translucent droplet's own wettest
+//    sample is often a blend with the scenery, a neighbour's in some
+//    frame dense water.
 // With calm_water, the masks also take the pixels beyond the grown regions
 // that are water-coloured in every sample (a still pool hides its scenery
 // in every frame but moves too little for the regions) and connect to the
