@@ -19,29 +19,21 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-usage() { sed -n '2,18p' "$0" | sed 's/^# \{0,1\}//'; }
+source scripts/lib/options.sh
+source scripts/lib/time_v.sh
 work=/tmp/es_profile_driver; threads=2; frames=120; width=320; height=240
-preset=quick; overrides=()
-while (($#)); do
-  case "$1" in
-    --work) work="$2"; shift 2 ;;
-    --threads) threads="$2"; shift 2 ;;
-    --frames) frames="$2"; shift 2 ;;
-    --width) width="$2"; shift 2 ;;
-    --height) height="$2"; shift 2 ;;
-    --preset) preset="$2"; shift 2 ;;
-    --static_iterations|--joint_iterations)
-      overrides+=("$1" "$2"); shift 2 ;;
-    -h|--help) usage; exit 0 ;;
-    *) echo "profile_driver.sh: unknown argument '$1' (see --help)" >&2
-       exit 2 ;;
-  esac
-done
+preset=quick; static_iterations=""; joint_iterations=""
+parse_options \
+  "work threads frames width height preset static_iterations joint_iterations" \
+  "" "$@"
+require_numbers "$threads" "$frames" "$width" "$height"
+overrides=()
+[[ -z "$static_iterations" ]] ||
+  overrides+=(--static_iterations "$static_iterations")
+[[ -z "$joint_iterations" ]] ||
+  overrides+=(--joint_iterations "$joint_iterations")
+require_apps es_synth eulersplat
 bin=build/bin
-for b in es_synth eulersplat; do
-  [[ -x "$bin/$b" ]] || { echo "profile_driver.sh: $bin/$b missing: build" \
-                          "first (cmake --build build)" >&2; exit 1; }
-done
 
 mkdir -p "$work"
 scene="$work/scene_${width}x${height}x${frames}"
@@ -52,13 +44,13 @@ if [[ ! -f "$scene/sparse/0/images.txt" ]]; then
 fi
 run="$work/run"
 rm -rf "$run"
-load_start=$(cut -d' ' -f1 /proc/loadavg)
+load_start=$(load)
 echo "[profile] eulersplat --preset $preset --threads $threads ${overrides[*]}" \
      "(load average $load_start at the start, $(nproc) cores)"
 "$bin/eulersplat" --scene "$scene" --out "$run" --preset "$preset" \
     --threads "$threads" --profile "${overrides[@]}" > "$work/driver.log" 2>&1 \
   || { tail -30 "$work/driver.log"; exit 1; }
-load_end=$(cut -d' ' -f1 /proc/loadavg)
+load_end=$(load)
 
 python3 - "$run/timings.json" <<'PY'
 import json, sys

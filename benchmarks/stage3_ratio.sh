@@ -7,8 +7,8 @@
 # run's "total" ms per iteration of its --profile table, its CPU seconds
 # and the load average at its start, then Stage 3 / Stage 1 and Stage 3's
 # parts (the wall-time ratio is the target's; on a loaded machine the CPU
-# seconds' ratio is the steadier one). With --baseline, another build's es_train runs on the same model,
-# alternating with this build's, and their model files are compared
+# seconds' ratio is the steadier one). With --baseline, another build's
+# es_train runs on the same model, alternating with this build's, and their model files are compared
 # (cmp: "same" when the two builds' results are bit-identical). Not part
 # of the tests.
 #
@@ -23,36 +23,22 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-usage() { sed -n '2,22p' "$0" | sed 's/^# \{0,1\}//'; }
+source scripts/lib/options.sh
+source scripts/lib/time_v.sh
 work=/tmp/es_stage3_ratio; threads=2; width=224; height=168; frames=60
 static_its=300; joint_its=100; rounds=1; baseline=""
-while (($#)); do
-  case "$1" in
-    --work) work="$2"; shift 2 ;;
-    --threads) threads="$2"; shift 2 ;;
-    --width) width="$2"; shift 2 ;;
-    --height) height="$2"; shift 2 ;;
-    --frames) frames="$2"; shift 2 ;;
-    --static_its) static_its="$2"; shift 2 ;;
-    --joint_its) joint_its="$2"; shift 2 ;;
-    --rounds) rounds="$2"; shift 2 ;;
-    --baseline) baseline="$2"; shift 2 ;;
-    -h|--help) usage; exit 0 ;;
-    *) echo "stage3_ratio.sh: unknown argument '$1' (see --help)" >&2
-       exit 2 ;;
-  esac
-done
+parse_options \
+  "work threads width height frames static_its joint_its rounds baseline" \
+  "" "$@"
+require_numbers "$threads" "$width" "$height" "$frames" "$static_its" \
+  "$joint_its" "$rounds"
+require_apps es_synth es_static es_train
 bin=build/bin
-for b in es_synth es_static es_train; do
-  [[ -x "$bin/$b" ]] || { echo "stage3_ratio.sh: $bin/$b missing: build" \
-                          "first (cmake --build build)" >&2; exit 1; }
-done
 [[ -z "$baseline" || -x "$baseline/es_train" ]] ||
   { echo "stage3_ratio.sh: $baseline/es_train missing" >&2; exit 1; }
 
-load() { cut -d' ' -f1 /proc/loadavg; }
 profile_ms() { awk '$1 == "total" {print $3; exit}' "$1"; }
-cpu_s() { awk '{printf "%.1f", $1 + $2}' "$1"; }
+user_sys_s() { awk '{printf "%.1f", $1 + $2}' "$1"; }
 # CPU ms per iteration of a run: its CPU seconds (setup and the final
 # evaluation included) over its iterations.
 cpu_ms() { awk -v n="$2" '{printf "%.1f", 1000 * ($1 + $2) / n}' "$1"; }
@@ -75,7 +61,7 @@ rm -rf "$s1"
     --eval_every 0 --log_every 0 --profile > "$work/stage1.log" 2>&1 ||
   { tail -5 "$work/stage1.log"; exit 1; }
 stage1=$(profile_ms "$work/stage1.log")
-echo "[ratio] Stage 1: $stage1 ms/iteration, $(cpu_s "$work/stage1.time")" \
+echo "[ratio] Stage 1: $stage1 ms/iteration, $(user_sys_s "$work/stage1.time")" \
      "CPU s for $static_its iterations (load $l)"
 stage1_cpu=$(cpu_ms "$work/stage1.time" "$static_its")
 
@@ -91,7 +77,7 @@ stage3() {
       --log_interval 0 --seed 0 --profile > "$out.log" 2>&1 ||
     { tail -5 "$out.log"; exit 1; }
   echo "[ratio] Stage 3 ($name): $(profile_ms "$out.log") ms/iteration," \
-       "$(cpu_s "$out.time") CPU s for $joint_its iterations (load $l)"
+       "$(user_sys_s "$out.time") CPU s for $joint_its iterations (load $l)"
 }
 
 for ((r = 1; r <= rounds; ++r)); do

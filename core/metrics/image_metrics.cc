@@ -110,12 +110,13 @@ double MaskedSsim(const cv::Mat& x, const cv::Mat& y, const cv::Mat& mask,
 cv::Mat FarFromMask(const cv::Mat& mask, double distance) {
   cv::Mat m;
   mask.convertTo(m, CV_64F);
-  const cv::Mat dry = m <= 0.5;  // 255 off the water, 0 on it
-  if (cv::countNonZero(dry) == dry.total()) {
+  const cv::Mat water = m > 0.5;
+  if (cv::countNonZero(water) == 0) {
     return cv::Mat::ones(mask.size(), CV_64FC1);
   }
+  // distanceTransform measures to the nearest zero: the water pixels.
   cv::Mat to_water;
-  cv::distanceTransform(dry, to_water, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+  cv::distanceTransform(~water, to_water, cv::DIST_L2, cv::DIST_MASK_PRECISE);
   cv::Mat far;
   cv::Mat(to_water > distance).convertTo(far, CV_64F, 1.0 / 255);
   return far;
