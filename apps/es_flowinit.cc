@@ -3,7 +3,6 @@
 // flags are in apps/common/flowinit_flags.cc, the stage in
 // solvers/train/flow_init_stage.h.
 
-#include "apps/common/app_main.h"
 #include "apps/common/flowinit_flags.h"
 #include "apps/common/world.h"
 #include "solvers/train/flow_init_stage.h"
@@ -24,16 +23,12 @@ constexpr char kUsage[] =
     "or no sample survives.";
 
 int main(int argc, char** argv) {
-  return es::RunApp(argc, argv, kUsage, [] {
-    es::AppWorld world;
-    return world.Run([&world] {
-      es::CheckFlowInitFlags();
-      const es::FlowPretrainer pretrain =
-          es::FlowPretrainerFromFlags(*world.comm());
-      es::FlowInitStageOptions o = es::FlowInitStageOptionsFromFlags();
-      o.pretrain.comm = world.comm();
-      es::RunFlowInitStage(o, pretrain);
-      return 0;
-    });
+  return es::RunAppOnRanks(argc, argv, kUsage, [](es::Communicator* comm) {
+    es::CheckFlowInitFlags();
+    const es::FlowPretrainer pretrain = es::FlowPretrainerFromFlags(*comm);
+    es::FlowInitStageOptions o = es::FlowInitStageOptionsFromFlags();
+    o.pretrain.comm = comm;
+    es::RunFlowInitStage(o, pretrain);
+    return 0;
   });
 }

@@ -13,7 +13,6 @@
 #include <cstdio>
 #include <string>
 
-#include "apps/common/app_main.h"
 #include "apps/common/device_flag.h"
 #include "apps/common/world.h"
 #include "apps/common/flag_checks.h"
@@ -94,52 +93,49 @@ DEFINE_bool(profile, false,
             "after the last iteration.");
 
 int main(int argc, char** argv) {
-  return es::RunApp(argc, argv, kUsage, [] {
-    es::AppWorld world;
-    return world.Run([&world] {
-      es::RequirePositive("image_scale", FLAGS_image_scale);
-      std::string device_name;
-      const es::ComputeDevice device =
-          es::ParseDeviceFlag(FLAGS_device, &device_name);
-      es::StaticStageOptions o;
-      o.scene_dir = FLAGS_scene;
-      o.out_dir = FLAGS_out;
-      o.scene.image_scale = FLAGS_image_scale;
-      o.resume = FLAGS_resume;
-      o.checkpoint_every = FLAGS_checkpoint_every;
-      o.log_every = FLAGS_log_every;
-      o.eval_every = FLAGS_eval_every;
-      o.dynamic_threshold = FLAGS_dynamic_threshold;
-      o.profile = FLAGS_profile;
-      es::StaticTrainerOptions& t = o.trainer;
-      t.iterations = FLAGS_iterations;
-      t.seed = FLAGS_seed;
-      t.max_sh_degree = FLAGS_sh_degree;
-      t.sh_degree_interval = FLAGS_sh_degree_interval;
-      t.splat_lr = es::SplatRatesFromFlags(
-          {"lr_position", "lr_position_final", "lr_scale", "lr_rotation"});
-      t.ssim_weight = FLAGS_ssim_weight;
-      t.mask_weight = FLAGS_mask_weight;
-      t.densify = FLAGS_densify;
-      t.densify_options.from_iteration = FLAGS_densify_from;
-      t.densify_options.until_iteration = FLAGS_densify_until;
-      t.densify_options.interval = FLAGS_densify_interval;
-      t.densify_options.opacity_reset_interval = FLAGS_opacity_reset_interval;
-      t.densify_options.grad_threshold = FLAGS_densify_grad_threshold;
-      t.densify_options.percent_dense = FLAGS_percent_dense;
-      t.densify_options.min_opacity = FLAGS_min_opacity;
-      t.densify_options.max_screen_radius = FLAGS_max_screen_radius;
-      t.densify_options.max_world_scale = FLAGS_max_world_scale;
-      t.densify_options.max_gaussians = FLAGS_max_gaussians;
-      if (FLAGS_white_background) t.background.setOnes();
-      if (device == es::ComputeDevice::kCuda)
-        std::printf("training on %s\n", device_name.c_str());
-      t.batch_frames = FLAGS_batch_frames;
-      t.comm = world.comm();
-      es::CheckBatchFramesFlag(t.batch_frames, *t.comm,
-                               device == es::ComputeDevice::kCuda);
-      es::RunStaticStage(o, es::StaticTrainerOn(device));
-      return 0;
-    });
+  return es::RunAppOnRanks(argc, argv, kUsage, [](es::Communicator* comm) {
+    es::RequirePositive("image_scale", FLAGS_image_scale);
+    std::string device_name;
+    const es::ComputeDevice device =
+        es::ParseDeviceFlag(FLAGS_device, &device_name);
+    es::StaticStageOptions o;
+    o.scene_dir = FLAGS_scene;
+    o.out_dir = FLAGS_out;
+    o.scene.image_scale = FLAGS_image_scale;
+    o.resume = FLAGS_resume;
+    o.checkpoint_every = FLAGS_checkpoint_every;
+    o.log_every = FLAGS_log_every;
+    o.eval_every = FLAGS_eval_every;
+    o.dynamic_threshold = FLAGS_dynamic_threshold;
+    o.profile = FLAGS_profile;
+    es::StaticTrainerOptions& t = o.trainer;
+    t.iterations = FLAGS_iterations;
+    t.seed = FLAGS_seed;
+    t.max_sh_degree = FLAGS_sh_degree;
+    t.sh_degree_interval = FLAGS_sh_degree_interval;
+    t.splat_lr = es::SplatRatesFromFlags(
+        {"lr_position", "lr_position_final", "lr_scale", "lr_rotation"});
+    t.ssim_weight = FLAGS_ssim_weight;
+    t.mask_weight = FLAGS_mask_weight;
+    t.densify = FLAGS_densify;
+    t.densify_options.from_iteration = FLAGS_densify_from;
+    t.densify_options.until_iteration = FLAGS_densify_until;
+    t.densify_options.interval = FLAGS_densify_interval;
+    t.densify_options.opacity_reset_interval = FLAGS_opacity_reset_interval;
+    t.densify_options.grad_threshold = FLAGS_densify_grad_threshold;
+    t.densify_options.percent_dense = FLAGS_percent_dense;
+    t.densify_options.min_opacity = FLAGS_min_opacity;
+    t.densify_options.max_screen_radius = FLAGS_max_screen_radius;
+    t.densify_options.max_world_scale = FLAGS_max_world_scale;
+    t.densify_options.max_gaussians = FLAGS_max_gaussians;
+    if (FLAGS_white_background) t.background.setOnes();
+    if (device == es::ComputeDevice::kCuda)
+      std::printf("training on %s\n", device_name.c_str());
+    t.batch_frames = FLAGS_batch_frames;
+    t.comm = comm;
+    es::CheckBatchFramesFlag(t.batch_frames, *t.comm,
+                             device == es::ComputeDevice::kCuda);
+    es::RunStaticStage(o, es::StaticTrainerOn(device));
+    return 0;
   });
 }

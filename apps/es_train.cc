@@ -10,7 +10,6 @@
 
 #include <cstdio>
 
-#include "apps/common/app_main.h"
 #include "apps/common/joint_flags.h"
 #include "apps/common/world.h"
 #include "solvers/train/joint_stage.h"
@@ -25,22 +24,19 @@ constexpr char kUsage[] =
     "<out>/joint_checkpoint.bin.";
 
 int main(int argc, char** argv) {
-  return es::RunApp(argc, argv, kUsage, [] {
-    es::AppWorld world;
-    return world.Run([&world] {
-      es::ComputeDevice device;
-      es::JointStageOptions options = es::JointStageOptionsFromFlags(&device);
-      options.trainer.comm = world.comm();
-      es::CheckBatchFramesFlag(options.trainer.batch_frames, *world.comm(),
-                               device == es::ComputeDevice::kCuda);
-      const es::JointStageResult r =
-          es::RunJointStage(options, es::JointTrainerOn(device));
-      std::printf("test PSNR %.3f SSIM %.4f (water PSNR %.3f SSIM %.4f, "
-                  "scenery PSNR %.3f) over %d frames; %.1f s\n",
-                  r.test.psnr, r.test.ssim, r.test.psnr_water,
-                  r.test.ssim_water, r.test.psnr_static, r.test.frames,
-                  r.seconds);
-      return 0;
-    });
+  return es::RunAppOnRanks(argc, argv, kUsage, [](es::Communicator* comm) {
+    es::ComputeDevice device;
+    es::JointStageOptions options = es::JointStageOptionsFromFlags(&device);
+    options.trainer.comm = comm;
+    es::CheckBatchFramesFlag(options.trainer.batch_frames, *comm,
+                             device == es::ComputeDevice::kCuda);
+    const es::JointStageResult r =
+        es::RunJointStage(options, es::JointTrainerOn(device));
+    std::printf("test PSNR %.3f SSIM %.4f (water PSNR %.3f SSIM %.4f, "
+                "scenery PSNR %.3f) over %d frames; %.1f s\n",
+                r.test.psnr, r.test.ssim, r.test.psnr_water,
+                r.test.ssim_water, r.test.psnr_static, r.test.frames,
+                r.seconds);
+    return 0;
   });
 }

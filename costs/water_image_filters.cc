@@ -156,16 +156,30 @@ void WaterOf(const cv::Mat& mask, size_t pixels, std::vector<double>* out) {
   }
 }
 
+namespace {
+
+// Band k with `blur` for every G: Blur gives the band, BlurAdjoint its
+// adjoint (G_{k-1}^T - G_k^T) y.
+template <typename BlurFn>
+void BandWith(BlurFn blur, const std::vector<double>& y, int w, int h, int k,
+              const std::vector<std::vector<double>>& kernels,
+              BlurScratch* tmp, std::vector<double>* low,
+              std::vector<double>* out) {
+  const std::vector<double>* fine = &y;
+  if (k > 0) {
+    blur(y, w, h, kernels[k - 1], tmp, low);
+    fine = low;
+  }
+  blur(y, w, h, kernels[k], tmp, out);
+  for (size_t p = 0; p < y.size(); ++p) (*out)[p] = (*fine)[p] - (*out)[p];
+}
+
+}  // namespace
+
 void Band(const std::vector<double>& y, int w, int h, int k,
           const std::vector<std::vector<double>>& kernels, BlurScratch* tmp,
           std::vector<double>* low, std::vector<double>* out) {
-  const std::vector<double>* fine = &y;
-  if (k > 0) {
-    Blur(y, w, h, kernels[k - 1], tmp, low);
-    fine = low;
-  }
-  Blur(y, w, h, kernels[k], tmp, out);
-  for (size_t p = 0; p < y.size(); ++p) (*out)[p] = (*fine)[p] - (*out)[p];
+  BandWith(Blur, y, w, h, k, kernels, tmp, low, out);
 }
 
 void Bands(const std::vector<double>& y, int w, int h, int count,
@@ -186,13 +200,8 @@ void AddBandAdjoint(const std::vector<double>& g, int w, int h, int k,
                     const std::vector<std::vector<double>>& kernels,
                     BlurScratch* tmp, std::vector<double>* low,
                     std::vector<double>* coarse, std::vector<double>* dy) {
-  const std::vector<double>* fine = &g;
-  if (k > 0) {
-    BlurAdjoint(g, w, h, kernels[k - 1], tmp, low);
-    fine = low;
-  }
-  BlurAdjoint(g, w, h, kernels[k], tmp, coarse);
-  for (size_t p = 0; p < g.size(); ++p) (*dy)[p] += (*fine)[p] - (*coarse)[p];
+  BandWith(BlurAdjoint, g, w, h, k, kernels, tmp, low, coarse);
+  for (size_t p = 0; p < g.size(); ++p) (*dy)[p] += (*coarse)[p];
 }
 
 }  // namespace internal

@@ -6,9 +6,11 @@ OUT/ablations.json (every number).
     scripts/ablation_table.py OUT VARIANT...
 """
 import json
-import pathlib
 import statistics
 import sys
+
+from lib.table_args import out_and_names
+
 
 def realism(region, key):
     """Getter of one realism figure (es_eval's "realism" block)."""
@@ -56,14 +58,9 @@ def cell(values, fmt):
 
 
 def main():
-    if len(sys.argv) > 1 and sys.argv[1] in ("-h", "--help"):
-        print(__doc__.strip())
-        return
-    if len(sys.argv) < 3:
-        sys.exit(__doc__)
-    out = pathlib.Path(sys.argv[1])
+    out, names = out_and_names(__doc__)
     rows, everything = [], {}
-    for variant in sys.argv[2:]:
+    for variant in names:
         runs = sorted((out / variant).glob("seed*"))
         if not runs:
             sys.exit(f"{out / variant}: no runs")

@@ -16,9 +16,10 @@ where the reference is missing.
     scripts/realism_targets.py OUT PRESET...
 """
 import json
-import pathlib
 import statistics
 import sys
+
+from lib.table_args import out_and_names
 
 
 def evals(out, preset, variant):
@@ -72,12 +73,7 @@ def oracle_row(preset, draws, static):
 
 
 def main():
-    if len(sys.argv) > 1 and sys.argv[1] in ("-h", "--help"):
-        print(__doc__.strip())
-        return
-    if len(sys.argv) < 3:
-        sys.exit(__doc__)
-    out = pathlib.Path(sys.argv[1])
+    out, names = out_and_names(__doc__)
     header = ["preset", "seeds", "water detail (>= 0.85)",
               "water motion (0.8-1.25)", "static detail (>= 0.9)",
               "water PSNR full - static (>= 1.5)",
@@ -85,7 +81,7 @@ def main():
               "rel. EPE flow init (Stage 1's / joint's points) -> joint",
               "loop seam (<= 1.3)"]
     rows, oracle_rows = [], []
-    for preset in sys.argv[2:]:
+    for preset in names:
         full = evals(out, preset, "full")
         static = evals(out, preset, "static_only")
         if not full or not static:

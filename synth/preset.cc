@@ -40,13 +40,7 @@ SceneryMaterial Boards() {
 SceneryPlane Plane(const Vector3d& origin, const Vector3d& u,
                    const Vector3d& v, double bump,
                    const SceneryMaterial& material) {
-  SceneryPlane p;
-  p.origin = origin;
-  p.u = u;
-  p.v = v;
-  p.bump = bump;
-  p.material = material;
-  return p;
+  return {origin, u, v, bump, material};
 }
 
 // `count` half-buried rocks with centers uniform in [lo, hi] (x, z).

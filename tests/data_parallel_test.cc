@@ -27,6 +27,7 @@
 #include "synth/scene.h"
 #include "synth/writer.h"
 #include "tests/expect_same_gaussians.h"
+#include "tests/max_abs_diff.h"
 #include "tests/temp_dir_test.h"
 #include "tests/tiny_loop_scene.h"
 #include "tests/tiny_synth_settings.h"
@@ -41,13 +42,8 @@ const std::vector<int> kTrain = {0, 1, 2, 4, 5, 7, 8, 9, 10};
 // Largest |a - b| over the largest |b| (1 when b is all zero).
 double RelativeError(const std::vector<double>& a,
                      const std::vector<double>& b) {
-  EXPECT_EQ(a.size(), b.size());
-  double diff = 0, scale = 0;
-  for (size_t i = 0; i < std::min(a.size(), b.size()); ++i) {
-    diff = std::max(diff, std::abs(a[i] - b[i]));
-    scale = std::max(scale, std::abs(b[i]));
-  }
-  return diff / (scale > 0 ? scale : 1);
+  const AbsDiff d = MaxAbsDiff(a, b);
+  return d.diff / (d.scale > 0 ? d.scale : 1);
 }
 
 TEST(DataParallelTest, PackedSumKeepsSegmentsApart) {

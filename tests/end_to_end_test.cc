@@ -22,14 +22,9 @@ namespace {
 namespace fs = std::filesystem;
 
 TEST(EndToEndTest, DriverRunsEveryStageAndResumes) {
-  for (const char* app : {"es_synth", "eulersplat", "es_static",
-                          "es_flowinit", "es_train", "es_animate",
-                          "es_export", "es_eval"}) {
-    ASSERT_TRUE(fs::exists(kBin / app))
-        << (kBin / app) << " missing: build all targets first";
-  }
-  const fs::path root = fs::path(ES_BINARY_DIR) / "end_to_end_test";
-  fs::remove_all(root);
+  ASSERT_TRUE(AppsBuilt({"es_synth", "eulersplat", "es_static", "es_flowinit",
+                         "es_train", "es_animate", "es_export", "es_eval"}));
+  const fs::path root = FreshBuildDir("end_to_end_test");
   const fs::path scene = root / "scene", out = root / "out";
   std::string log;
   ASSERT_EQ(RunCommand((kBin / "es_synth").string() + " --out " +

@@ -12,6 +12,7 @@
 #include "solvers/train/divergence_guard.h"
 #include "solvers/train/flow_pretrain_steps.h"
 #include "tests/expect_error.h"
+#include "tests/small_fields.h"
 
 namespace es {
 namespace {
@@ -36,9 +37,7 @@ std::vector<SceneFlowSample> SamplesOf(int n, uint32_t seed) {
 
 MotionField SmallField(int resolution, int channels, int width) {
   MotionFieldOptions o;
-  o.triplane.resolution = resolution;
-  o.triplane.channels = channels;
-  o.mlp_width = width;
+  SetFieldSize(resolution, channels, width, &o);
   o.mlp_depth = 2;
   MotionField field(o);
   field.SetBox(Eigen::Vector3d(-1, -1, -1), Eigen::Vector3d(1, 1, 1));

@@ -21,6 +21,7 @@
 #include "solvers/train/joint_stage.h"
 #include "synth/scene.h"
 #include "synth/writer.h"
+#include "tests/small_fields.h"
 #include "tests/temp_dir_test.h"
 #include "tests/tiny_synth_settings.h"
 
@@ -66,12 +67,8 @@ class JointStageTest : public TempDirTest {
     JointTrainerOptions& t = o.trainer;
     t.iterations = kIterations;
     t.cycle_length = 4;
-    t.motion.triplane.resolution = 8;
-    t.motion.triplane.channels = 4;
-    t.motion.mlp_width = 16;
-    t.residual.triplane.resolution = 8;
-    t.residual.triplane.channels = 4;
-    t.residual.mlp_width = 16;
+    SetFieldSize(8, 4, 16, &t.motion);
+    SetFieldSize(8, 4, 16, &t.residual);
     return o;
   }
 

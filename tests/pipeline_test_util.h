@@ -6,11 +6,14 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <initializer_list>
 #include <regex>
 #include <string>
 
 #include <sys/wait.h>
 #include <unistd.h>
+
+#include <gtest/gtest.h>
 
 #include "tests/whole_file.h"
 
@@ -19,6 +22,31 @@ namespace es {
 // Where the build puts the apps.
 inline const std::filesystem::path kBin =
     std::filesystem::path(ES_BINARY_DIR) / "bin";
+
+// Passes when every one of `apps` is built; fails naming the first that
+// is not.
+inline ::testing::AssertionResult AppsBuilt(
+    std::initializer_list<const char*> apps) {
+  for (const char* app : apps) {
+    if (!std::filesystem::exists(kBin / app))
+      return ::testing::AssertionFailure()
+             << (kBin / app) << " missing: build all targets first";
+  }
+  return ::testing::AssertionSuccess();
+}
+
+// ES_BINARY_DIR/<name>, emptied: a test's own folder in the build.
+inline std::filesystem::path FreshBuildDir(const std::string& name) {
+  const std::filesystem::path root =
+      std::filesystem::path(ES_BINARY_DIR) / name;
+  std::filesystem::remove_all(root);
+  return root;
+}
+
+// eulersplat flags for a run through every stage in a few iterations each.
+constexpr char kFewIterationsFlags[] =
+    " --cycle_length 4 --static_iterations 4 --flow_iterations 2"
+    " --joint_iterations 4 --animate=false";
 
 // Runs a command, returns its exit status and appends its output to *out.
 inline int RunCommand(const std::string& command, std::string* out) {
@@ -50,9 +78,7 @@ inline CommandResult RunCommand(const std::string& command) {
 inline std::filesystem::path MakeTinyDriverScene(const std::string& name,
                                                  std::string* log) {
   const std::filesystem::path root =
-      std::filesystem::path(ES_BINARY_DIR) /
-      (name + "_" + std::to_string(::getpid()));
-  std::filesystem::remove_all(root);
+      FreshBuildDir(name + "_" + std::to_string(::getpid()));
   if (RunCommand((kBin / "es_synth").string() + " --out " +
                      (root / "scene").string() +
                      " --frames 8 --width 32 --height 24 --detail 0.02"

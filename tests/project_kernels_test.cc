@@ -14,6 +14,7 @@
 
 #include "core/render/raster_project.h"
 #include "core/render/rasterizer.h"
+#include "tests/max_abs_diff.h"
 #include "tests/per_simd_level_test.h"
 #include "tests/reference_rasterizer.h"
 
@@ -242,12 +243,8 @@ TEST_P(ProjectKernelsTest, FloatRenderMatchesDoubleRender) {
   const Pass f = run(false), d = run(true);
   const auto rel = [](const std::vector<double>& a,
                       const std::vector<double>& b) {
-    double diff = 0, scale = 0;
-    for (size_t i = 0; i < b.size(); ++i) {
-      diff = std::max(diff, std::abs(a[i] - b[i]));
-      scale = std::max(scale, std::abs(b[i]));
-    }
-    return diff / (1 + scale);
+    const AbsDiff d = MaxAbsDiff(a, b);
+    return d.diff / (1 + d.scale);
   };
   double peak = 0;
   for (double a : d.image.alpha) peak = std::max(peak, a);

@@ -30,9 +30,8 @@ TEST(SceneBatchTest, GroupsShareTheRanksEvenly) {
 }
 
 TEST(SceneBatchTest, BadBatchesAreRefusedBeforeAnyWork) {
-  const fs::path root = fs::path(ES_BINARY_DIR) /
-                        ("scene_batch_bad_" + std::to_string(::getpid()));
-  fs::remove_all(root);
+  const fs::path root =
+      FreshBuildDir("scene_batch_bad_" + std::to_string(::getpid()));
   fs::create_directories(root / "a");
   fs::create_directories(root / "x" / "a");
   SceneBatchOptions o;
@@ -70,9 +69,8 @@ TEST(SceneBatchTest, BadBatchesAreRefusedBeforeAnyWork) {
 }
 
 TEST(SceneBatchTest, EachSceneRunsOnItsGroupAndAFailureSparesTheOthers) {
-  const fs::path root = fs::path(ES_BINARY_DIR) /
-                        ("scene_batch_test_" + std::to_string(::getpid()));
-  fs::remove_all(root);
+  const fs::path root =
+      FreshBuildDir("scene_batch_test_" + std::to_string(::getpid()));
   std::string log;
   for (const char* name : {"lake", "falls"}) {
     ASSERT_EQ(RunCommand((kBin / "es_synth").string() + " --out " +
@@ -93,10 +91,8 @@ TEST(SceneBatchTest, EachSceneRunsOnItsGroupAndAFailureSparesTheOthers) {
   const fs::path out = root / "out";
   EXPECT_EQ(RunCommand((kBin / "eulersplat").string() + " --scenes " +
                            (root / "scenes.txt").string() + " --out " +
-                           out.string() +
-                           " --ranks 2 --cycle_length 4 "
-                           "--static_iterations 4 --flow_iterations 2 "
-                           "--joint_iterations 4 --animate=false",
+                           out.string() + " --ranks 2" +
+                           kFewIterationsFlags,
                        &log),
             1)
       << log;

@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 
 #include "core/render/rasterizer.h"
+#include "tests/max_abs_diff.h"
 #include "tests/per_simd_level_test.h"
 #include "tests/reference_rasterizer.h"
 
@@ -54,13 +55,8 @@ Pass RenderBoth(const TestScene& s, SimdLevel level, bool use_double) {
 // max |a - b| / (1 + max |b|) over two arrays of equal size.
 double RelativeDiff(const std::vector<double>& a,
                     const std::vector<double>& b) {
-  EXPECT_EQ(a.size(), b.size());
-  double diff = 0, scale = 0;
-  for (size_t i = 0; i < std::min(a.size(), b.size()); ++i) {
-    diff = std::max(diff, std::abs(a[i] - b[i]));
-    scale = std::max(scale, std::abs(b[i]));
-  }
-  return diff / (1 + scale);
+  const AbsDiff d = MaxAbsDiff(a, b);
+  return d.diff / (1 + d.scale);
 }
 
 double WorstDiff(const Pass& a, const Pass& b) {

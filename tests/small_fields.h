@@ -20,15 +20,22 @@ inline TriplaneOptions SmallPlanes(PlaneCombination combination,
   return options;
 }
 
+// Sets a field's triplane resolution and channels and its MLP width.
+// `FieldOptions` is MotionFieldOptions or ResidualFieldOptions.
+template <typename FieldOptions>
+void SetFieldSize(int resolution, int channels, int width, FieldOptions* o) {
+  o->triplane.resolution = resolution;
+  o->triplane.channels = channels;
+  o->mlp_width = width;
+}
+
 // Small fields (R = 8, 4 channels, width 16) whose outputs are far from
 // zero, for the tests of a moving, recolored loop. `FieldOptions` is
 // MotionFieldOptions or ResidualFieldOptions.
 template <typename FieldOptions>
 FieldOptions SmallFieldOptions(double last_layer_init_scale) {
   FieldOptions o;
-  o.triplane.resolution = 8;
-  o.triplane.channels = 4;
-  o.mlp_width = 16;
+  SetFieldSize(8, 4, 16, &o);
   o.last_layer_init_scale = last_layer_init_scale;
   return o;
 }

@@ -121,9 +121,7 @@ TEST(DriverTimingsTest, TimingsJsonTilesTheRun) {
   log.clear();
   ASSERT_EQ(RunCommand((kBin / "eulersplat").string() + " --scene " +
                            scene.string() + " --out " + out.string() +
-                           " --cycle_length 4 --static_iterations 4 "
-                           "--flow_iterations 2 --joint_iterations 4 "
-                           "--animate=false --profile",
+                           kFewIterationsFlags + " --profile",
                        &log),
             0)
       << log;

@@ -18,6 +18,7 @@
 #include "solvers/train/joint_trainer.h"
 #include "solvers/train/static_trainer.h"
 #include "tests/centered_camera.h"
+#include "tests/small_fields.h"
 #include "tests/temp_dir_test.h"
 
 namespace es {
@@ -90,12 +91,8 @@ JointTrainerOptions JointOptions() {
   o.iterations = 12;
   o.cycle_length = 3;
   o.mask_weight = 0;
-  o.motion.triplane.resolution = 4;
-  o.motion.triplane.channels = 2;
-  o.motion.mlp_width = 8;
-  o.residual.triplane.resolution = 4;
-  o.residual.triplane.channels = 2;
-  o.residual.mlp_width = 8;
+  SetFieldSize(4, 2, 8, &o.motion);
+  SetFieldSize(4, 2, 8, &o.residual);
   o.refresh_interval = 4;
   return o;
 }

@@ -18,6 +18,7 @@
 #include "core/render/rasterizer.h"
 #include "solvers/train/joint_stage_trainer.h"
 #include "tests/centered_camera.h"
+#include "tests/small_fields.h"
 
 namespace es {
 namespace tiny_loop {
@@ -111,13 +112,9 @@ inline JointTrainerOptions TinyOptions() {
   o.cycle_length = kCycle;
   o.random_start = false;
   o.mask_weight = 0;
-  o.motion.triplane.resolution = 8;
-  o.motion.triplane.channels = 4;
-  o.motion.mlp_width = 16;
+  SetFieldSize(8, 4, 16, &o.motion);
   o.motion.velocity_scale = 0.05;
-  o.residual.triplane.resolution = 8;
-  o.residual.triplane.channels = 4;
-  o.residual.mlp_width = 16;
+  SetFieldSize(8, 4, 16, &o.residual);
   o.lr_motion_triplane = 1e-2;
   o.lr_motion_mlp = 1e-2;
   return o;

@@ -32,13 +32,9 @@ std::string FrameName(int f) {
 constexpr int kFrames = 16, kWidth = 96, kHeight = 72;
 
 TEST(VideoEndToEndTest, FromAnMp4ToTheLoopingVideo) {
-  for (const char* app : {"es_synth", "eulersplat", "es_masks", "es_static",
-                          "es_train", "es_animate", "es_eval"}) {
-    ASSERT_TRUE(fs::exists(kBin / app))
-        << (kBin / app) << " missing: build all targets first";
-  }
-  const fs::path root = fs::path(ES_BINARY_DIR) / "video_end_to_end_test";
-  fs::remove_all(root);
+  ASSERT_TRUE(AppsBuilt({"es_synth", "eulersplat", "es_masks", "es_static",
+                         "es_train", "es_animate", "es_eval"}));
+  const fs::path root = FreshBuildDir("video_end_to_end_test");
   const fs::path synth = root / "synth", out = root / "out";
   std::string log;
   ASSERT_EQ(RunCommand((kBin / "es_synth").string() + " --out " +
@@ -130,8 +126,7 @@ TEST(VideoEndToEndTest, FromAnMp4ToTheLoopingVideo) {
 }
 
 TEST(VideoEndToEndTest, BadVideoIsAClearError) {
-  const fs::path root = fs::path(ES_BINARY_DIR) / "video_end_to_end_bad";
-  fs::remove_all(root);
+  const fs::path root = FreshBuildDir("video_end_to_end_bad");
   fs::create_directories(root);
   std::ofstream(root / "broken.mp4") << "not a video";
   std::string log;

@@ -1,18 +1,12 @@
 #include "apps/common/flag_checks.h"
 
 #include <cmath>
-#include <cstdio>
 
 #include "core/base/input_error.h"
+#include "core/base/number_text.h"
 
 namespace es {
 namespace {
-
-std::string Text(double v) {
-  char text[32];
-  std::snprintf(text, sizeof(text), "%g", v);
-  return text;
-}
 
 [[noreturn]] void Fail(const std::string& flag, const std::string& value,
                        const std::string& rule) {
@@ -42,23 +36,25 @@ void RequireAtMost(const std::string& flag, int64_t value, int64_t max,
 void RequireInRange(const std::string& flag, double value, double lo,
                     double hi) {
   if (!(value >= lo && value <= hi)) {
-    Fail(flag, Text(value), "must be in [" + Text(lo) + ", " + Text(hi) + "]");
+    Fail(flag, ShortNumber(value),
+         "must be in [" + ShortNumber(lo) + ", " + ShortNumber(hi) + "]");
   }
 }
 
 void RequireInOpenRange(const std::string& flag, double value, double lo,
                         double hi) {
   if (!(value > lo && value < hi)) {
-    Fail(flag, Text(value), "must be in (" + Text(lo) + ", " + Text(hi) + ")");
+    Fail(flag, ShortNumber(value),
+         "must be in (" + ShortNumber(lo) + ", " + ShortNumber(hi) + ")");
   }
 }
 
 void RequirePositive(const std::string& flag, double value) {
-  if (!(value > 0)) Fail(flag, Text(value), "must be > 0");
+  if (!(value > 0)) Fail(flag, ShortNumber(value), "must be > 0");
 }
 
 void RequireNonNegative(const std::string& flag, double value) {
-  if (!(value >= 0)) Fail(flag, Text(value), "must be >= 0");
+  if (!(value >= 0)) Fail(flag, ShortNumber(value), "must be >= 0");
 }
 
 }  // namespace es

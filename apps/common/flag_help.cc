@@ -1,9 +1,10 @@
 #include "apps/common/flag_help.h"
 
-#include <cstdio>
 #include <cstdlib>
 #include <sstream>
 #include <vector>
+
+#include "core/base/number_text.h"
 
 namespace es {
 namespace {
@@ -42,10 +43,7 @@ bool IsAppFlag(const gflags::CommandLineFlagInfo& flag) {
 std::string ReadableDefault(const gflags::CommandLineFlagInfo& flag) {
   if (flag.type == "string") return "\"" + flag.default_value + "\"";
   if (flag.type == "double") {
-    char text[32];
-    std::snprintf(text, sizeof(text), "%g",
-                  std::strtod(flag.default_value.c_str(), nullptr));
-    return text;
+    return ShortNumber(std::strtod(flag.default_value.c_str(), nullptr));
   }
   return flag.default_value;
 }

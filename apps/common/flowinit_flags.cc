@@ -7,6 +7,7 @@
 
 #include "apps/common/flag_checks.h"
 #include "core/base/input_error.h"
+#include "core/base/parse_choice.h"
 #include "solvers/train/data_parallel.h"
 
 DEFINE_string(scene, "", "Scene directory (images/, sparse/0/, masks/).");
@@ -123,11 +124,10 @@ namespace es {
 namespace {
 
 PlaneCombination ParseCombination(const std::string& name) {
-  if (name == "product") return PlaneCombination::kProduct;
-  if (name == "sum") return PlaneCombination::kSum;
-  if (name == "concat") return PlaneCombination::kConcat;
-  throw InputError("unknown --combination '" + name +
-                   "'; available: product, sum, concat");
+  return ParseChoice<PlaneCombination>(
+      "--combination", name, {{"product", PlaneCombination::kProduct},
+                              {"sum", PlaneCombination::kSum},
+                              {"concat", PlaneCombination::kConcat}});
 }
 
 SceneFlowOptions SceneFlowOptionsFromFlags() {

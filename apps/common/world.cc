@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <exception>
 
+#include "apps/common/app_main.h"
 #include "core/base/input_error.h"
 #include "solvers/train/data_parallel.h"
 #ifdef ES_HAVE_MPI
@@ -62,6 +63,14 @@ int AppWorld::Run(const std::function<int()>& body) {
   MpiAbort(code);
 #endif
   return code;
+}
+
+int RunAppOnRanks(int argc, char** argv, const char* usage,
+                  const std::function<int(Communicator* comm)>& body) {
+  return RunApp(argc, argv, usage, [&body] {
+    AppWorld world;
+    return world.Run([&] { return body(world.comm()); });
+  });
 }
 
 void CheckBatchFramesFlag(int batch_frames, const Communicator& comm,

@@ -32,6 +32,11 @@ class AppWorld {
   Communicator* comm_;
 };
 
+// RunApp (app_main.h) for a training app: the body runs in an AppWorld's
+// Run and gets the world's communicator.
+int RunAppOnRanks(int argc, char** argv, const char* usage,
+                  const std::function<int(Communicator* comm)>& body);
+
 // Whether this build trains over MPI ranks (-DES_MPI found Open MPI).
 bool BuiltWithMpi();
 

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 #include <fstream>
+#include <string>
 #include <vector>
 
 #include "core/base/atomic_file.h"
@@ -158,76 +159,87 @@ void CheckMlpShape(int width, int depth, double triplane_params, Reader* r) {
                "MLP");
 }
 
+// Every field file: the magic line, the triplane options, the kind's own
+// options (`own`), the MLP's shape, the field's output scale (`scale`),
+// the last layer's init scale, the seed, then the box and the parameters.
+template <typename Field, typename Options, typename WriteOwn>
+void SaveField(const Field& field, const std::string& path, const char* magic,
+               double Options::*scale, WriteOwn write_own) {
+  WriteFileAtomically(path, [&](std::ofstream& out) {
+    Writer w(&out);
+    w.Raw(magic, std::char_traits<char>::length(magic));
+    const Options& o = field.options();
+    WriteTriplaneOptions(o.triplane, &w);
+    write_own(o, &w);
+    w.Int(o.mlp_width);
+    w.Int(o.mlp_depth);
+    w.Real(o.*scale);
+    w.Real(o.last_layer_init_scale);
+    w.Int(static_cast<int32_t>(o.seed));
+    WriteBoxAndParams(field, &w);
+  });
+}
+
+template <typename Field, typename Options, typename ReadOwn>
+Field LoadField(const std::string& path, const char* magic,
+                double Options::*scale, ReadOwn read_own) {
+  Reader r(path);
+  r.Magic(magic);
+  Options o;
+  o.triplane = ReadTriplaneOptions(&r);
+  read_own(&r, &o);
+  o.mlp_width = r.Int();
+  o.mlp_depth = r.Int();
+  CheckMlpShape(o.mlp_width, o.mlp_depth, TriplaneParams(o.triplane), &r);
+  o.*scale = r.Real();
+  o.last_layer_init_scale = r.Real();
+  o.seed = static_cast<uint32_t>(r.Int());
+  return ReadBoxAndParams<Field>(o, &r);
+}
+
+// Motion fields have no options of their own.
+void WriteNothing(const MotionFieldOptions&, Writer*) {}
+void ReadNothing(Reader*, MotionFieldOptions*) {}
+
+void WriteCycleOptions(const ResidualFieldOptions& o, Writer* w) {
+  w->Int(o.cycle_length);
+  w->Int(o.t_frequencies);
+  w->Int(o.p_frequencies);
+  w->Int(o.max_cycles);
+}
+
+void ReadCycleOptions(Reader* r, ResidualFieldOptions* o) {
+  o->cycle_length = r->Int();
+  o->t_frequencies = r->Int();
+  o->p_frequencies = r->Int();
+  o->max_cycles = r->Int();
+  if (o->cycle_length < 1 || o->t_frequencies < 0 || o->t_frequencies > 64 ||
+      o->p_frequencies < 0 || o->p_frequencies > 64 || o->max_cycles < 1)
+    throw InputError(r->path() + ": invalid residual field options");
+}
 
 }  // namespace
 
 void SaveMotionField(const MotionField& field, const std::string& path) {
-  WriteFileAtomically(path, [&field](std::ofstream& out) {
-    Writer w(&out);
-    w.Raw(kMotionMagic, sizeof(kMotionMagic) - 1);
-    const MotionFieldOptions& o = field.options();
-    WriteTriplaneOptions(o.triplane, &w);
-    w.Int(o.mlp_width);
-    w.Int(o.mlp_depth);
-    w.Real(o.velocity_scale);
-    w.Real(o.last_layer_init_scale);
-    w.Int(static_cast<int32_t>(o.seed));
-    WriteBoxAndParams(field, &w);
-  });
+  SaveField(field, path, kMotionMagic, &MotionFieldOptions::velocity_scale,
+            WriteNothing);
 }
 
 MotionField LoadMotionField(const std::string& path) {
-  Reader r(path);
-  r.Magic(kMotionMagic);
-  MotionFieldOptions o;
-  o.triplane = ReadTriplaneOptions(&r);
-  o.mlp_width = r.Int();
-  o.mlp_depth = r.Int();
-  CheckMlpShape(o.mlp_width, o.mlp_depth, TriplaneParams(o.triplane), &r);
-  o.velocity_scale = r.Real();
-  o.last_layer_init_scale = r.Real();
-  o.seed = static_cast<uint32_t>(r.Int());
-  return ReadBoxAndParams<MotionField>(o, &r);
+  return LoadField<MotionField>(path, kMotionMagic,
+                                &MotionFieldOptions::velocity_scale,
+                                ReadNothing);
 }
 
 void SaveResidualField(const ResidualField& field, const std::string& path) {
-  WriteFileAtomically(path, [&field](std::ofstream& out) {
-    Writer w(&out);
-    w.Raw(kResidualMagic, sizeof(kResidualMagic) - 1);
-    const ResidualFieldOptions& o = field.options();
-    WriteTriplaneOptions(o.triplane, &w);
-    w.Int(o.cycle_length);
-    w.Int(o.t_frequencies);
-    w.Int(o.p_frequencies);
-    w.Int(o.max_cycles);
-    w.Int(o.mlp_width);
-    w.Int(o.mlp_depth);
-    w.Real(o.position_scale);
-    w.Real(o.last_layer_init_scale);
-    w.Int(static_cast<int32_t>(o.seed));
-    WriteBoxAndParams(field, &w);
-  });
+  SaveField(field, path, kResidualMagic, &ResidualFieldOptions::position_scale,
+            WriteCycleOptions);
 }
 
 ResidualField LoadResidualField(const std::string& path) {
-  Reader r(path);
-  r.Magic(kResidualMagic);
-  ResidualFieldOptions o;
-  o.triplane = ReadTriplaneOptions(&r);
-  o.cycle_length = r.Int();
-  o.t_frequencies = r.Int();
-  o.p_frequencies = r.Int();
-  o.max_cycles = r.Int();
-  if (o.cycle_length < 1 || o.t_frequencies < 0 || o.t_frequencies > 64 ||
-      o.p_frequencies < 0 || o.p_frequencies > 64 || o.max_cycles < 1)
-    throw InputError(path + ": invalid residual field options");
-  o.mlp_width = r.Int();
-  o.mlp_depth = r.Int();
-  CheckMlpShape(o.mlp_width, o.mlp_depth, TriplaneParams(o.triplane), &r);
-  o.position_scale = r.Real();
-  o.last_layer_init_scale = r.Real();
-  o.seed = static_cast<uint32_t>(r.Int());
-  return ReadBoxAndParams<ResidualField>(o, &r);
+  return LoadField<ResidualField>(path, kResidualMagic,
+                                  &ResidualFieldOptions::position_scale,
+                                  ReadCycleOptions);
 }
 
 }  // namespace es

@@ -9,6 +9,8 @@
 #include <glog/logging.h>
 
 #include "core/base/input_error.h"
+#include "core/base/parse_choice.h"
+#include "core/render/dynamic_probability_view.h"
 #include "core/render/render_maps.h"
 
 namespace es {
@@ -89,6 +91,12 @@ double SecondsSince(std::chrono::steady_clock::time_point start) {
                                        start)
       .count();
 }
+
+// The flag spellings, in the order an error lists them.
+constexpr Choice<SecondEnd> kSecondEnds[] = {
+    {"plane", SecondEnd::kFacingPlane}, {"depth", SecondEnd::kRenderedDepth}};
+constexpr Choice<FlowImage> kFlowImages[] = {
+    {"frame", FlowImage::kFrame}, {"fluctuation", FlowImage::kFluctuation}};
 
 }  // namespace
 
@@ -225,25 +233,24 @@ void LiftFlow(const LiftingView& first, const LiftingView& second,
 }
 
 SecondEnd ParseSecondEnd(const std::string& name) {
-  if (name == "plane") return SecondEnd::kFacingPlane;
-  if (name == "depth") return SecondEnd::kRenderedDepth;
-  throw InputError("unknown second end '" + name +
-                   "'; available: plane, depth");
+  return ParseChoice("second end", name, kSecondEnds);
+}
+const char* SecondEndName(SecondEnd end) {
+  return ChoiceName(end, kSecondEnds);
 }
 
 FlowImage ParseFlowImage(const std::string& name) {
-  if (name == "frame") return FlowImage::kFrame;
-  if (name == "fluctuation") return FlowImage::kFluctuation;
-  throw InputError("unknown flow image '" + name +
-                   "'; available: frame, fluctuation");
+  return ParseChoice("flow image", name, kFlowImages);
+}
+const char* FlowImageName(FlowImage image) {
+  return ChoiceName(image, kFlowImages);
 }
 
 WaterSource ParseWaterSource(const std::string& name) {
-  if (name == "auto") return WaterSource::kAuto;
-  if (name == "masks") return WaterSource::kMasks;
-  if (name == "model") return WaterSource::kModel;
-  throw InputError("unknown water source '" + name +
-                   "'; available: auto, masks, model");
+  return ParseChoice<WaterSource>("water source", name,
+                                  {{"auto", WaterSource::kAuto},
+                                   {"masks", WaterSource::kMasks},
+                                   {"model", WaterSource::kModel}});
 }
 
 SceneFlowResult LiftSceneFlow(const Scene& scene, const GaussianSet& model,
@@ -286,14 +293,8 @@ SceneFlowResult LiftSceneFlow(const Scene& scene, const GaussianSet& model,
   }
   result.num_pairs = static_cast<int>(pairs.size());
 
-  // The dynamic probability as the one extra channel.
-  std::vector<double> dynamic_probability(model.size());
-  for (int n = 0; n < model.size(); ++n) {
-    dynamic_probability[n] = Sigmoid(model.dynamic_logits[n]);
-  }
-  SplatView splats = SplatView::Of(model);
-  splats.num_extra = 1;
-  splats.extra = dynamic_probability.data();
+  std::vector<double> dynamic_probability;
+  const SplatView splats = DynamicProbabilityView(model, &dynamic_probability);
   Rasterizer rasterizer;
   RenderResult render;
 

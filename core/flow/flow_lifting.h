@@ -48,6 +48,7 @@ enum class SecondEnd {
 };
 // Flag spellings plane, depth; Parse throws InputError on others.
 SecondEnd ParseSecondEnd(const std::string& name);
+const char* SecondEndName(SecondEnd end);
 
 struct LiftingOptions {
   int stride = 2;                  // sample every stride-th pixel and row
@@ -119,6 +120,7 @@ enum class FlowImage {
 };
 // Flag spellings frame, fluctuation; Parse throws InputError on others.
 FlowImage ParseFlowImage(const std::string& name);
+const char* FlowImageName(FlowImage image);
 
 // kFluctuation's image: frame - render.rgb + 0.5 per channel, clamped to
 // [0, 1] (CV_32FC3; frame is CV_32FC3 RGB of the render's size).

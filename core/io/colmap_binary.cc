@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <map>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -97,10 +98,26 @@ class BinaryReader {
   size_t pos_ = 0;
 };
 
-void ReadCameras(const fs::path& path, ColmapModel* model) {
+// Each file is a record count, the records and nothing after them.
+template <typename ReadRecord>
+void ReadRecords(const fs::path& path, ReadRecord read_record) {
   BinaryReader reader(path);
   const uint64_t count = reader.Read<uint64_t>();
-  for (uint64_t i = 0; i < count; ++i) {
+  for (uint64_t i = 0; i < count; ++i) read_record(reader);
+  reader.ExpectEnd();
+}
+
+// Adds `record` under its id, which must be new.
+template <typename Record>
+void AddRecord(const Record& record, const char* what,
+               const BinaryReader& reader, std::map<int, Record>* records) {
+  if (!records->emplace(record.id, record).second)
+    reader.Fail(std::string("duplicate ") + what + " id " +
+                std::to_string(record.id));
+}
+
+void ReadCameras(const fs::path& path, ColmapModel* model) {
+  ReadRecords(path, [model](BinaryReader& reader) {
     ColmapCamera camera;
     camera.id = reader.Int<uint32_t>("camera id");
     const int model_id = reader.Read<int32_t>();
@@ -114,16 +131,12 @@ void ReadCameras(const fs::path& path, ColmapModel* model) {
       reader.Fail("image size must be positive");
     for (int p = 0; p < info->num_params; ++p)
       camera.params.push_back(reader.Double());
-    if (!model->cameras.emplace(camera.id, camera).second)
-      reader.Fail("duplicate camera id " + std::to_string(camera.id));
-  }
-  reader.ExpectEnd();
+    AddRecord(camera, "camera", reader, &model->cameras);
+  });
 }
 
 void ReadImages(const fs::path& path, ColmapModel* model) {
-  BinaryReader reader(path);
-  const uint64_t count = reader.Read<uint64_t>();
-  for (uint64_t i = 0; i < count; ++i) {
+  ReadRecords(path, [model](BinaryReader& reader) {
     ColmapImage image;
     image.id = reader.Int<uint32_t>("image id");
     const Eigen::Vector4d q = reader.Doubles<4>();  // w, x, y, z
@@ -140,16 +153,12 @@ void ReadImages(const fs::path& path, ColmapModel* model) {
       image.point3d_ids.push_back(
           id == kInvalidPoint3dId ? -1 : static_cast<int64_t>(id));
     }
-    if (!model->images.emplace(image.id, image).second)
-      reader.Fail("duplicate image id " + std::to_string(image.id));
-  }
-  reader.ExpectEnd();
+    AddRecord(image, "image", reader, &model->images);
+  });
 }
 
 void ReadPoints(const fs::path& path, ColmapModel* model) {
-  BinaryReader reader(path);
-  const uint64_t count = reader.Read<uint64_t>();
-  for (uint64_t i = 0; i < count; ++i) {
+  ReadRecords(path, [model](BinaryReader& reader) {
     ColmapPoint3D point;
     point.id = static_cast<int64_t>(reader.Read<uint64_t>());
     point.xyz = reader.Doubles<3>();
@@ -161,8 +170,7 @@ void ReadPoints(const fs::path& path, ColmapModel* model) {
       point.track.emplace_back(image_id, reader.Int<uint32_t>("index"));
     }
     model->points.push_back(std::move(point));
-  }
-  reader.ExpectEnd();
+  });
   SortPointsById(path, &model->points);
 }
 

@@ -2,9 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <opencv2/imgproc.hpp>
+
+#include "core/base/number_text.h"
 
 namespace es {
 namespace {
@@ -17,9 +18,7 @@ const cv::Scalar kGrid(225, 225, 225);
 constexpr size_t kMaxDottedPoints = 40;
 
 std::string TickText(double v) {
-  char text[32];
-  std::snprintf(text, sizeof(text), "%g", std::abs(v) < 1e-12 ? 0.0 : v);
-  return text;
+  return ShortNumber(std::abs(v) < 1e-12 ? 0.0 : v);
 }
 
 int TextWidth(const std::string& text, double scale = kTextScale) {

@@ -15,6 +15,7 @@
 
 #include "core/base/atomic_file.h"
 #include "core/base/input_error.h"
+#include "core/base/number_text.h"
 
 namespace es {
 namespace fs = std::filesystem;
@@ -34,11 +35,9 @@ std::string ShellQuote(const std::string& s) {
 
 bool EncodeWithFfmpeg(const std::string& frame_dir, double fps,
                       const std::string& mp4_path) {
-  char rate[32];
-  std::snprintf(rate, sizeof(rate), "%g", fps);
   // yuv420p needs even sizes: pad by one pixel where odd.
   const std::string command =
-      "ffmpeg -y -loglevel error -framerate " + std::string(rate) + " -i " +
+      "ffmpeg -y -loglevel error -framerate " + ShortNumber(fps) + " -i " +
       ShellQuote(frame_dir + "/frame_%06d.png") +
       " -vf " + ShellQuote("pad=ceil(iw/2)*2:ceil(ih/2)*2") +
       " -c:v libx264 -pix_fmt yuv420p -crf 18 " + ShellQuote(mp4_path) +

@@ -4,9 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <opencv2/imgproc.hpp>
 
+#include "core/base/number_text.h"
 #include "core/viz/line_plot.h"
 
 namespace es {
@@ -31,12 +31,6 @@ int TextWidth(const std::string& text) {
 void Text(cv::Mat* image, const std::string& text, cv::Point at,
           const cv::Scalar& color = kInk) {
   cv::putText(*image, text, at, kFont, kScale, color, 1, cv::LINE_AA);
-}
-
-std::string Number(double v) {
-  char text[32];
-  std::snprintf(text, sizeof(text), "%g", v);
-  return text;
 }
 
 }  // namespace
@@ -86,7 +80,7 @@ cv::Mat XtSliceFigure(const cv::Mat& frame, const cv::Mat& slice, int row,
     if (t > slice.rows) break;
     const int y = slice_top + static_cast<int>(t * sy);
     cv::line(figure, {left - 6, y}, {left - 1, y}, kInk, 1);
-    Text(&figure, Number(t), {left - 10 - TextWidth(Number(t)), y + 5});
+    Text(&figure, ShortNumber(t), {left - 10 - TextWidth(ShortNumber(t)), y + 5});
   }
   if (cycle_length > 0) {
     for (int t = cycle_length; t < slice.rows; t += cycle_length) {
@@ -111,7 +105,7 @@ cv::Mat XtSliceFigure(const cv::Mat& frame, const cv::Mat& slice, int row,
     if (x > slice.cols) break;
     const int px = left + static_cast<int>(x * sx);
     cv::line(figure, {px, axis_y}, {px, axis_y + 5}, kInk, 1);
-    Text(&figure, Number(x), {px - TextWidth(Number(x)) / 2, axis_y + 20});
+    Text(&figure, ShortNumber(x), {px - TextWidth(ShortNumber(x)) / 2, axis_y + 20});
   }
   std::string x_label = "x (pixel column)";
   if (cycle_length > 0) {

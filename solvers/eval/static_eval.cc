@@ -4,6 +4,7 @@
 #include <limits>
 
 #include "core/metrics/image_metrics.h"
+#include "core/render/dynamic_probability_view.h"
 #include "solvers/eval/held_out_means.h"
 
 namespace es {
@@ -12,12 +13,8 @@ StaticMetrics EvaluateStatic(const GaussianSet& g,
                              const std::vector<Frame>& frames,
                              const std::vector<int>& indices,
                              const RenderOptions& options) {
-  std::vector<double> probability(g.size());
-  for (int i = 0; i < g.size(); ++i)
-    probability[i] = Sigmoid(g.dynamic_logits[i]);
-  SplatView view = SplatView::Of(g);
-  view.num_extra = 1;
-  view.extra = probability.data();
+  std::vector<double> probability;
+  const SplatView view = DynamicProbabilityView(g, &probability);
 
   Rasterizer rasterizer;
   RenderResult render;

@@ -72,17 +72,21 @@ void SparseAdam::Restore(std::vector<double> m, std::vector<double> v) {
   }
 }
 
+bool SparseAdam::ScanChunk(const double* grad, int c) {
+  const int begin = c * kChunk, end = std::min(size(), begin + kChunk);
+  bool nonzero, finite;
+  Inspect(grad + begin, end - begin, &nonzero, &finite);
+  touched_[c] = nonzero;
+  return finite;
+}
+
 bool SparseAdam::ScanGradient(const double* grad) {
   const int chunks = NumChunks(size());
   bool all_finite = true;
 #pragma omp parallel for if (chunks >= kMinParallelChunks) \
     schedule(static) reduction(&& : all_finite)
   for (int c = 0; c < chunks; ++c) {
-    const int begin = c * kChunk, end = std::min(size(), begin + kChunk);
-    bool nonzero, finite;
-    Inspect(grad + begin, end - begin, &nonzero, &finite);
-    touched_[c] = nonzero;
-    all_finite = all_finite && finite;
+    all_finite = ScanChunk(grad, c) && all_finite;
   }
   return all_finite;
 }
@@ -99,11 +103,7 @@ bool SparseAdam::ScanFlagged(const double* grad) {
     schedule(static) reduction(&& : all_finite)
   for (int k = 0; k < flagged; ++k) {
     const int c = flagged_[k];
-    const int begin = c * kChunk, end = std::min(size(), begin + kChunk);
-    bool nonzero, finite;
-    Inspect(grad + begin, end - begin, &nonzero, &finite);
-    touched_[c] = nonzero;
-    all_finite = all_finite && finite;
+    all_finite = ScanChunk(grad, c) && all_finite;
   }
   return all_finite;
 }

@@ -50,6 +50,9 @@ class SparseAdam {
   bool Step(int64_t t, double lr, double* grad, double* x);
 
  private:
+  // Notes whether chunk c of `grad` is touched; returns whether it is finite.
+  bool ScanChunk(const double* grad, int c);
+
   AdamOptions options_;
   std::vector<double> m_, v_;
   std::vector<char> live_;     // per chunk: its moments may be non-zero

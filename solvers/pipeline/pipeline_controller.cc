@@ -25,17 +25,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-InputRequest MakeInputRequest(const PipelineOptions& options) {
-  InputRequest r;
-  r.video = options.video;
-  r.scene = options.scene;
-  r.out = options.out;
-  r.masks = options.masks;
-  r.import = options.import;
-  r.pose_script = options.pose_script;
-  return r;
-}
-
 // eulersplat --ranks / --batch_frames: how es_static and es_train start.
 RankLaunch RankLaunchOf(const PipelineOptions& o) {
   RankLaunch r;
@@ -184,19 +173,18 @@ void PipelineController::Run() {
     static_lock.emplace(plan_.static_dir().string(),
                         RunLock::Mode::kWaitIfHeld);
   }
-  const InputRequest request = MakeInputRequest(options_);
   const StageRunner run_or_throw = [this](const std::string& stage,
                                           const std::string& binary,
                                           const std::vector<std::string>& a) {
     runner_.RunOrThrow(stage, binary, a);
   };
-  const fs::path scene = PrepareFramesAndPoses(request, run_or_throw);
+  const fs::path scene = PrepareFramesAndPoses(options_, run_or_throw);
   ChoosePresetFor(scene);
   const double scale = ImageScaleFor(options_, plan_.preset(), scene);
   CheckCycleLength(scene);
   plan_.SetScene(scene, scale);
   const PreparedScene prepared = PrepareMasks(
-      request, scene, plan_.MaskProbeSettings(), run_or_throw);
+      options_, scene, plan_.MaskProbeSettings(), run_or_throw);
   plan_.SetHasMasks(prepared.has_masks);
   // static, flow, joint, export, eval, plots (+ two videos, contact sheet).
   StageLog log(prepared.static_only ? 1 : 6 + (options_.animate ? 3 : 0),

@@ -138,7 +138,7 @@ void PoseStep(const fs::path& scene, const std::string& pose_script,
 
 }  // namespace
 
-fs::path PrepareFramesAndPoses(const InputRequest& request,
+fs::path PrepareFramesAndPoses(const PipelineOptions& request,
                                const StageRunner& run) {
   if (request.video.empty() == request.scene.empty())
     throw InputError("give exactly one of --video and --scene");
@@ -180,8 +180,10 @@ fs::path PrepareFramesAndPoses(const InputRequest& request,
   return scene;
 }
 
-PreparedScene PrepareMasks(const InputRequest& request, const fs::path& scene,
-                           const MaskProbe& probe, const StageRunner& run) {
+PreparedScene PrepareMasks(const PipelineOptions& request,
+                           const fs::path& scene, const MaskProbe& probe,
+                           const StageRunner& run) {
+  const fs::path run_dir = request.out;
   PreparedScene out;
   out.scene = scene;
   if (request.masks == "none") {
@@ -194,11 +196,11 @@ PreparedScene PrepareMasks(const InputRequest& request, const fs::path& scene,
     out.has_masks = true;
     return out;
   }
-  const fs::path report = request.out / "masks_report.json";
+  const fs::path report = run_dir / "masks_report.json";
   if (!fs::exists(report)) {
     Say("\n[masks] no masks: finding the water from the video (a static "
         "fit without masks, then where it cannot explain the frames)");
-    const fs::path probe_dir = request.out / "mask_probe";
+    const fs::path probe_dir = run_dir / "mask_probe";
     if (!fs::exists(probe_dir / "static.ply")) {
       std::vector<std::string> args = {
           "--scene", scene.string(), "--out", probe_dir.string(),
@@ -217,7 +219,7 @@ PreparedScene PrepareMasks(const InputRequest& request, const fs::path& scene,
         "--scene", scene.string(), "--static",
         (probe_dir / "static.ply").string(), "--out",
         (scene / "masks").string(), "--sheet",
-        (request.out / "masks_sheet.png").string(), "--report",
+        (run_dir / "masks_sheet.png").string(), "--report",
         report.string()};
     // A scene that brought masks of its own but was asked for auto ones
     // (e.g. a synthetic one): its masks are the truth the report scores.
@@ -237,7 +239,7 @@ PreparedScene PrepareMasks(const InputRequest& request, const fs::path& scene,
     out.static_only = true;
     out.why_static =
         "no water found: nothing in the video moves beyond what the camera "
-        "motion explains (see " + (request.out / "masks_sheet.png").string() +
+        "motion explains (see " + (run_dir / "masks_sheet.png").string() +
         ")";
   }
   return out;

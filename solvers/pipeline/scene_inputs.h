@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "core/io/video_import.h"
+#include "solvers/pipeline/pipeline_options.h"
 
 namespace es {
 
@@ -14,19 +14,6 @@ namespace es {
 using StageRunner =
     std::function<void(const std::string& stage, const std::string& binary,
                        const std::vector<std::string>& args)>;
-
-// What the driver starts from: a video, or a scene directory that may lack
-// poses and masks.
-struct InputRequest {
-  std::string video;  // --video (or empty)
-  std::string scene;  // --scene (or empty)
-  std::filesystem::path out;
-  // "auto" (find them; the default when a scene has no masks/), "none"
-  // (everything static) or a folder of masks named like the frames.
-  std::string masks;
-  VideoImportOptions import;
-  std::string pose_script;  // empty: es_poses
-};
 
 // Settings of the first static fit the auto masks are found with.
 struct MaskProbe {
@@ -47,13 +34,13 @@ struct PreparedScene {
 // OUT/scene (links to its images/, sparse/, split.txt, gt/, never written
 // into); then poses with COLMAP when sparse/0 is missing. Each step is
 // skipped when its outputs exist. Throws InputError on bad input.
-std::filesystem::path PrepareFramesAndPoses(const InputRequest& request,
+std::filesystem::path PrepareFramesAndPoses(const PipelineOptions& request,
                                             const StageRunner& run);
 
 // Masks for `scene` as request.masks says; "auto" runs the probe (a static
 // fit without masks into OUT/mask_probe, then es_masks writing
 // scene/masks, OUT/masks_sheet.png and OUT/masks_report.json).
-PreparedScene PrepareMasks(const InputRequest& request,
+PreparedScene PrepareMasks(const PipelineOptions& request,
                            const std::filesystem::path& scene,
                            const MaskProbe& probe, const StageRunner& run);
 

@@ -1,19 +1,14 @@
 #include "solvers/pipeline/stage_plan.h"
 
 #include <algorithm>
-#include <cstdio>
 #include <sstream>
+
+#include "core/base/number_text.h"
 
 namespace es {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string Number(double v) {
-  char text[32];
-  std::snprintf(text, sizeof(text), "%g", v);
-  return text;
-}
 
 // Checkpoints at least six times per stage (at most every 1000
 // iterations), so a killed quick run loses a sixth of a stage, not all.
@@ -64,7 +59,7 @@ StagePlan::StagePlan(const PipelineOptions& options)
 }
 
 void StagePlan::SetScene(const fs::path& scene, double image_scale) {
-  common_ = {"--scene", scene.string(), "--image_scale", Number(image_scale)};
+  common_ = {"--scene", scene.string(), "--image_scale", ShortNumber(image_scale)};
 }
 
 std::vector<std::string> StagePlan::Args(const std::vector<std::string>& extra,
@@ -82,7 +77,7 @@ std::vector<std::string> StagePlan::StaticFlags() const {
                "--sh_degree_interval", std::to_string(sh_interval),
                "--densify_from", std::to_string(p.densify_from),
                "--densify_interval", std::to_string(p.densify_interval),
-               "--dynamic_threshold", Number(options_.dynamic_threshold),
+               "--dynamic_threshold", ShortNumber(options_.dynamic_threshold),
                "--checkpoint_every", CheckpointInterval(p.static_iterations),
                "--log_every", LogEvery(p.static_iterations), "--eval_every",
                EvalEvery(p.static_iterations)},
@@ -125,7 +120,7 @@ StageStep StagePlan::FlowStep() const {
             std::to_string(p.motion_resolution), "--triplane_channels",
             std::to_string(p.motion_channels), "--mlp_width",
             std::to_string(p.motion_width), "--dynamic_threshold",
-            Number(options_.dynamic_threshold), "--log_every",
+            ShortNumber(options_.dynamic_threshold), "--log_every",
             LogEvery(p.flow_iterations)},
            true);
   s.on_failure = "[flow init] failed (see above): joint training learns V "
@@ -142,7 +137,7 @@ StageStep StagePlan::JointStep() const {
       {"--init", static_dir_.string(), "--out", model_dir().string(),
        "--iterations", std::to_string(p.joint_iterations), "--cycle_length",
        std::to_string(options_.cycle_length), "--resume",
-       "--dynamic_threshold", Number(options_.dynamic_threshold),
+       "--dynamic_threshold", ShortNumber(options_.dynamic_threshold),
        "--motion_resolution", std::to_string(p.motion_resolution),
        "--motion_channels", std::to_string(p.motion_channels),
        "--motion_width", std::to_string(p.motion_width),

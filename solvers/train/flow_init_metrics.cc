@@ -3,30 +3,6 @@
 #include "core/io/json_file.h"
 
 namespace es {
-namespace {
-
-// The spellings of es_flowinit's --flow_image and --second_end.
-const char* FlowImageName(FlowImage image) {
-  switch (image) {
-    case FlowImage::kFrame:
-      return "frame";
-    case FlowImage::kFluctuation:
-      return "fluctuation";
-  }
-  return "";
-}
-
-const char* SecondEndName(SecondEnd end) {
-  switch (end) {
-    case SecondEnd::kFacingPlane:
-      return "plane";
-    case SecondEnd::kRenderedDepth:
-      return "depth";
-  }
-  return "";
-}
-
-}  // namespace
 
 nlohmann::ordered_json FlowMetricsJson(const FlowInitStageOptions& o,
                                        const FlowInitStageResult& r) {

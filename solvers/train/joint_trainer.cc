@@ -97,17 +97,22 @@ void JointTrainer::ClampDynamicScales() {
   ClampScales(model_.dynamic_index, dynamic_max_scale_, &model_.gaussians);
 }
 
+std::vector<double*> JointTrainer::GradientBlocks() {
+  const int n = model_.gaussians.size();
+  if (grad_.size() != n || grad_.sh_degree != model_.gaussians.sh_degree)
+    grad_ = ZeroGaussians(n, model_.gaussians.sh_degree);
+  std::vector<double*> gradients = SplatRenderCost::Blocks(&grad_);
+  for (std::vector<double>& g : field_grad_) gradients.push_back(g.data());
+  return gradients;
+}
+
 JointIterationStats JointTrainer::Step() {
   ScopedStage timer(Stage::kIteration);
   if (DynamicSetRefreshDue(options_, iteration_)) RefreshDynamicSet();
   JointIterationStats out;
   out.num_dynamic = model_.num_dynamic();
-  const int n = model_.gaussians.size();
-  if (grad_.size() != n || grad_.sh_degree != model_.gaussians.sh_degree)
-    grad_ = ZeroGaussians(n, model_.gaussians.sh_degree);
   std::vector<double*> params = JointBlocks(&model_);
-  std::vector<double*> gradients = SplatRenderCost::Blocks(&grad_);
-  for (std::vector<double>& g : field_grad_) gradients.push_back(g.data());
+  std::vector<double*> gradients = GradientBlocks();
   const bool batch = options_.batch_frames > 1;
   if (batch) {
     out.loss = BatchGradient(params.data(), gradients.data(), &out);
@@ -240,12 +245,9 @@ WaterDensifyResult JointTrainer::DensifyWaterNow() {
   const int budget = WaterBudget(options_, initial_dynamic_);
   if (model_.num_dynamic() >= budget) return {};  // skip the ranking pass
   const int n = model_.gaussians.size();
-  if (grad_.size() != n || grad_.sh_degree != model_.gaussians.sh_degree)
-    grad_ = ZeroGaussians(n, model_.gaussians.sh_degree);
   // grad_ and field_grad_ are scratch here: Step refills them.
   std::vector<double*> params = JointBlocks(&model_);
-  std::vector<double*> gradients = SplatRenderCost::Blocks(&grad_);
-  for (std::vector<double>& g : field_grad_) gradients.push_back(g.data());
+  std::vector<double*> gradients = GradientBlocks();
   DensityStats stats;
   stats.Reset(n);
   std::vector<int> radii;

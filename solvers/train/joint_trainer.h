@@ -85,6 +85,9 @@ class JointTrainer : public JointStageTrainer {
   // Per cost block, the chunk flags (SparseAdam::chunk_flags) of the
   // fields' triplane blocks, nullptr for the others.
   std::vector<char*> TriplaneChunkFlags();
+  // Per cost block, its gradient: grad_ (sized to the model first) and the
+  // fields' gradients.
+  std::vector<double*> GradientBlocks();
 
   const std::vector<Frame>* frames_;
   std::vector<int> train_;

@@ -217,19 +217,23 @@ std::vector<GuardedBlock> GuardedJointBlocks(const JointTrainerOptions& o,
     blocks.push_back({field, field + " learning rate", flag, rate,
                       RunawayBound(values, n, 1.0)});
   };
+  // A field's triplane, then its MLP.
+  auto add_field = [&add](const std::string& name, const auto& field,
+                          const std::string& triplane_flag,
+                          double triplane_rate, const std::string& mlp_flag,
+                          double mlp_rate) {
+    add(name + "'s triplane", triplane_flag, triplane_rate,
+        field.params().triplane, field.triplane().num_params());
+    add(name + "'s MLP", mlp_flag, mlp_rate, field.params().mlp,
+        field.mlp().num_params());
+  };
   if (model.motion) {
-    const MotionField& v = *model.motion;
-    add("V's triplane", flags.motion_triplane, o.lr_motion_triplane,
-        v.params().triplane, v.triplane().num_params());
-    add("V's MLP", flags.motion_mlp, o.lr_motion_mlp, v.params().mlp,
-        v.mlp().num_params());
+    add_field("V", *model.motion, flags.motion_triplane, o.lr_motion_triplane,
+              flags.motion_mlp, o.lr_motion_mlp);
   }
   if (model.residual) {
-    const ResidualField& d = *model.residual;
-    add("D's triplane", flags.residual_triplane, o.lr_residual_triplane,
-        d.params().triplane, d.triplane().num_params());
-    add("D's MLP", flags.residual_mlp, o.lr_residual_mlp, d.params().mlp,
-        d.mlp().num_params());
+    add_field("D", *model.residual, flags.residual_triplane,
+              o.lr_residual_triplane, flags.residual_mlp, o.lr_residual_mlp);
   }
   return blocks;
 }
