@@ -170,10 +170,13 @@ DEFINE_double(loop_texture_weight, 3,
               "preset's loop closer to the video). Its loss runs on the "
               "host, so on --device cuda it is off unless given.");
 DEFINE_int32(loop_texture_interval, 1,
-             "Score the loop's texture (--loop_texture_weight) on every "
-             "this many-th iteration only, at the weight times this: the "
-             "same expected gradient for 1/K of the term's cost (a third "
-             "of a joint iteration at 1). 1: every iteration.");
+             "Score the loop's texture (--loop_texture_weight) only on "
+             "every K-th iteration, at the weight times K: the same "
+             "expected gradient for 1/K of the term's cost (~40% of a "
+             "joint iteration at 1). 2: 12% less joint CPU time, 4: 27% "
+             "less but the loop's water moves and looks less like the "
+             "input (docs/RESULTS.md, \"The loop texture interval\"). 1: "
+             "every iteration.");
 DEFINE_double(input_noise, -1,
               "Std (0..1 of the pixel range) of the input frames' per-pixel "
               "noise (sensor or render-sample noise, new each frame), "
