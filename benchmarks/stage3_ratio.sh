@@ -20,15 +20,18 @@
 #     --joint_its N       es_train iterations per run (default 100)
 #     --rounds N          es_train runs per build (default 1)
 #     --baseline BIN      another build's bin folder to compare with
+#     --train_flags "..." extra es_train flags of this build's runs only,
+#                         e.g. "--loop_texture_interval 4"
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 source scripts/lib/options.sh
 source scripts/lib/time_v.sh
 work=/tmp/es_stage3_ratio; threads=2; width=224; height=168; frames=60
-static_its=300; joint_its=100; rounds=1; baseline=""
+static_its=300; joint_its=100; rounds=1; baseline=""; train_flags=""
 parse_options \
-  "work threads width height frames static_its joint_its rounds baseline" \
+  "work threads width height frames static_its joint_its rounds baseline"\
+" train_flags" \
   "" "$@"
 require_numbers "$threads" "$width" "$height" "$frames" "$static_its" \
   "$joint_its" "$rounds"
@@ -44,7 +47,8 @@ user_sys_s() { awk '{printf "%.1f", $1 + $2}' "$1"; }
 cpu_ms() { awk -v n="$2" '{printf "%.1f", 1000 * ($1 + $2) / n}' "$1"; }
 
 echo "[ratio] $(date -u +%FT%TZ), $(nproc) CPUs, $threads threads," \
-     "commit $(git rev-parse --short HEAD 2>/dev/null || echo unknown)"
+     "commit $(git rev-parse --short HEAD 2>/dev/null || echo unknown)" \
+     "${train_flags:+(this build with $train_flags)}"
 mkdir -p "$work"
 scene="$work/scene_${width}x${height}x${frames}"
 if [[ ! -f "$scene/sparse/0/images.txt" ]]; then
@@ -65,23 +69,26 @@ echo "[ratio] Stage 1: $stage1 ms/iteration, $(user_sys_s "$work/stage1.time")" 
      "CPU s for $static_its iterations (load $l)"
 stage1_cpu=$(cpu_ms "$work/stage1.time" "$static_its")
 
-# stage3 NAME BIN: one es_train run into $work/NAME; prints its line.
+# stage3 NAME BIN [FLAG...]: one es_train run into $work/NAME; prints its
+# line.
 stage3() {
   local name=$1 b=$2 out="$work/$1"
+  shift 2
   local l; l=$(load)
   rm -rf "$out"
   /usr/bin/time -f "%U %S" -o "$out.time" \
     "$b/es_train" --scene "$scene" --init "$s1" --out "$out" \
       --iterations "$joint_its" --threads "$threads" \
       --densify_water_interval 0 --checkpoint_interval 0 --eval_interval 0 \
-      --log_interval 0 --seed 0 --profile > "$out.log" 2>&1 ||
+      --log_interval 0 --seed 0 --profile "$@" > "$out.log" 2>&1 ||
     { tail -5 "$out.log"; exit 1; }
   echo "[ratio] Stage 3 ($name): $(profile_ms "$out.log") ms/iteration," \
        "$(user_sys_s "$out.time") CPU s for $joint_its iterations (load $l)"
 }
 
 for ((r = 1; r <= rounds; ++r)); do
-  stage3 "this_$r" "$bin"
+  # shellcheck disable=SC2086  # the flags split into words
+  stage3 "this_$r" "$bin" $train_flags
   [[ -z "$baseline" ]] || stage3 "baseline_$r" "$baseline"
 done
 

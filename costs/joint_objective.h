@@ -24,7 +24,8 @@ namespace es {
 //     is on): the mean of both frames' fits plus WaterEnergyLoss across
 //     them and the mean of both frames' WaterTextureLoss,
 //       0.5 (fit_i + fit_j + 2 energy + texture_i + texture_j);
-//   - plus the loop texture term of frame i (composed at cycle number 0);
+//   - plus the loop texture term of frame i (composed at cycle number 0)
+//     on the iterations its interval picks;
 //   - plus, once set, Stage 2's scene-flow prior on V (SceneFlowPrior).
 // The water losses are scaled by the caller's ramp. Reuses its buffers:
 // not thread-safe.

@@ -29,6 +29,10 @@ struct JointObjectiveOptions {
   // > 0: the frame as the loop plays it (cycle number 0), scored by
   // WaterTextureLoss with water_texture's bands at this weight.
   double loop_texture_weight = 0;
+  // >= 1: the loop texture term runs only on iterations that are
+  // multiples of this, at its weight times it: the same expected gradient
+  // for 1/K of its cost (1: every iteration, as before).
+  int loop_texture_interval = 1;
   // The water losses read the frames' masks (else every pixel is water).
   bool water_masks = false;
 
@@ -38,10 +42,18 @@ struct JointObjectiveOptions {
   bool texture_on() const { return water_texture.weight > 0; }
   bool pair_on() const { return energy_on() || texture_on(); }
   bool loop_texture_on() const { return loop_texture_weight > 0; }
-  // The loop texture term's WaterTextureLoss.
+  // Whether the run's iteration `iteration` scores the loop's texture.
+  bool loop_texture_due(int64_t iteration) const {
+    return loop_texture_on() && iteration % loop_texture_interval == 0;
+  }
+  // The weight it enters those iterations' loss with.
+  double loop_texture_step_weight() const {
+    return loop_texture_weight * loop_texture_interval;
+  }
+  // The loop texture term's WaterTextureLoss (at the step weight).
   WaterTextureOptions loop_texture() const {
     WaterTextureOptions t = water_texture;
-    t.weight = loop_texture_weight;
+    t.weight = loop_texture_step_weight();
     return t;
   }
 };

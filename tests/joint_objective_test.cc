@@ -45,7 +45,9 @@ struct Fixture {
   // The objective's loss and gradient rows (layout order) of frame 5
   // paired with frame 6.
   double Evaluate(JointObjective* objective, double water_scale,
-                  std::vector<std::vector<double>>* grad) {
+                  std::vector<std::vector<double>>* grad,
+                  int64_t iteration = 3,
+                  JointObjectiveTerms* terms_out = nullptr) {
     const JointBlockLayout& layout = objective->layout();
     grad->assign(layout.num_blocks(), {});
     std::vector<double*> rows;
@@ -56,9 +58,9 @@ struct Fixture {
     std::vector<double*> params = JointBlocks(&model);
     JointObjectiveTerms terms;
     return objective->Evaluate(LoopStructure::Of(model), params.data(),
-                               frames[5], &frames[6], water_scale,
-                               /*iteration=*/3, rows.data(), nullptr,
-                               &terms);
+                               frames[5], &frames[6], water_scale, iteration,
+                               rows.data(), nullptr,
+                               terms_out ? terms_out : &terms);
   }
 };
 
@@ -142,6 +144,59 @@ TEST(JointObjectiveTest, GradientMatchesCentralDifferences) {
     EXPECT_NEAR(analytic, numeric, 1e-4 * std::abs(numeric) + 1e-10)
         << "block " << b;
   }
+}
+
+// With loop_texture_interval K the loop texture term enters exactly the
+// iterations that are multiples of K, at K times its weight: those steps
+// are K = 1's at weight K w, the others those without the term.
+TEST(JointObjectiveTest, LoopTextureIntervalScoresEveryKthIterationAtKTimes) {
+  constexpr int kInterval = 3;
+  Fixture f;
+  const double w = f.options.loop_texture_weight;
+  JointObjectiveOptions every = f.options;
+  every.loop_texture_interval = kInterval;
+  JointObjectiveOptions scaled = f.options;
+  scaled.loop_texture_weight = kInterval * w;
+  JointObjectiveOptions off = f.options;
+  off.loop_texture_weight = 0;
+  const LoopStructure structure = LoopStructure::Of(f.model);
+  JointObjective interval(&f.frames[0], structure, every);
+  JointObjective at_k_times(&f.frames[0], structure, scaled);
+  JointObjective without(&f.frames[0], structure, off);
+  JointObjective each(&f.frames[0], structure, f.options);
+  int scored = 0;
+  for (int64_t it = 0; it < 2 * kInterval + 1; ++it) {
+    const bool due = it % kInterval == 0;
+    EXPECT_EQ(every.loop_texture_due(it), due) << "iteration " << it;
+    std::vector<std::vector<double>> grad, expected, k1_grad;
+    JointObjectiveTerms terms, k1_terms;
+    const double loss = f.Evaluate(&interval, 0.7, &grad, it, &terms);
+    const double expected_loss =
+        f.Evaluate(due ? &at_k_times : &without, 0.7, &expected, it);
+    EXPECT_EQ(loss, expected_loss) << "iteration " << it;
+    ASSERT_EQ(grad.size(), expected.size());
+    for (size_t b = 0; b < grad.size(); ++b)
+      ASSERT_EQ(grad[b], expected[b]) << "iteration " << it << " block " << b;
+    // The reported term stays unweighted: K = 1's where it runs.
+    f.Evaluate(&each, 0.7, &k1_grad, it, &k1_terms);
+    ASSERT_GT(k1_terms.loop_texture, 0);
+    EXPECT_NEAR(terms.loop_texture, due ? k1_terms.loop_texture : 0.0,
+                1e-12 * k1_terms.loop_texture)
+        << "iteration " << it;
+    if (due) ++scored;
+  }
+  EXPECT_EQ(scored, 3);  // iterations 0, 3 and 6
+}
+
+// The trainer's options carry the interval to the objective.
+TEST(JointObjectiveTest, LoopTextureDueFollowsTheTrainerInterval) {
+  JointTrainerOptions o = TinyOptions();
+  o.loop_texture_weight = 3;
+  o.loop_texture_interval = 4;
+  for (int64_t it = 0; it < 9; ++it)
+    EXPECT_EQ(LoopTextureDue(o, it), it % 4 == 0) << "iteration " << it;
+  o.loop_texture_weight = 0;
+  EXPECT_FALSE(LoopTextureDue(o, 0));
 }
 
 // Once set, the scene-flow prior adds its own loss and gradient on V's

@@ -58,7 +58,7 @@ double DeviceJointObjective::Evaluate(const LoopStructure& structure,
     terms->residual = cost_.last_residual();
   }
   terms->euler = cost_.last_euler_stats();
-  if (loop_cost_) {
+  if (loop_cost_ && options_.loop_texture_due(iteration)) {
     loss += LoopTextureGradient(structure, params, frame, water_scale,
                                 iteration, gradients, terms);
   }
@@ -184,7 +184,8 @@ double DeviceJointObjective::LoopTextureGradient(
       &*loop_texture_, loop_cost_->render().rgb, *frame.frame, water_scale,
       LoopTextureDraw(draw), loop_grad_.data());
   terms->loop_texture =
-      UnrampedMean(loss, 1, water_scale, options_.loop_texture_weight);
+      UnrampedMean(loss, 1, water_scale,
+                   options_.loop_texture_step_weight());
   loop_cost_->BackwardWithImageGradient(params, loop_grad_.data(), gradients,
                                         /*accumulate=*/true);
   return loss;

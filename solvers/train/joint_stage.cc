@@ -220,9 +220,11 @@ TrainingOutcome Train(const JointStageOptions& o, const Scene& scene,
   // the loop's texture
   double sums[8] = {0, 0, 0, 0, 0, 0, 0, 0};
   int64_t counted = 0;             // steps in the sums
+  int64_t loop_counted = 0;        // of them, those that scored the loop
   TrainingOutcome outcome;
   StageProfile::Get().Start(o.profile);
   while (trainer->iteration() < options.iterations) {
+    const bool loop_due = LoopTextureDue(options, trainer->iteration());
     const JointIterationStats s = trainer->Step();
     if (!s.skipped) {  // a skipped step's loss is not finite
       sums[0] += s.loss;
@@ -234,6 +236,7 @@ TrainingOutcome Train(const JointStageOptions& o, const Scene& scene,
       sums[6] += s.texture;
       sums[7] += s.loop_texture;
       ++counted;
+      if (loop_due) ++loop_counted;
     }
     const int64_t it = trainer->iteration();
     if (s.densified.split + s.densified.cloned > 0) {
@@ -291,13 +294,15 @@ TrainingOutcome Train(const JointStageOptions& o, const Scene& scene,
       if (options.water_texture.weight > 0)
         std::printf("  texture %.5f", sums[6] / window);
       if (options.loop_texture_weight > 0)
-        std::printf("  loop texture %.5f", sums[7] / window);
+        std::printf("  loop texture %.5f",
+                    sums[7] / (loop_counted > 0 ? loop_counted : NAN));
       if (eval) std::printf("  held-out PSNR %.2f dB", held_out.psnr);
       std::printf("\n");
       std::fflush(stdout);
       last_row = it;
       for (double& v : sums) v = 0;
       counted = 0;
+      loop_counted = 0;
     }
     // Not right after a skipped (non-finite) step: keep the last good one.
     if (lead && o.checkpoint_interval > 0 &&

@@ -104,6 +104,9 @@ struct JointTrainerOptions {
   // loop shows them all at 0, whose texture no other loss sees. One more
   // render and backward pass per iteration.
   double loop_texture_weight = 0;
+  // >= 1: that term only every this many iterations, at its weight times
+  // this (the same expected gradient; JointObjectiveOptions).
+  int loop_texture_interval = 1;
   // > 0: the water losses (energy, texture, the loop's texture) ramp in
   // linearly from 0 over this fraction of the iterations. Stage 3 first
   // fits the frames with the water moving, at the static model's

@@ -62,6 +62,7 @@ JointObjectiveOptions JointObjectiveOptionsOf(const JointTrainerOptions& o,
   j.water_energy = o.water_energy;
   j.water_texture = o.water_texture;
   j.loop_texture_weight = o.loop_texture_weight;
+  j.loop_texture_interval = o.loop_texture_interval;
   j.water_masks = water_masks;
   return j;
 }
@@ -81,6 +82,10 @@ bool PairLossOn(const JointTrainerOptions& o) {
 bool WaterLossOn(const JointTrainerOptions& o) {
   const JointObjectiveOptions j = JointObjectiveOptionsOf(o, false, false);
   return j.pair_on() || j.loop_texture_on();
+}
+
+bool LoopTextureDue(const JointTrainerOptions& o, int64_t iteration) {
+  return JointObjectiveOptionsOf(o, false, false).loop_texture_due(iteration);
 }
 
 double WaterLossRamp(const JointTrainerOptions& o, int64_t iteration) {

@@ -42,6 +42,9 @@ bool WaterTextureOn(const JointTrainerOptions& o);
 bool PairLossOn(const JointTrainerOptions& o);
 // Any loss on the water's statistics is on (those read the water masks).
 bool WaterLossOn(const JointTrainerOptions& o);
+// The step at `iteration` (from 0) scores the loop's texture: the term is
+// on and the iteration a multiple of loop_texture_interval.
+bool LoopTextureDue(const JointTrainerOptions& o, int64_t iteration);
 // The factor on the water losses at `iteration` (from 0): rises linearly
 // from 0 to 1 over water_loss_warmup of the iterations, 1 after (and
 // always 1 without a warm-up).
