@@ -19,6 +19,20 @@ SimdLevel BestSimdLevel();
 // error (glog CHECK) for a level the CPU lacks.
 SimdLevel ResolveSimdLevel(SimdLevel level);
 
+// Of one thing built per level (a kernel set's getter), the one for
+// `level` resolved as above: every SIMD kernel family picks its build here.
+template <typename T>
+T ForSimdLevel(SimdLevel level, T sse2, T avx2, T avx512) {
+  switch (ResolveSimdLevel(level)) {
+    case SimdLevel::kAvx512:
+      return avx512;
+    case SimdLevel::kAvx2:
+      return avx2;
+    default:
+      return sse2;
+  }
+}
+
 }  // namespace es
 
 #endif  // EULERSPLAT_CORE_BASE_SIMD_LEVEL_H_

@@ -3,14 +3,8 @@
 namespace es {
 
 const MlpKernelSet& MlpKernels(SimdLevel level) {
-  switch (ResolveSimdLevel(level)) {
-    case SimdLevel::kAvx512:
-      return mlp_avx512::Kernels();
-    case SimdLevel::kAvx2:
-      return mlp_avx2::Kernels();
-    default:
-      return mlp_sse2::Kernels();
-  }
+  return ForSimdLevel(level, &mlp_sse2::Kernels, &mlp_avx2::Kernels,
+                      &mlp_avx512::Kernels)();
 }
 
 }  // namespace es

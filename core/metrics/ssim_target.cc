@@ -27,26 +27,16 @@ void WindowWeights(T* w) {
 
 template <>
 const SsimKernelSet<float>& SsimKernels<float>(SimdLevel level) {
-  switch (ResolveSimdLevel(level)) {
-    case SimdLevel::kAvx512:
-      return ssim_avx512::FloatKernels();
-    case SimdLevel::kAvx2:
-      return ssim_avx2::FloatKernels();
-    default:
-      return ssim_sse2::FloatKernels();
-  }
+  return ForSimdLevel(level, &ssim_sse2::FloatKernels,
+                      &ssim_avx2::FloatKernels,
+                      &ssim_avx512::FloatKernels)();
 }
 
 template <>
 const SsimKernelSet<double>& SsimKernels<double>(SimdLevel level) {
-  switch (ResolveSimdLevel(level)) {
-    case SimdLevel::kAvx512:
-      return ssim_avx512::DoubleKernels();
-    case SimdLevel::kAvx2:
-      return ssim_avx2::DoubleKernels();
-    default:
-      return ssim_sse2::DoubleKernels();
-  }
+  return ForSimdLevel(level, &ssim_sse2::DoubleKernels,
+                      &ssim_avx2::DoubleKernels,
+                      &ssim_avx512::DoubleKernels)();
 }
 
 template <typename T>

@@ -3,14 +3,8 @@
 namespace es {
 
 const ProjectKernelSet& ProjectKernels(SimdLevel level) {
-  switch (ResolveSimdLevel(level)) {
-    case SimdLevel::kAvx512:
-      return project_avx512::Kernels();
-    case SimdLevel::kAvx2:
-      return project_avx2::Kernels();
-    default:
-      return project_sse2::Kernels();
-  }
+  return ForSimdLevel(level, &project_sse2::Kernels, &project_avx2::Kernels,
+                      &project_avx512::Kernels)();
 }
 
 }  // namespace es

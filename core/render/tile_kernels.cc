@@ -14,27 +14,17 @@ int TileScratchSize(int num_features) {
 template <>
 const TileKernelSet<float>& TileKernels<float>(SimdLevel level,
                                                int num_extra) {
-  switch (ResolveSimdLevel(level)) {
-    case SimdLevel::kAvx512:
-      return tile_avx512::FloatKernels(num_extra);
-    case SimdLevel::kAvx2:
-      return tile_avx2::FloatKernels(num_extra);
-    default:
-      return tile_sse2::FloatKernels(num_extra);
-  }
+  return ForSimdLevel(level, &tile_sse2::FloatKernels,
+                      &tile_avx2::FloatKernels,
+                      &tile_avx512::FloatKernels)(num_extra);
 }
 
 template <>
 const TileKernelSet<double>& TileKernels<double>(SimdLevel level,
                                                  int num_extra) {
-  switch (ResolveSimdLevel(level)) {
-    case SimdLevel::kAvx512:
-      return tile_avx512::DoubleKernels(num_extra);
-    case SimdLevel::kAvx2:
-      return tile_avx2::DoubleKernels(num_extra);
-    default:
-      return tile_sse2::DoubleKernels(num_extra);
-  }
+  return ForSimdLevel(level, &tile_sse2::DoubleKernels,
+                      &tile_avx2::DoubleKernels,
+                      &tile_avx512::DoubleKernels)(num_extra);
 }
 
 }  // namespace es
