@@ -30,22 +30,30 @@ inline void ScalarLossJacobian(const double* dl, int n, double residual,
 // Evaluates a scalar-loss cost straight into gradient buffers (one per
 // parameter block, sized like it; the trainers' path, which skips
 // Problem::Evaluate's per-parameter overhead): the Jacobian row written
-// there is multiplied back by r, leaving dl/dtheta. Returns
-// 0.5 r^2 = l + eps / 2.
-inline double EvaluateScalarLossGradient(const ceres::CostFunction& cost,
-                                         double const* const* parameters,
-                                         double** gradients) {
+// there is multiplied back by r, leaving dl/dtheta, by scale(size, r,
+// block), which scales a block where it lives (host or device memory).
+// Returns 0.5 r^2 = l + eps / 2.
+template <typename Scale>
+double EvaluateScalarLossGradientWith(const ceres::CostFunction& cost,
+                                      double const* const* parameters,
+                                      double** gradients, Scale scale) {
   CHECK_EQ(cost.num_residuals(), 1);
   double r = 0;
   CHECK(cost.Evaluate(parameters, &r, gradients));
   const std::vector<int32_t>& sizes = cost.parameter_block_sizes();
-  for (size_t b = 0; b < sizes.size(); ++b) {
-    double* block = gradients[b];
-    const int size = sizes[b];
-#pragma omp parallel for if (size > 65536) schedule(static)
-    for (int i = 0; i < size; ++i) block[i] *= r;
-  }
+  for (size_t b = 0; b < sizes.size(); ++b) scale(sizes[b], r, gradients[b]);
   return 0.5 * r * r;
+}
+
+// The same on host buffers.
+inline double EvaluateScalarLossGradient(const ceres::CostFunction& cost,
+                                         double const* const* parameters,
+                                         double** gradients) {
+  return EvaluateScalarLossGradientWith(
+      cost, parameters, gradients, [](int size, double r, double* block) {
+#pragma omp parallel for if (size > 65536) schedule(static)
+        for (int i = 0; i < size; ++i) block[i] *= r;
+      });
 }
 
 }  // namespace es

@@ -10,6 +10,7 @@
 #include "core/io/scene.h"
 #include "core/model/gaussians.h"
 #include "core/render/rasterizer.h"
+#include "core/render/splat_gradient_pointers.h"
 #include "costs/rendered_frame_loss.h"
 
 namespace es {
@@ -40,12 +41,11 @@ static_assert(int{kMeansBlock} == kMeansArray &&
 // The sizes of the splat blocks of `count` Gaussians of `sh_degree`.
 std::vector<int32_t> SplatBlockSizes(int count, int sh_degree);
 
-// Points a view of the rendered arrays (SplatView, DeviceSplatView, on the
-// host or the device alike) at the splat blocks: where a rendered array's
-// block goes, once for every cost.
-template <typename View>
-void ViewSplatBlocks(double const* const* blocks, int count, int sh_degree,
-                     View* view) {
+// Points a view of the rendered arrays (on the host or the device alike) at
+// the splat blocks: where a rendered array's block goes, once for every
+// cost.
+inline void ViewSplatBlocks(double const* const* blocks, int count,
+                            int sh_degree, SplatView* view) {
   view->count = count;
   view->sh_degree = sh_degree;
   view->means = blocks[kMeansBlock];
@@ -56,10 +56,9 @@ void ViewSplatBlocks(double const* const* blocks, int count, int sh_degree,
 }
 
 // The same for the arrays a backward writes (LoopModelGradients,
-// DeviceSplatGradients, DeviceLoopModelGradients): the rendered blocks'
-// rows of `jacobians`.
-template <typename Gradients>
-void PointAtSplatJacobians(double* const* jacobians, Gradients* out) {
+// DeviceSplatGradients): the rendered blocks' rows of `jacobians`.
+inline void PointAtSplatJacobians(double* const* jacobians,
+                                  SplatGradientPointers* out) {
   out->means = jacobians[kMeansBlock];
   out->log_scales = jacobians[kLogScalesBlock];
   out->quats = jacobians[kQuatsBlock];

@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <random>
+#include <vector>
 
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
@@ -36,6 +37,18 @@ inline Eigen::Vector3d DrawSlabGaussian(double scale, int i, std::mt19937* rng,
     truth->sh[3 * i + c] = (color[c] - 0.5) / kShC0;
   }
   return color;
+}
+
+// The view of `truth` whose one extra channel, kept in *water, marks the
+// Gaussians with x > 0 as water (1): what the frames' masks render.
+inline SplatView WaterMarkedView(const GaussianSet& truth,
+                                 std::vector<double>* water) {
+  water->assign(truth.size(), 0.0);
+  for (int i = 0; i < truth.size(); ++i) (*water)[i] = truth.means[3 * i] > 0;
+  SplatView view = SplatView::Of(truth);
+  view.num_extra = 1;
+  view.extra = water->data();
+  return view;
 }
 
 // The frame `view` renders at `camera` (one extra channel: the water

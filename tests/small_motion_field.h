@@ -28,6 +28,18 @@ inline MotionField SmallMotionField(uint32_t seed,
   return field;
 }
 
+// SmallMotionField(seed) with its output layer's weights (not its biases)
+// scaled to ~1e300: velocities overflow or are enormous, for the Euler
+// chain's stress rule.
+inline MotionField OverflowingMotionField(uint32_t seed) {
+  MotionField field = SmallMotionField(seed);
+  const int num_mlp = static_cast<int>(field.mlp_params().size());
+  for (int i = num_mlp - 3 - 3 * 16; i < num_mlp - 3; ++i) {
+    field.mlp_params()[i] *= 1e300;
+  }
+  return field;
+}
+
 }  // namespace es
 
 #endif  // EULERSPLAT_TESTS_SMALL_MOTION_FIELD_H_

@@ -52,11 +52,8 @@ struct SyntheticScene {
           0.03 * Eigen::Vector3d(noise(rng), noise(rng), noise(rng)));
       colors.push_back(color);
     }
-    std::vector<double> water(300);
-    for (int i = 0; i < 300; ++i) water[i] = truth.means[3 * i] > 0;
-    SplatView view = SplatView::Of(truth);
-    view.num_extra = 1;
-    view.extra = water.data();
+    std::vector<double> water;
+    const SplatView view = WaterMarkedView(truth, &water);
     Rasterizer rasterizer;
     RenderResult render;
     for (int k = 0; k < 10; ++k) {

@@ -9,6 +9,7 @@
 #include "core/fields/residual_field.h"
 #include "core/loop/euler_chain.h"
 #include "core/loop/loop_model.h"
+#include "core/render/splat_gradient_pointers.h"
 #include "core/render/rasterizer.h"
 
 namespace es {
@@ -28,13 +29,9 @@ struct LoopModelView {
 };
 
 // Gradient accumulators (+=) for the blocks of a LoopModelView, sized like
-// them; nullptr skips a block.
-struct LoopModelGradients {
-  double* means = nullptr;
-  double* log_scales = nullptr;
-  double* quats = nullptr;
-  double* opacity_logits = nullptr;
-  double* sh = nullptr;
+// them; nullptr skips a block. The device composer takes it with device
+// pointers.
+struct LoopModelGradients : SplatGradientPointers {
   FieldGradients motion;
   FieldGradients residual;
 };

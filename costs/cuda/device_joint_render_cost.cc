@@ -116,7 +116,7 @@ void DeviceJointRenderCost::Backward(double const* const* parameters,
   const DeviceSplatGradients grads = splat_grads_.View();
   rasterizer_->BackwardDevice(image_grads, grads);
 
-  DeviceLoopModelGradients out;
+  LoopModelGradients out;
   PointAtSplatJacobians(gradients, &out);
   if (layout_.motion_triplane() >= 0) {
     out.motion = {gradients[layout_.motion_triplane()],

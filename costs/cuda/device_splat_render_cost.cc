@@ -104,13 +104,8 @@ bool DeviceSplatRenderCost::Evaluate(double const* const* parameters,
 double EvaluateDeviceScalarLossGradient(const ceres::CostFunction& cost,
                                         double const* const* parameters,
                                         double** gradients) {
-  CHECK_EQ(cost.num_residuals(), 1);
-  double r = 0;
-  CHECK(cost.Evaluate(parameters, &r, gradients));
-  const std::vector<int32_t>& sizes = cost.parameter_block_sizes();
-  for (size_t b = 0; b < sizes.size(); ++b)
-    ScaleArray(sizes[b], r, gradients[b]);
-  return 0.5 * r * r;
+  return EvaluateScalarLossGradientWith(cost, parameters, gradients,
+                                        ScaleArray);
 }
 
 }  // namespace cuda

@@ -19,8 +19,7 @@ __global__ void MaskBceKernel(long long n, const float* extra, int num_extra,
                               int channel, const float* mask,
                               double grad_scale, float* d_extra,
                               double* partials) {
-  const long long i = static_cast<long long>(blockIdx.x) * blockDim.x +
-                      threadIdx.x;
+  const long long i = GridIndex();
   double term = 0;
   if (i < n) {
     const long long at = i * num_extra + channel;
@@ -49,8 +48,7 @@ __global__ void MaskBceKernel(long long n, const float* extra, int num_extra,
 __global__ void ResidualL2Kernel(long long n, const double* residuals,
                                  double grad_scale, double* d,
                                  double* partials) {
-  const long long i = static_cast<long long>(blockIdx.x) * blockDim.x +
-                      threadIdx.x;
+  const long long i = GridIndex();
   double square = 0;
   if (i < n) {
     const double r = residuals[i];

@@ -24,13 +24,16 @@ __device__ inline int Clamp(int i, int n) {
 }
 
 // Blocks of `planes` planes of `pixels` values: block b is plane b /
-// blocks, pixel (b % blocks) kThreads + thread.
+// blocks, and this thread's pixel in it is PlanePixel(blocks).
+__device__ inline long long PlanePixel(int blocks) {
+  return static_cast<long long>(blockIdx.x % blocks) * kThreads + threadIdx.x;
+}
+
 __global__ void WaterKernel(long long pixels, int blocks, const float* mask_a,
                             const float* mask_b, double* water,
                             double* partials) {
   const int plane = blockIdx.x / blocks;
-  const long long p =
-      static_cast<long long>(blockIdx.x % blocks) * kThreads + threadIdx.x;
+  const long long p = PlanePixel(blocks);
   double v = 0;
   if (p < pixels) {
     const bool a = mask_a == nullptr || mask_a[p] > 0.5f;
@@ -156,8 +159,7 @@ __global__ void AmplitudeKernel(long long pixels, int blocks,
                                 double scale, double* d_e,
                                 double* partials) {
   const int plane = blockIdx.x / blocks;
-  const long long p =
-      static_cast<long long>(blockIdx.x % blocks) * kThreads + threadIdx.x;
+  const long long p = PlanePixel(blocks);
   double term = 0;
   if (p < pixels) {
     const long long i = plane * pixels + p;

@@ -33,7 +33,7 @@ bool AllZero(const double* a, const double* b, const double* c, int n) {
 }  // namespace
 
 AdamStep::AdamStep(const AdamOptions& o, int64_t t, double lr)
-    : beta1(o.beta1), beta2(o.beta2), eps(o.eps) {
+    : AdamConstants{o.beta1, o.beta2, o.eps, 0, 0} {
   CHECK_GE(t, 1);
   const double bc1 = 1.0 - std::pow(o.beta1, static_cast<double>(t));
   const double bc2 = 1.0 - std::pow(o.beta2, static_cast<double>(t));

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/model/gaussians.h"
+#include "solvers/optim/adam_value.h"
 
 namespace es {
 
@@ -23,18 +24,14 @@ void AdamUpdate(const AdamOptions& options, int64_t t, double lr, int n,
 
 // AdamUpdate in pieces: the constants of step t, then the update of values
 // [begin, end), the same arithmetic value by value.
-struct AdamStep {
+struct AdamStep : AdamConstants {
   AdamStep(const AdamOptions& options, int64_t t, double lr);
   void Update(int begin, int end, const double* grad, double* m, double* v,
               double* x) const {
     for (int i = begin; i < end; ++i) {
-      const double g = grad[i];
-      m[i] = beta1 * m[i] + (1.0 - beta1) * g;
-      v[i] = beta2 * v[i] + (1.0 - beta2) * g * g;
-      x[i] -= step * m[i] / (std::sqrt(v[i]) * inv_sqrt_bc2 + eps);
+      AdamValueUpdate(*this, grad[i], &m[i], &v[i], &x[i]);
     }
   }
-  double beta1, beta2, eps, step, inv_sqrt_bc2;
 };
 
 // Learning rates of the GaussianSet arrays; the SH array has one rate for

@@ -25,14 +25,9 @@ JointTrainer::JointTrainer(const std::vector<Frame>* frames,
                            const JointTrainerOptions& options,
                            GaussianSet initial,
                            std::optional<MotionField> motion)
-    : frames_(frames),
-      train_(std::move(train)),
-      options_(options),
-      use_masks_(options.mask_weight > 0 && AllHaveMasks(*frames, train_)),
-      extent_(CameraExtent(*frames, train_)),
+    : StageTrainerBase("Stage 3 training", frames, std::move(train), options),
       sampler_(train_, options.seed),
-      rng_(options.seed + 1),
-      guard_("Stage 3 training", options.max_nonfinite_steps) {
+      rng_(options.seed + 1) {
   comm_ = options_.comm != nullptr ? options_.comm : &SingleProcess();
   CheckBatchFrames(options_.batch_frames, *comm_);
   model_ = InitialLoopModel(options_, static_cast<int>(frames_->size()),

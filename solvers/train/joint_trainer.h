@@ -19,6 +19,7 @@
 #include "solvers/optim/frame_sampler.h"
 #include "solvers/train/joint_stage_trainer.h"
 #include "solvers/train/joint_training_steps.h"
+#include "solvers/train/stage_trainer_base.h"
 
 namespace es {
 
@@ -30,7 +31,8 @@ namespace es {
 // The dynamic set follows the learned probability every refresh_interval
 // iterations: Gaussians that stay keep their start time, new ones draw
 // theirs from the seeded RNG.
-class JointTrainer : public JointStageTrainer {
+class JointTrainer
+    : public StageTrainerBase<JointStageTrainer, JointTrainerOptions> {
  public:
   // `initial` are the static model's Gaussians; `motion` a pretrained V
   // (its shape and box are kept) or nullopt to start V from scratch.
@@ -45,12 +47,8 @@ class JointTrainer : public JointStageTrainer {
 
   JointIterationStats Step() override;
 
-  int64_t iteration() const override { return iteration_; }
   const LoopModel& model() const override { return model_; }
   LoopModel FinalModel(int* pruned = nullptr) const override;
-  int64_t skipped_steps() const override { return guard_.skipped(); }
-  bool last_step_ok() const override { return guard_.in_a_row() == 0; }
-  bool uses_masks() const override { return use_masks_; }
   RenderOptions render_options() const override;
 
   JointCheckpoint Save() const override;
@@ -89,11 +87,6 @@ class JointTrainer : public JointStageTrainer {
   // fields' gradients.
   std::vector<double*> GradientBlocks();
 
-  const std::vector<Frame>* frames_;
-  std::vector<int> train_;
-  JointTrainerOptions options_;
-  bool use_masks_ = false;
-  double extent_ = 1;
   LoopModel model_;
   std::vector<double> dynamic_max_scale_;  // per dynamic Gaussian
   int initial_dynamic_ = 0;  // water Gaussians at construction
@@ -111,15 +104,11 @@ class JointTrainer : public JointStageTrainer {
   // Each training frame's neighbour for the pair terms (a frame index;
   // -1: none).
   std::vector<int> partner_;
-  int64_t iteration_ = 0;
   Communicator* comm_;
   PackedSum batch_sum_;  // a batch's gradients and loss terms
   // One frame's field gradients in a batch (zero between frames): a pair's
   // halving must not reach the other frames' sum.
   std::vector<std::vector<double>> frame_field_grad_;
-  DivergenceGuard guard_;
-  // Splats then fields (GuardedJointBlocks), bounded at construction.
-  std::vector<GuardedBlock> guarded_;
 };
 
 // JointTrainerFactory's CPU maker.

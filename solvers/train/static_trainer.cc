@@ -56,18 +56,13 @@ StaticTrainer::StaticTrainer(const std::vector<Frame>* frames,
                              std::vector<int> train,
                              const StaticTrainerOptions& options,
                              GaussianSet initial)
-    : frames_(frames),
-      train_(std::move(train)),
-      options_(options),
-      use_masks_(options.mask_weight > 0 && AllHaveMasks(*frames, train_)),
-      extent_(CameraExtent(*frames, train_)),
+    : StageTrainerBase("Stage 1 training", frames, std::move(train), options),
       g_(std::move(initial)),
       sampler_(train_, options.seed),
       rng_(options.seed + 1),
       cost_(&(*frames)[train_.at(0)], 0, 0,
             StaticLossTerms(options, use_masks_),
-            StaticRenderOptions(options), &rasterizer_),
-      guard_("Stage 1 training", options.max_nonfinite_steps) {
+            StaticRenderOptions(options), &rasterizer_) {
   comm_ = options_.comm != nullptr ? options_.comm : &SingleProcess();
   CheckBatchFrames(options_.batch_frames, *comm_);
   g_.CheckConsistent();

@@ -18,6 +18,7 @@
 #include "solvers/train/divergence_guard.h"
 #include "solvers/optim/frame_sampler.h"
 #include "solvers/train/splat_training.h"
+#include "solvers/train/stage_trainer_base.h"
 #include "solvers/train/static_stage_trainer.h"
 
 namespace es {
@@ -74,18 +75,15 @@ bool OpacityResetDue(const StaticTrainerOptions& options, int64_t done);
 // overhead dominates at this size), an Adam step, SH-degree growth and
 // adaptive density control. The mask term is used when mask_weight > 0 and
 // every training frame has a mask.
-class StaticTrainer : public StaticStageTrainer {
+class StaticTrainer
+    : public StageTrainerBase<StaticStageTrainer, StaticTrainerOptions> {
  public:
   StaticTrainer(const std::vector<Frame>* frames, std::vector<int> train,
                 const StaticTrainerOptions& options, GaussianSet initial);
 
   IterationStats Step() override;
 
-  int64_t iteration() const override { return iteration_; }
   const GaussianSet& gaussians() const override { return g_; }
-  int64_t skipped_steps() const override { return guard_.skipped(); }
-  bool last_step_ok() const override { return guard_.in_a_row() == 0; }
-  bool uses_masks() const override { return use_masks_; }
   double scene_extent() const override { return extent_; }
   RenderOptions render_options() const override;
 
@@ -105,11 +103,6 @@ class StaticTrainer : public StaticStageTrainer {
   // into stats_. Returns the batch's mean loss terms in `out`.
   void BatchGradient(bool densifying, IterationStats* out);
 
-  const std::vector<Frame>* frames_;
-  std::vector<int> train_;
-  StaticTrainerOptions options_;
-  bool use_masks_ = false;
-  double extent_ = 1;
   GaussianSet g_;
   GaussianSet grad_;
   GaussianAdam adam_;
@@ -123,9 +116,6 @@ class StaticTrainer : public StaticStageTrainer {
   Communicator* comm_;
   PackedSum batch_sum_;       // a batch's gradients, stats and loss terms
   DensityStats batch_stats_;  // a batch's views
-  int64_t iteration_ = 0;
-  DivergenceGuard guard_;
-  std::vector<GuardedBlock> guarded_;  // the splat blocks, from `initial`
 };
 
 }  // namespace es

@@ -63,10 +63,7 @@ void ExpectTwinsOverRun(const FlowPriorOptions& options, int num_samples,
     EXPECT_GT(want, 0);
     EXPECT_NEAR(got, want, kTolerance * want) << "iteration " << it;
   }
-  ExpectTwinsNear(grads.triplane.Download(), grad_triplane, kTolerance,
-                  "triplane gradient");
-  ExpectTwinsNear(grads.mlp.Download(), grad_mlp, kTolerance,
-                  "MLP gradient");
+  ExpectFieldGradientsNear(grads, grad_triplane, grad_mlp, kTolerance);
   // Not the starting values alone: the run added to them.
   const std::vector<double> start = Uniform(mlp_size, -1.0, 1.0, 5);
   double moved = 0;

@@ -124,9 +124,10 @@ TEST_P(DeviceFrameComposerTest, ComposesAndDifferentiatesAsCpuTwin) {
     g_quats.Upload(grads.quats);
     g_opacity.Upload(grads.opacity_logits);
     g_sh.Upload(grads.sh);
-    const DeviceSplatGradients device_g{g_means.data(), g_scales.data(),
-                                        g_quats.data(), g_opacity.data(),
-                                        g_sh.data(),    nullptr};
+    const DeviceSplatGradients device_g{
+        {g_means.data(), g_scales.data(), g_quats.data(), g_opacity.data(),
+         g_sh.data()},
+        nullptr};
     const std::vector<double> d_residuals =
         Random(static_cast<size_t>(m) * kResidualDim, 0.1, &rng);
     DeviceBuffer<double> device_d_residuals;
@@ -141,18 +142,16 @@ TEST_P(DeviceFrameComposerTest, ComposesAndDifferentiatesAsCpuTwin) {
     const size_t dm = model.residual ? model.residual->mlp().num_params() : 0;
     Accumulator v_tri(vt, &rng), v_mlp(vm, &rng), d_tri(dt, &rng),
         d_mlp(dm, &rng);
-    LoopModelGradients cpu_out;
-    cpu_out.means = means.host.data();
-    cpu_out.log_scales = log_scales.host.data();
-    cpu_out.quats = quats.host.data();
-    cpu_out.opacity_logits = opacity.host.data();
-    cpu_out.sh = sh_grad.host.data();
-    DeviceLoopModelGradients out;
-    out.means = means.device.data();
-    out.log_scales = log_scales.device.data();
-    out.quats = quats.device.data();
-    out.opacity_logits = opacity.device.data();
-    out.sh = sh_grad.device.data();
+    LoopModelGradients cpu_out{
+        {means.host.data(), log_scales.host.data(), quats.host.data(),
+         opacity.host.data(), sh_grad.host.data()},
+        {},
+        {}};
+    LoopModelGradients out{
+        {means.device.data(), log_scales.device.data(), quats.device.data(),
+         opacity.device.data(), sh_grad.device.data()},
+        {},
+        {}};
     if (model.motion) {
       cpu_out.motion = {v_tri.host.data(), v_mlp.host.data()};
       out.motion = {v_tri.device.data(), v_mlp.device.data()};

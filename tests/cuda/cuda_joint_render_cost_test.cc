@@ -30,6 +30,7 @@
 #include "costs/scalar_loss.h"
 #include "costs/splat_render_cost.h"
 #include "tests/centered_camera.h"
+#include "tests/cuda/device_frame.h"
 #include "tests/cuda/expect_twins_near.h"
 #include "tests/cuda/require_gpu.h"
 #include "tests/cuda/tiny_loop_model.h"
@@ -188,9 +189,7 @@ TEST_P(DeviceJointRenderCostTest, EvaluateMatchesTheCpuCost) {
   const LoopStructure structure = LoopStructure::Of(model);
   const Frame frame = NoiseFrame();
   const JointRenderTerms terms = Terms(c);
-  DeviceBuffer<float> image, mask;
-  image.Upload(frame.image.ptr<float>(), frame.image.total() * 3);
-  mask.Upload(frame.mask.ptr<float>(), frame.mask.total());
+  const DeviceFrame uploaded(frame);
   DeviceRasterizer rasterizer;
   DeviceJointRenderCost device(terms, Options().background, &rasterizer);
   Blocks params(&model);
@@ -203,8 +202,8 @@ TEST_P(DeviceJointRenderCostTest, EvaluateMatchesTheCpuCost) {
     ASSERT_TRUE(cpu.Evaluate(params.HostPointers().data(), &cpu_r,
                              cpu_jac.HostPointers().data()));
 
-    device.Reset(frame.camera, image.data(), c.mask ? mask.data() : nullptr,
-                 i, structure);
+    device.Reset(frame.camera, uploaded.image.data(),
+                 c.mask ? uploaded.mask.data() : nullptr, i, structure);
     ASSERT_EQ(device.parameter_block_sizes(), cpu.parameter_block_sizes());
     Blocks jac = Blocks::Like(params, 7.0);  // Evaluate overwrites
     double r = 0;
@@ -255,12 +254,11 @@ TEST(DeviceJointRenderCostPathsTest, GradientPathsMatchTheCpuCost) {
   const Frame frame = NoiseFrame();
   const JointRenderTerms terms = Terms(c);
   const int i = 6;
-  DeviceBuffer<float> image, mask;
-  image.Upload(frame.image.ptr<float>(), frame.image.total() * 3);
-  mask.Upload(frame.mask.ptr<float>(), frame.mask.total());
+  const DeviceFrame uploaded(frame);
   DeviceRasterizer rasterizer;
   DeviceJointRenderCost device(terms, Options().background, &rasterizer);
-  device.Reset(frame.camera, image.data(), mask.data(), i, structure);
+  device.Reset(frame.camera, uploaded.image.data(), uploaded.mask.data(), i,
+               structure);
   JointRenderCost cpu(&frame, i, structure, terms, Options());
   Blocks params(&model);
   const JointBlockLayout& layout = cpu.layout();
@@ -336,9 +334,7 @@ TEST(DeviceJointRenderCostPathsTest, FollowsStructureChanges) {
   LoopModel b = Model({"NoMotionField", 1, false, true, true, 0.0});
   const Frame frame = NoiseFrame();
   const JointRenderTerms terms = Terms(full);
-  DeviceBuffer<float> image, mask;
-  image.Upload(frame.image.ptr<float>(), frame.image.total() * 3);
-  mask.Upload(frame.mask.ptr<float>(), frame.mask.total());
+  const DeviceFrame uploaded(frame);
   DeviceRasterizer rasterizer;
   DeviceJointRenderCost device(terms, Options().background, &rasterizer);
   auto expect_twins = [&](LoopModel* m, const char* what) {
@@ -351,7 +347,8 @@ TEST(DeviceJointRenderCostPathsTest, FollowsStructureChanges) {
     double cpu_r = 0, r = 0;
     ASSERT_TRUE(cpu.Evaluate(params.HostPointers().data(), &cpu_r,
                              cpu_jac.HostPointers().data()));
-    device.Reset(frame.camera, image.data(), mask.data(), 6, structure);
+    device.Reset(frame.camera, uploaded.image.data(), uploaded.mask.data(), 6,
+                 structure);
     ASSERT_TRUE(device.Evaluate(params.DevicePointers().data(), &r,
                                 jac.DevicePointers().data()));
     EXPECT_NEAR(r, cpu_r, kLossTolerance * cpu_r);

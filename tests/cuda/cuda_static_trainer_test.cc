@@ -27,6 +27,7 @@
 #include "solvers/train/cuda/device_static_trainer.h"
 #include "solvers/train/static_trainer.h"
 #include "tests/centered_camera.h"
+#include "tests/cuda/device_frame.h"
 #include "tests/cuda/expect_twins_near.h"
 #include "tests/cuda/require_gpu.h"
 #include "tests/slab_scene.h"
@@ -56,17 +57,14 @@ struct TinyScene {
     std::uniform_real_distribution<double> u(-1, 1);
     GaussianSet truth;
     truth.Resize(kGaussians);
-    std::vector<double> water(kGaussians);
     for (int i = 0; i < kGaussians; ++i) {
       const Eigen::Vector3d color = DrawSlabGaussian(0.2, i, &rng, &truth);
-      water[i] = truth.means[3 * i] > 0;
       points.push_back(Eigen::Vector3d::Map(&truth.means[3 * i]) +
                        0.05 * Eigen::Vector3d(u(rng), u(rng), u(rng)));
       colors.push_back(color + 0.1 * Eigen::Vector3d(u(rng), u(rng), u(rng)));
     }
-    SplatView view = SplatView::Of(truth);
-    view.num_extra = 1;
-    view.extra = water.data();
+    std::vector<double> water;
+    const SplatView view = WaterMarkedView(truth, &water);
     Rasterizer rasterizer;
     RenderResult render;
     for (int k = 0; k < 4; ++k) {
@@ -149,12 +147,11 @@ TEST(CudaStaticTrainerTest, RenderCostMatchesTheCpuCost) {
   double cpu_r = 0;
   ASSERT_TRUE(cpu.Evaluate(cpu_params.data(), &cpu_r, cpu_jac.data()));
 
-  DeviceBuffer<float> image, mask;
-  image.Upload(frame.image.ptr<float>(), frame.image.total() * 3);
-  mask.Upload(frame.mask.ptr<float>(), frame.mask.total());
+  const DeviceFrame uploaded(frame);
   DeviceRasterizer rasterizer;
   DeviceSplatRenderCost device(terms, o.background, &rasterizer);
-  device.Reset(frame.camera, image.data(), mask.data(), n, g.sh_degree);
+  device.Reset(frame.camera, uploaded.image.data(), uploaded.mask.data(), n,
+               g.sh_degree);
   ASSERT_EQ(device.parameter_block_sizes(), cpu.parameter_block_sizes());
   DeviceGaussians params, jac;
   params.Upload(g);

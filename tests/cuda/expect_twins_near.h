@@ -13,6 +13,7 @@
 
 #include <gtest/gtest.h>
 
+#include "core/fields/cuda/device_field_workspace.h"
 #include "core/model/gaussians.h"
 #include "solvers/train/splat_training.h"
 
@@ -38,6 +39,15 @@ inline void ExpectTwinsNear(const std::vector<double>& got,
     ADD_FAILURE() << what << "[" << i << "]: device " << got[i] << ", CPU "
                   << want[i];
   }
+}
+
+// A device field's parameter gradients against the CPU twin's blocks.
+inline void ExpectFieldGradientsNear(const DeviceFieldBlocks& got,
+                                     const std::vector<double>& triplane,
+                                     const std::vector<double>& mlp,
+                                     double tolerance) {
+  ExpectTwinsNear(got.triplane.Download(), triplane, tolerance, "d_triplane");
+  ExpectTwinsNear(got.mlp.Download(), mlp, tolerance, "d_mlp");
 }
 
 // Fails when every value is (near) zero: a check that compared zeros with

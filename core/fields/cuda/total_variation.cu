@@ -17,9 +17,7 @@ constexpr int kThreads = 256;
 __global__ void TermsKernel(int r, int c, const double* params,
                             double grad_scale, double* d_params,
                             double* partials) {
-  __shared__ double s[kThreads];
-  const long long i = static_cast<long long>(blockIdx.x) * blockDim.x +
-                      threadIdx.x;
+  const long long i = GridIndex();
   const long long n = 3LL * r * r * c;
   double square = 0;
   if (i < n) {
@@ -44,14 +42,7 @@ __global__ void TermsKernel(int r, int c, const double* params,
     if (row > 0) d += 2 * (p - params[i - down]);
     if (d_params != nullptr) d_params[i] += grad_scale * d;
   }
-  const int t = threadIdx.x;
-  s[t] = square;
-  __syncthreads();
-  for (int half = kThreads / 2; half > 0; half /= 2) {
-    if (t < half) s[t] += s[t + half];
-    __syncthreads();
-  }
-  if (t == 0) partials[blockIdx.x] = s[0];
+  BlockSum<kThreads>(square, partials);
 }
 
 __global__ void SumKernel(int blocks, const double* partials, double* sum) {

@@ -135,7 +135,7 @@ const DeviceSplatView& DeviceFrameComposer::Compose(
 void DeviceFrameComposer::Backward(const DeviceLoopModelView& model,
                                    const DeviceSplatGradients& grads,
                                    const double* d_residuals,
-                                   const DeviceLoopModelGradients& out) {
+                                   const LoopModelGradients& out) {
   CHECK(backward_ready_)
       << "DeviceFrameComposer::Backward without a matching Compose";
   const DeviceSplatView& c = model.canonical;

@@ -22,6 +22,7 @@
 #include "core/loop/cuda/device_euler_chain.h"
 #include "core/loop/cuda/device_splat_assembly.h"
 #include "core/loop/euler_chain.h"
+#include "core/loop/frame_composer.h"
 #include "core/loop/loop_model.h"
 #include "core/base/cuda/device_buffer.h"
 #include "core/render/cuda/device_splats.h"
@@ -36,18 +37,6 @@ struct DeviceLoopModelView {
   DeviceSplatView canonical;
   FieldParams motion_params;
   FieldParams residual_params;
-};
-
-// LoopModelGradients on the device: accumulators (+=) sized like the
-// blocks; nullptr skips a block (triplane_chunks must be null).
-struct DeviceLoopModelGradients {
-  double* means = nullptr;
-  double* log_scales = nullptr;
-  double* quats = nullptr;
-  double* opacity_logits = nullptr;
-  double* sh = nullptr;
-  FieldGradients motion;
-  FieldGradients residual;
 };
 
 // Keeps its state between Compose and Backward: not thread-safe.
@@ -77,9 +66,10 @@ class DeviceFrameComposer {
   // blocks (the dynamic means through D's dependence on x0 and through the
   // Euler chain), V's and D's parameters. d_residuals (device, num_dynamic
   // x kResidualDim, nullable) is added to the gradient of D's outputs.
+  // `out` points at device memory (its triplane_chunks must be null).
   void Backward(const DeviceLoopModelView& model,
                 const DeviceSplatGradients& grads, const double* d_residuals,
-                const DeviceLoopModelGradients& out);
+                const LoopModelGradients& out);
 
   int num_dynamic() const { return num_dynamic_; }
   // D's outputs of the last Compose (device, num_dynamic x kResidualDim);

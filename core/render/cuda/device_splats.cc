@@ -8,15 +8,7 @@ namespace cuda {
 
 ProjectionInput DeviceProjectionInput(const Camera& camera,
                                       const DeviceSplatView& splats) {
-  SplatView view;
-  view.count = splats.count;
-  view.sh_degree = splats.sh_degree;
-  view.means = splats.means;
-  view.log_scales = splats.log_scales;
-  view.quats = splats.quats;
-  view.opacity_logits = splats.opacity_logits;
-  view.sh = splats.sh;
-  return MakeProjectionInput(ProjectionCamera(camera), view);
+  return MakeProjectionInput(ProjectionCamera(camera), splats);
 }
 
 void DeviceSplats::Upload(const SplatView& s) {
@@ -54,8 +46,9 @@ void DeviceGradientArrays::Resize(int count, int sh_degree, int num_extra) {
 }
 
 DeviceSplatGradients DeviceGradientArrays::View() {
-  return {means_.data(),          log_scales_.data(), quats_.data(),
-          opacity_logits_.data(), sh_.data(),         extra_.data()};
+  return {{means_.data(), log_scales_.data(), quats_.data(),
+           opacity_logits_.data(), sh_.data()},
+          extra_.data()};
 }
 
 void DeviceGradientArrays::Download(SplatGradients* grads) const {

@@ -9,36 +9,23 @@
 #include "core/base/cuda/device_buffer.h"
 #include "core/render/project_kernels.h"
 #include "core/render/rasterizer.h"
+#include "core/render/splat_gradient_pointers.h"
 
 namespace es {
 namespace cuda {
 
-// Device arrays of the splat attributes, in SplatView's layouts (double).
-struct DeviceSplatView {
-  int count = 0;
-  int sh_degree = 0;
-  const double* means = nullptr;           // 3N
-  const double* log_scales = nullptr;      // 3N
-  const double* quats = nullptr;           // 4N, w x y z
-  const double* opacity_logits = nullptr;  // N
-  const double* sh = nullptr;              // 3KN, [n][k][rgb]
-  int num_extra = 0;                       // at most kMaxDeviceExtra (4)
-  const double* extra = nullptr;           // N * num_extra, [n][e]
-};
+// Device arrays of the splat attributes: a SplatView whose pointers are
+// device memory (num_extra at most kMaxDeviceExtra, 4).
+using DeviceSplatView = SplatView;
 
 // Device arrays the backward writes (SplatGradients' layouts and sizes,
 // double); every value is written.
-struct DeviceSplatGradients {
-  double* means = nullptr;
-  double* log_scales = nullptr;
-  double* quats = nullptr;
-  double* opacity_logits = nullptr;
-  double* sh = nullptr;
+struct DeviceSplatGradients : SplatGradientPointers {
   double* extra = nullptr;  // may be nullptr when num_extra is 0
 };
 
 // The projection kernels' view (project_kernels.h) of a camera and device
-// splat arrays.
+// splat arrays (MakeProjectionInput's, which only copies the pointers).
 ProjectionInput DeviceProjectionInput(const Camera& camera,
                                       const DeviceSplatView& splats);
 

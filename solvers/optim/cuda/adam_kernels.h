@@ -3,12 +3,14 @@
 
 // Device Adam's kernel (adam.cu): plain types only, device pointers.
 
+#include "solvers/optim/adam_value.h"
+
 namespace es {
 namespace cuda {
 
 // AdamStep's constants of one step and rate; `on` false: leave the values.
-struct AdamConstants {
-  double beta1 = 0, beta2 = 0, eps = 0, step = 0, inv_sqrt_bc2 = 0;
+struct AdamKernelStep {
+  AdamConstants constants;
   bool on = false;
 };
 
@@ -16,8 +18,8 @@ struct AdamConstants {
 // takes `head_step`, the others `tail_step` (one block: period 1, head 1;
 // SH: period 3K, head 3, the DC and the higher bands).
 void AdamUpdateKernel(long long n, int period, int head,
-                      const AdamConstants& head_step,
-                      const AdamConstants& tail_step, const double* grad,
+                      const AdamKernelStep& head_step,
+                      const AdamKernelStep& tail_step, const double* grad,
                       double* m, double* v, double* x);
 
 }  // namespace cuda

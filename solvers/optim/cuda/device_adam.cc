@@ -13,17 +13,11 @@ namespace cuda {
 namespace {
 
 // AdamStep's constants (computed on the host by AdamStep itself).
-AdamConstants Constants(const AdamOptions& options, int64_t t, double lr) {
-  AdamConstants c;
-  c.on = lr != 0;
-  if (!c.on) return c;
-  const AdamStep step(options, t, lr);
-  c.beta1 = step.beta1;
-  c.beta2 = step.beta2;
-  c.eps = step.eps;
-  c.step = step.step;
-  c.inv_sqrt_bc2 = step.inv_sqrt_bc2;
-  return c;
+AdamKernelStep Constants(const AdamOptions& options, int64_t t, double lr) {
+  AdamKernelStep s;
+  s.on = lr != 0;
+  if (s.on) s.constants = AdamStep(options, t, lr);
+  return s;
 }
 
 }  // namespace
@@ -31,7 +25,7 @@ AdamConstants Constants(const AdamOptions& options, int64_t t, double lr) {
 void DeviceAdamUpdate(const AdamOptions& options, int64_t t, double lr,
                       int n, const double* grad, double* m, double* v,
                       double* x) {
-  const AdamConstants c = Constants(options, t, lr);
+  const AdamKernelStep c = Constants(options, t, lr);
   AdamUpdateKernel(n, 1, 1, c, c, grad, m, v, x);
 }
 
@@ -61,7 +55,7 @@ void DeviceGaussianAdam::Step(const GaussianLearningRates& lr,
   for (int k = 0; k < kNumGaussianArrays; ++k) {
     const long long size = m_[k].size();
     if (size == 0) continue;
-    const AdamConstants rate =
+    const AdamKernelStep rate =
         Constants(options_, step_, lr.*kArrayLearningRates[k]);
     // SH: per Gaussian 3 DC values (rate), then the higher bands.
     const bool sh = k == kShArray;

@@ -20,17 +20,12 @@ DeviceJointTrainer::DeviceJointTrainer(const std::vector<Frame>* frames,
                                        const JointTrainerOptions& options,
                                        GaussianSet initial,
                                        std::optional<MotionField> motion)
-    : frames_(frames),
-      train_(std::move(train)),
-      options_(options),
-      use_masks_(options.mask_weight > 0 && AllHaveMasks(*frames, train_)),
+    : StageTrainerBase("Stage 3 training", frames, std::move(train), options),
       energy_masks_(WaterLossOn(options) && AllHaveMasks(*frames, train_)),
-      extent_(CameraExtent(*frames, train_)),
       sampler_(train_, options.seed),
       rng_(options.seed + 1),
       images_(*frames, train_, use_masks_ || energy_masks_),
-      objective_(JointObjectiveOptionsOf(options, use_masks_, energy_masks_)),
-      guard_("Stage 3 training", options.max_nonfinite_steps) {
+      objective_(JointObjectiveOptionsOf(options, use_masks_, energy_masks_)) {
   model_ = InitialLoopModel(options_, static_cast<int>(frames_->size()),
                             std::move(initial), std::move(motion), &rng_);
   initial_dynamic_ = model_.num_dynamic();

@@ -32,11 +32,13 @@
 #include "solvers/train/divergence_guard.h"
 #include "solvers/optim/frame_sampler.h"
 #include "solvers/train/joint_stage_trainer.h"
+#include "solvers/train/stage_trainer_base.h"
 
 namespace es {
 namespace cuda {
 
-class DeviceJointTrainer : public JointStageTrainer {
+class DeviceJointTrainer
+    : public StageTrainerBase<JointStageTrainer, JointTrainerOptions> {
  public:
   // As JointTrainer's; uploads the training frames' images (and masks,
   // when a term uses them) once.
@@ -51,13 +53,9 @@ class DeviceJointTrainer : public JointStageTrainer {
 
   JointIterationStats Step() override;
 
-  int64_t iteration() const override { return iteration_; }
   // Downloads the parameters when a step changed them since the last call.
   const LoopModel& model() const override;
   LoopModel FinalModel(int* pruned = nullptr) const override;
-  int64_t skipped_steps() const override { return guard_.skipped(); }
-  bool last_step_ok() const override { return guard_.in_a_row() == 0; }
-  bool uses_masks() const override { return use_masks_; }
   RenderOptions render_options() const override;
 
   JointCheckpoint Save() const override;
@@ -97,12 +95,7 @@ class DeviceJointTrainer : public JointStageTrainer {
   std::vector<double> MaxMagnitudes();
   LoopStructure Structure() const;
 
-  const std::vector<Frame>* frames_;
-  std::vector<int> train_;
-  JointTrainerOptions options_;
-  bool use_masks_ = false;
   bool energy_masks_ = false;
-  double extent_ = 1;
   FrameSampler sampler_;
   std::mt19937_64 rng_;
   // The model's structure (dynamic set, start times, fields' shapes and
@@ -124,10 +117,6 @@ class DeviceJointTrainer : public JointStageTrainer {
   DeviceJointObjective objective_;
   // Each training frame's neighbour for the pair terms (-1: none).
   std::vector<int> partner_;
-  int64_t iteration_ = 0;
-  DivergenceGuard guard_;
-  // Splats then fields (GuardedJointBlocks), bounded at construction.
-  std::vector<GuardedBlock> guarded_;
 };
 
 // The device trainer behind an interface, for callers that choose the

@@ -17,17 +17,12 @@ DeviceStaticTrainer::DeviceStaticTrainer(const std::vector<Frame>* frames,
                                          std::vector<int> train,
                                          const StaticTrainerOptions& options,
                                          GaussianSet initial)
-    : frames_(frames),
-      train_(std::move(train)),
-      options_(options),
-      use_masks_(options.mask_weight > 0 && AllHaveMasks(*frames, train_)),
-      extent_(CameraExtent(*frames, train_)),
+    : StageTrainerBase("Stage 1 training", frames, std::move(train), options),
       images_(*frames, train_, use_masks_),
       sampler_(train_, options.seed),
       rng_(options.seed + 1),
       cost_(StaticLossTerms(options, use_masks_), options.background,
-            &rasterizer_),
-      guard_("Stage 1 training", options.max_nonfinite_steps) {
+            &rasterizer_) {
   initial.CheckConsistent();
   CHECK_LE(initial.sh_degree, options_.max_sh_degree);
   guarded_ = GuardedSplatBlocks(initial, extent_, options_.splat_lr,

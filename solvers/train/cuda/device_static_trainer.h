@@ -30,13 +30,15 @@
 #include "solvers/train/densify.h"
 #include "solvers/train/divergence_guard.h"
 #include "solvers/optim/frame_sampler.h"
+#include "solvers/train/stage_trainer_base.h"
 #include "solvers/train/static_stage.h"
 #include "solvers/train/static_trainer.h"
 
 namespace es {
 namespace cuda {
 
-class DeviceStaticTrainer : public StaticStageTrainer {
+class DeviceStaticTrainer
+    : public StageTrainerBase<StaticStageTrainer, StaticTrainerOptions> {
  public:
   // Uploads the training frames' images (and masks, when the mask term is
   // on) once: device memory of 12 (+ 4) bytes per pixel per frame.
@@ -46,12 +48,8 @@ class DeviceStaticTrainer : public StaticStageTrainer {
 
   IterationStats Step() override;
 
-  int64_t iteration() const override { return iteration_; }
   // Downloads the parameters when a step changed them since the last call.
   const GaussianSet& gaussians() const override;
-  int64_t skipped_steps() const override { return guard_.skipped(); }
-  bool last_step_ok() const override { return guard_.in_a_row() == 0; }
-  bool uses_masks() const override { return use_masks_; }
   double scene_extent() const override { return extent_; }
   RenderOptions render_options() const override;
 
@@ -68,11 +66,6 @@ class DeviceStaticTrainer : public StaticStageTrainer {
   HostState Download() const;
   void Upload(const HostState& state);
 
-  const std::vector<Frame>* frames_;
-  std::vector<int> train_;
-  StaticTrainerOptions options_;
-  bool use_masks_ = false;
-  double extent_ = 1;
   DeviceFrameImages images_;
   DeviceGaussians g_;
   DeviceGaussians grad_;
@@ -82,9 +75,6 @@ class DeviceStaticTrainer : public StaticStageTrainer {
   std::mt19937_64 rng_;
   DeviceRasterizer rasterizer_;  // the cost renders with it; densify reads it
   DeviceSplatRenderCost cost_;
-  int64_t iteration_ = 0;
-  DivergenceGuard guard_;
-  std::vector<GuardedBlock> guarded_;  // the splat blocks, from `initial`
   mutable GaussianSet host_g_;       // gaussians()'s copy
   mutable bool host_g_current_ = false;
 };
