@@ -2,14 +2,16 @@
 // view --camera fixed holds by default, which anchors are refused, and the
 // orbit's center.
 
-#include "core/viz/animation.h"
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
 
 #include <string>
 #include <vector>
 
-#include <gtest/gtest.h>
-
 #include "core/base/input_error.h"
+#include "core/viz/animation.h"
+
+using ::testing::HasSubstr;
 
 namespace es {
 namespace {
@@ -61,15 +63,13 @@ TEST(AnimationCamerasTest, RefusesAnchorsThatDoNotExist) {
   AnimationOptions o;
   o.camera = CameraMode::kFixed;
   o.anchor_frame = 5;
-  EXPECT_NE(Refusal([&] { AnimationCameras(scene, LoopModel(), o); })
-                .find("--anchor_frame 5"),
-            std::string::npos);
+  EXPECT_THAT(Refusal([&] { AnimationCameras(scene, LoopModel(), o); }),
+              HasSubstr("--anchor_frame 5"));
   // No held-out frame to default to: the scene is named.
   scene.test.clear();
   o.anchor_frame = -1;
-  EXPECT_NE(Refusal([&] { AnimationCameras(scene, LoopModel(), o); })
-                .find("scene_dir: no held-out frames"),
-            std::string::npos);
+  EXPECT_THAT(Refusal([&] { AnimationCameras(scene, LoopModel(), o); }),
+              HasSubstr("scene_dir: no held-out frames"));
 }
 
 TEST(AnimationCamerasTest, InputPathKeepsTheVideosCameras) {
@@ -88,9 +88,8 @@ TEST(AnimationCamerasTest, OrbitNeedsAModelToCircle) {
   AnimationOptions o;
   o.camera = CameraMode::kOrbit;
   o.model_dir = "model_dir";
-  EXPECT_NE(Refusal([&] { AnimationCameras(scene, LoopModel(), o); })
-                .find("model_dir: model is empty"),
-            std::string::npos);
+  EXPECT_THAT(Refusal([&] { AnimationCameras(scene, LoopModel(), o); }),
+              HasSubstr("model_dir: model is empty"));
   // The orbit circles the water's median, whatever the scenery does.
   LoopModel model;
   model.gaussians.Resize(4);

@@ -4,6 +4,7 @@
 // exit status 1 and no stack trace. Runs the built binaries (ES_BINARY_DIR)
 // on a tiny synthetic scene; a few seconds in all.
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -21,6 +22,9 @@
 #ifdef ES_HAVE_CUDA
 #include "core/base/cuda/cuda_error.h"
 #endif
+
+using ::testing::HasSubstr;
+using ::testing::Not;
 
 namespace {
 
@@ -62,11 +66,11 @@ class CliTest : public ::testing::Test {
                             const std::string& expected) {
     const CommandResult r = RunCommand((kBin / binary).string() + " " + args);
     EXPECT_EQ(r.status, 1) << binary << " " << args << "\n" << r.output;
-    EXPECT_NE(r.output.find(expected), std::string::npos)
+    EXPECT_THAT(r.output, HasSubstr(expected))
         << binary << " " << args << "\nwanted: " << expected << "\ngot:\n"
         << r.output;
-    EXPECT_EQ(r.output.find("Check failed"), std::string::npos) << r.output;
-    EXPECT_EQ(r.output.find("stack trace"), std::string::npos) << r.output;
+    EXPECT_THAT(r.output, Not(HasSubstr("Check failed")));
+    EXPECT_THAT(r.output, Not(HasSubstr("stack trace")));
   }
 
   static fs::path root_, scene_;
@@ -83,13 +87,13 @@ TEST_F(CliTest, HelpListsTheToolsOwnFlagsFirstAndExitsZero) {
     // The usage text comes first, then the tool's own flags; glog's and
     // gflags' own flags only with --helpfull.
     EXPECT_LT(flags, 800u) << app;
-    EXPECT_EQ(r.output.find("logtostderr"), std::string::npos) << app;
-    EXPECT_EQ(r.output.find("flagfile"), std::string::npos) << app;
+    EXPECT_THAT(r.output, Not(HasSubstr("logtostderr"))) << app;
+    EXPECT_THAT(r.output, Not(HasSubstr("flagfile"))) << app;
   }
   const CommandResult full =
       RunCommand((kBin / "es_train").string() + " --helpfull");
   EXPECT_EQ(full.status, 0);
-  EXPECT_NE(full.output.find("logtostderr"), std::string::npos);
+  EXPECT_THAT(full.output, HasSubstr("logtostderr"));
   EXPECT_LT(full.output.find("--cycle_length"),
             full.output.find("logtostderr"));
   EXPECT_EQ(RunCommand((kBin / "es_eval").string() + " -h").status, 0);
@@ -98,12 +102,9 @@ TEST_F(CliTest, HelpListsTheToolsOwnFlagsFirstAndExitsZero) {
 TEST_F(CliTest, HelpShowsReadableDefaults) {
   const CommandResult r = RunCommand((kBin / "es_static").string() + " --help");
   // 2.5e-3 / 20, which gflags itself prints as 0.00012500000000000001.
-  EXPECT_NE(r.output.find("--lr_sh_rest (double, default 0.000125)"),
-            std::string::npos)
-      << r.output;
-  EXPECT_NE(r.output.find("--scene (string, default \"\")"), std::string::npos);
-  EXPECT_NE(r.output.find("--iterations (int32, default 10000)"),
-            std::string::npos);
+  EXPECT_THAT(r.output, HasSubstr("--lr_sh_rest (double, default 0.000125)"));
+  EXPECT_THAT(r.output, HasSubstr("--scene (string, default \"\")"));
+  EXPECT_THAT(r.output, HasSubstr("--iterations (int32, default 10000)"));
   // Descriptions are wrapped to 80 columns.
   std::istringstream lines(r.output);
   for (std::string line; std::getline(lines, line);) {
@@ -386,7 +387,7 @@ TEST_F(CliTest, ScriptsAnswerHelpWithoutSideEffects) {
                    entry.path().string() + " --help");
     EXPECT_EQ(r.status, 0) << name << "\n" << r.output;
     EXPECT_GT(r.output.size(), 30u) << name;
-    EXPECT_NE(r.output.find("scripts/" + name), std::string::npos)
+    EXPECT_THAT(r.output, HasSubstr("scripts/" + name))
         << name << " --help does not show its usage line\n"
         << r.output;
   }

@@ -4,6 +4,8 @@
 // output folder and its stage dies with it.
 
 #include <dirent.h>
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
@@ -20,17 +22,18 @@
 #include <thread>
 #include <vector>
 
-#include <gtest/gtest.h>
-
-#include "solvers/pipeline/run_lock.h"
-#include "core/fields/motion_field.h"
 #include "core/base/atomic_file.h"
-#include "core/fields/field_io.h"
 #include "core/base/input_error.h"
+#include "core/fields/field_io.h"
+#include "core/fields/motion_field.h"
 #include "core/io/ply_io.h"
 #include "solvers/checkpoint/checkpoint.h"
+#include "solvers/pipeline/run_lock.h"
 #include "tests/temp_dir_test.h"
 #include "tests/whole_file.h"
+
+using ::testing::HasSubstr;
+using ::testing::Not;
 
 namespace es {
 namespace {
@@ -176,8 +179,7 @@ TEST_F(CrashSafetyTest, FailingWriteKeepsTheLastGoodFile) {
     EXPECT_EQ(ReadWholeFile(Path(files[i])), before[i]) << files[i];
   EXPECT_EQ(ReadCheckpoint(Path("checkpoint.bin")).iteration, 7);
   for (const auto& entry : fs::directory_iterator(dir_))
-    EXPECT_EQ(entry.path().string().find(".tmp"), std::string::npos)
-        << entry.path();
+    EXPECT_THAT(entry.path().string(), Not(HasSubstr(".tmp"))) << entry.path();
 }
 
 // A tiny synthetic scene shared by the process tests below.
@@ -275,8 +277,7 @@ TEST_F(ProcessTest, DriverLocksItsOutputAndItsStageDiesWithIt) {
     const RunLock held(out, RunLock::Mode::kFailIfHeld);
     Process second(driver);
     EXPECT_EQ(second.Wait(), 1);
-    EXPECT_NE(second.log().find("another eulersplat run"), std::string::npos)
-        << second.log();
+    EXPECT_THAT(second.log(), HasSubstr("another eulersplat run"));
   }
 
   Process first(driver);

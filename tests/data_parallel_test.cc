@@ -3,6 +3,9 @@
 // with the pair terms, whose halving belongs to one frame's pair only; the
 // checkpoints keep B.
 
+#include "solvers/train/data_parallel.h"
+
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -19,7 +22,6 @@
 #include "solvers/checkpoint/checkpoint.h"
 #include "solvers/checkpoint/joint_checkpoint.h"
 #include "solvers/optim/frame_sampler.h"
-#include "solvers/train/data_parallel.h"
 #include "solvers/train/joint_trainer.h"
 #include "solvers/train/joint_training_steps.h"
 #include "solvers/train/static_stage.h"
@@ -31,6 +33,8 @@
 #include "tests/temp_dir_test.h"
 #include "tests/tiny_loop_scene.h"
 #include "tests/tiny_synth_settings.h"
+
+using ::testing::HasSubstr;
 
 namespace es {
 namespace {
@@ -208,8 +212,8 @@ TEST_F(BatchCheckpointTest, ResumeWithAnotherBatchSizeIsRefused) {
     RunStaticStage(o);
     FAIL() << "a resume with another batch size went on";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("--batch_frames 2, this one has 1"),
-              std::string::npos)
+    EXPECT_THAT(std::string(e.what()),
+                HasSubstr("--batch_frames 2, this one has 1"))
         << e.what();
   }
   o.trainer.batch_frames = 2;

@@ -4,6 +4,7 @@
 
 #include "apps/common/device_flag.h"
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <string>
@@ -14,6 +15,8 @@
 #include "core/base/cuda/cuda_error.h"
 #include "solvers/train/cuda/device_flow_pretrain.h"
 #endif
+
+using ::testing::HasSubstr;
 
 namespace es {
 namespace {
@@ -35,8 +38,8 @@ TEST(DeviceFlagTest, CpuAlwaysWorks) {
 
 TEST(DeviceFlagTest, UnknownDevicesAreNamed) {
   EXPECT_EQ(ErrorOf("gpu"), "--device must be cpu or cuda, not 'gpu'");
-  EXPECT_NE(ErrorOf("CUDA").find("not 'CUDA'"), std::string::npos);
-  EXPECT_NE(ErrorOf("").find("not ''"), std::string::npos);
+  EXPECT_THAT(ErrorOf("CUDA"), HasSubstr("not 'CUDA'"));
+  EXPECT_THAT(ErrorOf(""), HasSubstr("not ''"));
 }
 
 TEST(DeviceFlagTest, CudaWorksOnlyWithTheBackendAndADevice) {
@@ -47,15 +50,12 @@ TEST(DeviceFlagTest, CudaWorksOnlyWithTheBackendAndADevice) {
     EXPECT_EQ(ParseDeviceFlag("cuda", &description), ComputeDevice::kCuda);
     EXPECT_EQ(description, why);
   } else {
-    EXPECT_NE(ErrorOf("cuda").find("no CUDA device found (" + why + ")"),
-              std::string::npos)
-        << ErrorOf("cuda");
+    EXPECT_THAT(ErrorOf("cuda"),
+                HasSubstr("no CUDA device found (" + why + ")"));
   }
 #else
-  EXPECT_NE(ErrorOf("cuda").find("this build has no CUDA backend"),
-            std::string::npos)
-      << ErrorOf("cuda");
-  EXPECT_NE(ErrorOf("cuda").find("-DES_CUDA=ON"), std::string::npos);
+  EXPECT_THAT(ErrorOf("cuda"), HasSubstr("this build has no CUDA backend"));
+  EXPECT_THAT(ErrorOf("cuda"), HasSubstr("-DES_CUDA=ON"));
 #endif
 }
 

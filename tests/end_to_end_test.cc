@@ -3,18 +3,21 @@
 // stage ran and left its outputs, that the metrics are finite, that the
 // fixed-view video loops, and that a second run skips every stage.
 
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <sstream>
-#include <string>
-
-#include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <sstream>
+#include <string>
 
 #include "tests/pipeline_test_util.h"
+
+using ::testing::HasSubstr;
 
 namespace es {
 namespace {
@@ -56,7 +59,7 @@ TEST(EndToEndTest, DriverRunsEveryStageAndResumes) {
           "/es_eval "}) {
       if (line.find(stage) == std::string::npos) continue;
       ++device_stages;
-      EXPECT_NE(line.find(" --device cpu"), std::string::npos) << line;
+      EXPECT_THAT(line, HasSubstr(" --device cpu"));
     }
   }
   EXPECT_EQ(device_stages, 6) << log;
@@ -88,7 +91,7 @@ TEST(EndToEndTest, DriverRunsEveryStageAndResumes) {
   }
   EXPECT_GT(JsonNumber(json, "psnr"), 5.0) << json;
   EXPECT_GT(JsonNumber(json, "dynamic_gaussians"), 0) << json;
-  EXPECT_NE(json.find("\"device\": \"cpu\""), std::string::npos) << json;
+  EXPECT_THAT(json, HasSubstr("\"device\": \"cpu\""));
 
   // The driver has es_eval measure Stage 2's V at the model's own water
   // Gaussians; with the model's own V as the reference, the two figures
@@ -148,13 +151,11 @@ TEST(EndToEndTest, DriverRunsEveryStageAndResumes) {
                        &log),
             0)
       << log;
-  EXPECT_NE(log.find("reference x 1.00 (the model's speed)"),
-            std::string::npos)
-      << log;
+  EXPECT_THAT(log, HasSubstr("reference x 1.00 (the model's speed)"));
   // A reference that is not there is named before any work.
   const fs::path missing = root / "missing_motion_field.bin";
   EXPECT_NE(eval_with_reference(root / "missing_eval", missing), 0);
-  EXPECT_NE(log.find(missing.string()), std::string::npos) << log;
+  EXPECT_THAT(log, HasSubstr(missing.string()));
   EXPECT_FALSE(fs::exists(root / "missing_eval" / "eval.json"));
 
   // The fixed-view video loops: frame k and frame k + L are the same image.
@@ -179,10 +180,10 @@ TEST(EndToEndTest, DriverRunsEveryStageAndResumes) {
   for (const char* stage : {"[static] skipped", "[flow init] skipped",
                             "[joint] skipped", "[animate] skipped",
                             "[animate_fixed] skipped", "[eval] skipped"}) {
-    EXPECT_NE(log.find(stage), std::string::npos) << stage << "\n" << log;
+    EXPECT_THAT(log, HasSubstr(stage)) << stage << "\n" << log;
   }
   if (have_viewer) {
-    EXPECT_NE(log.find("[export] skipped"), std::string::npos) << log;
+    EXPECT_THAT(log, HasSubstr("[export] skipped"));
   }
 }
 
@@ -193,7 +194,7 @@ TEST(EndToEndTest, BadPresetIsAClearError) {
                              "huge",
                          &log);
   EXPECT_EQ(status, 1);
-  EXPECT_NE(log.find("unknown preset 'huge'"), std::string::npos) << log;
+  EXPECT_THAT(log, HasSubstr("unknown preset 'huge'"));
 }
 
 }  // namespace

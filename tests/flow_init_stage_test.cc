@@ -5,12 +5,13 @@
 
 #include "solvers/train/flow_init_stage.h"
 
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <string>
-
-#include <gtest/gtest.h>
 
 #include "core/base/input_error.h"
 #include "core/io/ply_io.h"
@@ -20,6 +21,8 @@
 #include "tests/temp_dir_test.h"
 #include "tests/tiny_synth_settings.h"
 #include "tests/whole_file.h"
+
+using ::testing::HasSubstr;
 
 namespace es {
 namespace {
@@ -127,8 +130,7 @@ TEST(FlowInitOptionsTest, OracleVelocitySpellingsRoundTrip) {
     ParseOracleVelocity("perfect");
     FAIL() << "accepted --oracle_velocity perfect";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("--oracle_velocity"),
-              std::string::npos)
+    EXPECT_THAT(std::string(e.what()), HasSubstr("--oracle_velocity"))
         << e.what();
   }
 }
@@ -150,8 +152,7 @@ TEST_F(FlowInitStageTest, RefusesAModelWithoutWaterAndWritesNothing) {
     RunFlowInitStage(SmallRun("out"));
     FAIL() << "pretrained V on a model without water";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("no dynamic Gaussians"),
-              std::string::npos)
+    EXPECT_THAT(std::string(e.what()), HasSubstr("no dynamic Gaussians"))
         << e.what();
   }
   EXPECT_FALSE(fs::exists(Path("out/motion_field.bin")));

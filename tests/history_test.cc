@@ -1,16 +1,19 @@
 // Training histories (history.csv), the CSV tables behind them and the
 // Stage-1 ETA that accounts for densification.
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <fstream>
 
-#include "core/io/csv_table.h"
 #include "core/base/input_error.h"
+#include "core/io/csv_table.h"
 #include "solvers/train/densify_eta.h"
 #include "solvers/train/training_history.h"
 #include "tests/temp_dir_test.h"
+
+using ::testing::HasSubstr;
 
 namespace es {
 namespace {
@@ -43,8 +46,7 @@ TEST_F(HistoryTest, BadCsvNamesTheLine) {
     ReadCsvTable(Path("bad.csv"));
     FAIL() << "accepted a non-number";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("bad.csv:3"), std::string::npos)
-        << e.what();
+    EXPECT_THAT(std::string(e.what()), HasSubstr("bad.csv:3")) << e.what();
   }
   {
     std::ofstream out(Path("short.csv"));

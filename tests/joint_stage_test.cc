@@ -4,13 +4,16 @@
 // look done to the driver (StagePlan::JointStep's outputs), so the driver
 // runs the stage again, and the rerun finishes it.
 
+#include "solvers/train/joint_stage.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <string>
-
-#include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+#include <string>
 
 #include "core/base/input_error.h"
 #include "core/io/csv_table.h"
@@ -18,12 +21,13 @@
 #include "core/io/scene.h"
 #include "core/model/gaussian_init.h"
 #include "solvers/pipeline/stage_plan.h"
-#include "solvers/train/joint_stage.h"
 #include "synth/scene.h"
 #include "synth/writer.h"
 #include "tests/small_fields.h"
 #include "tests/temp_dir_test.h"
 #include "tests/tiny_synth_settings.h"
+
+using ::testing::HasSubstr;
 
 namespace es {
 namespace {
@@ -107,8 +111,7 @@ TEST_F(JointStageTest, FailedHistoryWriteLeavesTheStageUndone) {
     RunJointStage(Options());
     FAIL() << "the history write did not fail";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("history.csv"), std::string::npos)
-        << e.what();
+    EXPECT_THAT(std::string(e.what()), HasSubstr("history.csv")) << e.what();
   }
   // The run got to its end (the model is written) but the driver does not
   // take the stage as done.

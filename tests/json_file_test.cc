@@ -2,6 +2,7 @@
 
 #include "core/io/json_file.h"
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <sys/resource.h>
 
@@ -15,6 +16,9 @@
 #include "core/base/input_error.h"
 #include "core/io/output_dir.h"
 #include "tests/temp_dir_test.h"
+
+using ::testing::HasSubstr;
+using ::testing::Not;
 
 namespace es {
 namespace {
@@ -35,8 +39,8 @@ TEST_F(JsonFileTest, NonFiniteNumbersBecomeNullAndPathsAreEscaped) {
                                  {"seconds", 1.5},
                                  {"model", odd_path}});
   const std::string text = Read(Path("m.json"));
-  EXPECT_EQ(text.find("nan"), std::string::npos) << text;
-  EXPECT_EQ(text.find("inf"), std::string::npos) << text;
+  EXPECT_THAT(text, Not(HasSubstr("nan")));
+  EXPECT_THAT(text, Not(HasSubstr("inf")));
   const nlohmann::json back = nlohmann::json::parse(text);  // throws if bad
   EXPECT_TRUE(back["psnr"].is_null());
   EXPECT_TRUE(back["ssim"].is_null());
@@ -68,7 +72,7 @@ TEST_F(JsonFileTest, AFullDiskIsAnErrorAndKeepsTheOldFile) {
     WriteJsonFile(Path("big.json"), big);
   } catch (const InputError& e) {
     threw = true;
-    EXPECT_NE(std::string(e.what()).find("big.json"), std::string::npos);
+    EXPECT_THAT(std::string(e.what()), HasSubstr("big.json"));
   }
   ASSERT_EQ(setrlimit(RLIMIT_FSIZE, &saved), 0);
   std::signal(SIGXFSZ, SIG_DFL);
@@ -85,8 +89,7 @@ TEST_F(JsonFileTest, OutputDirectoryIsCreatedAndChecked) {
     PrepareOutputDirectory(Path("file/sub"), "out");
     FAIL() << "a directory below a file was accepted";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("--out="), std::string::npos)
-        << e.what();
+    EXPECT_THAT(std::string(e.what()), HasSubstr("--out=")) << e.what();
   }
   EXPECT_THROW(PrepareOutputDirectory(Path("file"), "out"), InputError);
 }

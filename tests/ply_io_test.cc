@@ -1,5 +1,9 @@
 #include "core/io/ply_io.h"
 
+#include <glog/logging.h>
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -12,14 +16,13 @@
 #include <string>
 #include <vector>
 
-#include <glog/logging.h>
-#include <gtest/gtest.h>
-
 #include "core/base/input_error.h"
 #include "tests/expect_error.h"
 #include "tests/expect_same_gaussians.h"
 #include "tests/temp_dir_test.h"
 #include "tests/whole_file.h"
+
+using ::testing::HasSubstr;
 
 namespace es {
 namespace {
@@ -284,9 +287,8 @@ TEST_F(PlyIoTest, InfiniteOpacityIsClampedToRenderTheSame) {
   EXPECT_GT(Sigmoid(limit), 0.99);
   EXPECT_LT(Sigmoid(-limit), 1.0 / 255);
   ASSERT_EQ(warnings.lines.size(), 1u);
-  EXPECT_NE(warnings.lines[0].find(Path("inf.ply")), std::string::npos);
-  EXPECT_NE(warnings.lines[0].find(" 3 "), std::string::npos)
-      << warnings.lines[0];
+  EXPECT_THAT(warnings.lines[0], HasSubstr(Path("inf.ply")));
+  EXPECT_THAT(warnings.lines[0], HasSubstr(" 3 "));
 }
 
 TEST_F(PlyIoTest, BadHeaderNamesFile) {

@@ -3,8 +3,7 @@
 // quick that the time model says fits ten minutes, a GPU the paper preset;
 // a named preset is run as named and an unknown one is refused by name.
 
-#include "solvers/pipeline/preset_choice.h"
-
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -14,7 +13,11 @@
 #include <vector>
 
 #include "core/base/input_error.h"
+#include "solvers/pipeline/preset_choice.h"
 #include "tests/pipeline_test_util.h"
+
+using ::testing::HasSubstr;
+using ::testing::Not;
 
 namespace es {
 namespace {
@@ -46,7 +49,7 @@ TEST(PresetTest, TheReadmeSceneGetsExactlyQuickOnAnyCpu) {
         ChoosePreset(kReadmeClip, PipelineOptions(), {threads, false});
     EXPECT_EQ(c.name, "quick") << threads;
     ExpectSamePreset(c.preset, MakePreset("quick"));
-    EXPECT_EQ(c.why.find(" px wide"), std::string::npos) << c.why;
+    EXPECT_THAT(c.why, Not(HasSubstr(" px wide")));
   }
 }
 
@@ -57,9 +60,8 @@ TEST(PresetTest, ABigClipOnTwoCoresTrainsNarrowerWithinTheTarget) {
   EXPECT_LT(c.preset.max_width, 320) << c.why;
   EXPECT_GE(c.preset.max_width, 160) << c.why;
   EXPECT_LE(c.predicted_seconds, TargetSeconds(two)) << c.why;
-  EXPECT_NE(c.why.find(std::to_string(c.preset.max_width) + " px wide"),
-            std::string::npos)
-      << c.why;
+  EXPECT_THAT(c.why,
+              HasSubstr(std::to_string(c.preset.max_width) + " px wide"));
   // The widest that fits: one step wider does not.
   const std::vector<int> widths = {320, 288, 256, 224, 208, 192, 176, 160};
   const auto at = std::find(widths.begin(), widths.end(), c.preset.max_width);
@@ -95,8 +97,7 @@ TEST(PresetTest, AClipTooBigForTheTargetGetsTheNarrowestAndSaysSo) {
       ChoosePreset({300, 1920, 1080}, PipelineOptions(), {1, false}, slow);
   EXPECT_EQ(c.preset.max_width, 160);
   EXPECT_GT(c.predicted_seconds, 600);
-  EXPECT_NE(c.why.find("no quick run is predicted to fit"), std::string::npos)
-      << c.why;
+  EXPECT_THAT(c.why, HasSubstr("no quick run is predicted to fit"));
 }
 
 TEST(PresetTest, AGpuRunsThePaperPresetWhereItFitsTheHour) {
@@ -136,10 +137,8 @@ TEST(PresetTest, TheDriverRunsANamedPresetAndRefusesAnUnknownOne) {
                              " --cycle_length 4";
   log.clear();
   EXPECT_EQ(RunCommand(driver + " --preset fast", &log), 1) << log;
-  EXPECT_NE(log.find("--preset: unknown preset 'fast' (auto, quick or "
-                     "paper)"),
-            std::string::npos)
-      << log;
+  EXPECT_THAT(log, HasSubstr("--preset: unknown preset 'fast' (auto, quick or "
+                             "paper)"));
   EXPECT_FALSE(fs::exists(out)) << "work started anyway";
 
   log.clear();
@@ -149,14 +148,11 @@ TEST(PresetTest, TheDriverRunsANamedPresetAndRefusesAnUnknownOne) {
                        &log),
             0)
       << log;
-  EXPECT_NE(log.find("preset paper: 2 static / 0 flow / 2 joint"),
-            std::string::npos)
-      << log;
-  EXPECT_EQ(log.find("--preset auto chose"), std::string::npos) << log;
+  EXPECT_THAT(log, HasSubstr("preset paper: 2 static / 0 flow / 2 joint"));
+  EXPECT_THAT(log, Not(HasSubstr("--preset auto chose")));
   const std::string timings = ReadWholeFile(out / "timings.json");
-  EXPECT_NE(timings.find("\"preset\": \"paper\""), std::string::npos)
-      << timings;
-  EXPECT_EQ(timings.find("preset_auto"), std::string::npos) << timings;
+  EXPECT_THAT(timings, HasSubstr("\"preset\": \"paper\""));
+  EXPECT_THAT(timings, Not(HasSubstr("preset_auto")));
   fs::remove_all(root);
 }
 

@@ -1,15 +1,18 @@
 // Helpers es_render uses: COLMAP camera conversion, flag parsing, PNG output.
 
-#include <cstdio>
-#include <string>
-
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
+
+#include <cstdio>
 #include <opencv2/imgcodecs.hpp>
+#include <string>
 
 #include "apps/common/parse_color.h"
 #include "core/base/input_error.h"
 #include "core/io/pinhole_camera.h"
 #include "core/viz/render_png.h"
+
+using ::testing::HasSubstr;
 
 namespace es {
 namespace {
@@ -40,8 +43,8 @@ TEST(RasterIo, DistortedModelsAreRejectedWithTheirName) {
     PinholeCameraFromColmap(radial, ColmapImage(), "scene/sparse/0");
     FAIL() << "expected InputError";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("SIMPLE_RADIAL"), std::string::npos);
-    EXPECT_NE(std::string(e.what()).find("scene/sparse/0"), std::string::npos);
+    EXPECT_THAT(std::string(e.what()), HasSubstr("SIMPLE_RADIAL"));
+    EXPECT_THAT(std::string(e.what()), HasSubstr("scene/sparse/0"));
   }
 }
 

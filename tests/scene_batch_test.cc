@@ -4,16 +4,19 @@
 // is reported without stopping the others, and the batch exits 1; bad
 // batches stop before any work.
 
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
 #include <filesystem>
 #include <fstream>
 #include <string>
 #include <vector>
 
-#include <gtest/gtest.h>
-
 #include "apps/common/driver_batch.h"
 #include "core/base/input_error.h"
 #include "tests/pipeline_test_util.h"
+
+using ::testing::HasSubstr;
 
 namespace es {
 namespace {
@@ -56,14 +59,14 @@ TEST(SceneBatchTest, BadBatchesAreRefusedBeforeAnyWork) {
                            " --out " + (root / "out").string(),
                        &log),
             1);
-  EXPECT_NE(log.find("is not a scene directory"), std::string::npos) << log;
+  EXPECT_THAT(log, HasSubstr("is not a scene directory"));
   log.clear();
   EXPECT_EQ(RunCommand(driver + " --scenes " + (root / "a").string() +
                            " --out " + (root / "out").string() +
                            " --ranks 2 --groups 3",
                        &log),
             1);
-  EXPECT_NE(log.find("--groups 3"), std::string::npos) << log;
+  EXPECT_THAT(log, HasSubstr("--groups 3"));
   EXPECT_FALSE(fs::exists(root / "out"));
   fs::remove_all(root);
 }
@@ -96,21 +99,14 @@ TEST(SceneBatchTest, EachSceneRunsOnItsGroupAndAFailureSparesTheOthers) {
                        &log),
             1)
       << log;
-  EXPECT_NE(log.find("3 scene(s) on 2 rank(s) in 2 group(s) of 1 rank(s)"),
-            std::string::npos)
-      << log;
-  EXPECT_NE(log.find("[batch] empty: FAILED"), std::string::npos) << log;
-  EXPECT_NE(log.find("2 of 3 scene(s) done; failed: empty"),
-            std::string::npos)
-      << log;
+  EXPECT_THAT(log,
+              HasSubstr("3 scene(s) on 2 rank(s) in 2 group(s) of 1 rank(s)"));
+  EXPECT_THAT(log, HasSubstr("[batch] empty: FAILED"));
+  EXPECT_THAT(log, HasSubstr("2 of 3 scene(s) done; failed: empty"));
   for (const char* name : {"lake", "falls"}) {
-    EXPECT_NE(log.find("[batch] " + std::string(name) + ": done"),
-              std::string::npos)
-        << log;
+    EXPECT_THAT(log, HasSubstr("[batch] " + std::string(name) + ": done"));
     // Its stage lines, prefixed with its name.
-    EXPECT_NE(log.find("[" + std::string(name) + "] stage 1/"),
-              std::string::npos)
-        << log;
+    EXPECT_THAT(log, HasSubstr("[" + std::string(name) + "] stage 1/"));
     EXPECT_TRUE(fs::exists(out / name / "eval" / "eval.json")) << name;
     EXPECT_TRUE(fs::exists(out / (std::string(name) + ".log"))) << name;
   }

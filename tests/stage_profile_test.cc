@@ -3,23 +3,24 @@
 // the iterations took, renders are charged to the pass they were made
 // for, and the driver's stages tile its run.
 
-#include "core/base/iteration_parts.h"
-
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <chrono>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
+#include "core/base/iteration_parts.h"
 #include "solvers/eval/loop_evaluation.h"
 #include "solvers/train/joint_trainer.h"
 #include "tests/pipeline_test_util.h"
 #include "tests/tiny_loop_scene.h"
+
+using ::testing::HasSubstr;
 
 namespace es {
 namespace {
@@ -69,8 +70,8 @@ TEST_F(StageProfileTest, PartsAddUpToTheIterationTime) {
   }
   EXPECT_EQ(PartSeconds(profile, Part::kEvaluation), 0);
   const std::string table = PartsTable(profile);
-  EXPECT_NE(table.find("loop texture render + loss"), std::string::npos);
-  EXPECT_NE(table.find("the loop texture pass in all"), std::string::npos);
+  EXPECT_THAT(table, HasSubstr("loop texture render + loss"));
+  EXPECT_THAT(table, HasSubstr("the loop texture pass in all"));
 }
 
 // The same renders in an evaluation pass go to the evaluation, not to the
@@ -125,11 +126,9 @@ TEST(DriverTimingsTest, TimingsJsonTilesTheRun) {
                        &log),
             0)
       << log;
-  EXPECT_NE(log.find("--preset auto chose quick: 8 frames of 32x24"),
-            std::string::npos)
-      << log;
-  EXPECT_NE(log.find("profile: es_static"), std::string::npos) << log;
-  EXPECT_NE(log.find("profile: es_train"), std::string::npos) << log;
+  EXPECT_THAT(log, HasSubstr("--preset auto chose quick: 8 frames of 32x24"));
+  EXPECT_THAT(log, HasSubstr("profile: es_static"));
+  EXPECT_THAT(log, HasSubstr("profile: es_train"));
   size_t parts = 0;
   for (size_t at = 0; (at = log.find("profile by part:", at)) !=
                       std::string::npos;

@@ -3,6 +3,7 @@
 
 #include "apps/common/threads_flag.h"
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -13,6 +14,8 @@
 
 #include "core/base/input_error.h"
 #include "tests/pipeline_test_util.h"
+
+using ::testing::HasSubstr;
 
 namespace es {
 namespace {
@@ -34,8 +37,7 @@ TEST(ThreadsFlagTest, ANegativeCountIsRefusedByName) {
     ResolvedThreads(-1, nullptr);
     FAIL() << "no error";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("--threads=-1"), std::string::npos)
-        << e.what();
+    EXPECT_THAT(std::string(e.what()), HasSubstr("--threads=-1")) << e.what();
   }
 }
 
@@ -61,14 +63,13 @@ TEST(ThreadsFlagTest, AnAppTrainsWithTheThreadsItIsGiven) {
     const CommandResult r =
         RunCommand(std::string("env ") + env + " " + bench + " " + flag);
     EXPECT_EQ(r.status, 0) << r.output;
-    EXPECT_NE(r.output.find(std::string(", ") + expected), std::string::npos)
-        << env << " " << flag << "\n" << r.output;
+    EXPECT_THAT(r.output, HasSubstr(std::string(", ") + expected))
+        << env << " " << flag << "\n"
+        << r.output;
   }
   const CommandResult refused = RunCommand(bench + " --threads -2");
   EXPECT_EQ(refused.status, 1) << refused.output;
-  EXPECT_NE(refused.output.find("--threads=-2: must be >= 0"),
-            std::string::npos)
-      << refused.output;
+  EXPECT_THAT(refused.output, HasSubstr("--threads=-2: must be >= 0"));
   fs::remove_all(scene);
 }
 

@@ -1,13 +1,16 @@
 #include "solvers/eval/training_water_psnr.h"
 
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <fstream>
 #include <string>
 
-#include <gtest/gtest.h>
-
 #include "core/base/input_error.h"
 #include "tests/temp_dir_test.h"
+
+using ::testing::HasSubstr;
 
 namespace es {
 namespace {
@@ -52,7 +55,7 @@ TEST_F(TrainingWaterPsnrTest, MissingRecordsLeaveNaNAndBadJsonIsNamed) {
     ReadTrainingWaterPsnr(dir_.string());
     FAIL() << "a truncated metrics.json was accepted";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("metrics.json"), std::string::npos);
+    EXPECT_THAT(std::string(e.what()), HasSubstr("metrics.json"));
   }
 }
 

@@ -5,18 +5,21 @@
 // for one that copies the synthetic scene's exact poses; es_poses itself is
 // measured in docs/results/video.md (today's figures in docs/RESULTS.md).
 
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <string>
-
-#include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/videoio.hpp>
+#include <string>
 
 #include "core/masks/water_masks.h"
 #include "tests/pipeline_test_util.h"
+
+using ::testing::HasSubstr;
 
 namespace es {
 namespace {
@@ -75,7 +78,7 @@ TEST(VideoEndToEndTest, FromAnMp4ToTheLoopingVideo) {
   log.clear();
   ASSERT_EQ(RunCommand(driver, &log), 0) << log;
   for (const char* step : {"[video] frame 16 / 16", "[poses]", "[masks]"})
-    EXPECT_NE(log.find(step), std::string::npos) << step << "\n" << log;
+    EXPECT_THAT(log, HasSubstr(step)) << step << "\n" << log;
 
   // Every frame decoded, and a mask a person can edit for each.
   double iou = 0;
@@ -106,7 +109,7 @@ TEST(VideoEndToEndTest, FromAnMp4ToTheLoopingVideo) {
   ASSERT_EQ(RunCommand(driver, &log), 0) << log;
   for (const char* stage :
        {"[video] skipped", "[masks] using", "[static] skipped"})
-    EXPECT_NE(log.find(stage), std::string::npos) << stage << "\n" << log;
+    EXPECT_THAT(log, HasSubstr(stage)) << stage << "\n" << log;
 
   // --masks none: a static model, a clear message, no motion training.
   const fs::path still = root / "still";
@@ -118,8 +121,7 @@ TEST(VideoEndToEndTest, FromAnMp4ToTheLoopingVideo) {
                        &log),
             0)
       << log;
-  EXPECT_NE(log.find("training the static model only"), std::string::npos)
-      << log;
+  EXPECT_THAT(log, HasSubstr("training the static model only"));
   EXPECT_TRUE(fs::exists(still / "static" / "static.ply"));
   EXPECT_FALSE(fs::exists(still / "model"));
   EXPECT_FALSE(fs::exists(still / "scene" / "masks"));
@@ -135,13 +137,13 @@ TEST(VideoEndToEndTest, BadVideoIsAClearError) {
                            (root / "out").string(),
                        &log),
             1);
-  EXPECT_NE(log.find("broken.mp4"), std::string::npos) << log;
+  EXPECT_THAT(log, HasSubstr("broken.mp4"));
   log.clear();
   EXPECT_EQ(RunCommand((kBin / "eulersplat").string() + " --out " +
                            (root / "out").string(),
                        &log),
             1);
-  EXPECT_NE(log.find("--video"), std::string::npos) << log;
+  EXPECT_THAT(log, HasSubstr("--video"));
 }
 
 }  // namespace

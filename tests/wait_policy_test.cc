@@ -4,6 +4,7 @@
 
 #include "apps/common/wait_policy.h"
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -12,6 +13,8 @@
 #include <string>
 
 #include "tests/pipeline_test_util.h"
+
+using ::testing::HasSubstr;
 
 namespace es {
 namespace {
@@ -137,13 +140,10 @@ TEST(WaitPolicyBinaryTest, AnAppStartsAgainWithThePolicyAndRuns) {
   int status = 0;
   std::string output = RunApp("", &status);
   EXPECT_EQ(status, 1) << output;  // es_synth: --out is required
-  EXPECT_NE(output.find("GOMP_SPINCOUNT=10000, set by the app"),
-            std::string::npos)
-      << output;
+  EXPECT_THAT(output, HasSubstr("GOMP_SPINCOUNT=10000, set by the app"));
   output = RunApp("GOMP_SPINCOUNT=5", &status);
   EXPECT_EQ(status, 1) << output;
-  EXPECT_NE(output.find("GOMP_SPINCOUNT=5, the user's"), std::string::npos)
-      << output;
+  EXPECT_THAT(output, HasSubstr("GOMP_SPINCOUNT=5, the user's"));
 }
 
 }  // namespace

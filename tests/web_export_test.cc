@@ -1,16 +1,17 @@
 // es_export's outputs without a browser: the frame PLY is a state the
 // animation really shows, and the loop file holds exactly the animation.
 
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
-#include <string>
-#include <vector>
-
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
-#include <gtest/gtest.h>
+#include <string>
+#include <vector>
 
 #include "core/base/input_error.h"
 #include "core/io/ply_io.h"
@@ -21,6 +22,9 @@
 #include "tests/temp_dir_test.h"
 #include "tests/water_loop_fixture.h"
 #include "tests/web_tools.h"
+
+using ::testing::HasSubstr;
+using ::testing::Not;
 
 namespace es {
 namespace {
@@ -135,8 +139,7 @@ TEST_F(WebExportTest, PageFolderIsCompleteOrNamesWhatIsMissing) {
     ExportWebPlayer(model, {WaterLoopCamera()}, options, Path("page"));
     FAIL() << "no error without the npm packages";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("setup.sh"), std::string::npos)
-        << e.what();
+    EXPECT_THAT(std::string(e.what()), HasSubstr("setup.sh")) << e.what();
   }
   if (!HaveWebModule("@sparkjsdev/spark/dist/spark.module.js"))
     GTEST_SKIP() << "npm packages not installed (scripts/setup.sh)";
@@ -151,8 +154,8 @@ TEST_F(WebExportTest, PageFolderIsCompleteOrNamesWhatIsMissing) {
   // The page imports nothing from outside its folder.
   const std::string html = ReadWholeFile(Path("page/index.html")) +
                            ReadWholeFile(Path("page/player.js"));
-  EXPECT_EQ(html.find("http://"), std::string::npos);
-  EXPECT_EQ(html.find("https://"), std::string::npos);
+  EXPECT_THAT(html, Not(HasSubstr("http://")));
+  EXPECT_THAT(html, Not(HasSubstr("https://")));
 }
 
 // A page that has not run its player yet (a screenshot taken early, a slow
@@ -178,9 +181,8 @@ TEST_F(WebExportTest, PosterIsLoopFrameZeroFromTheStartCamera) {
             html.find("<img id=\"poster\" src=\"poster.png\"", body))
       << html.substr(body);
   // The player takes it away once it has drawn.
-  EXPECT_NE(ReadWholeFile(Path("page/player.js"))
-                .find("getElementById(\"poster\")?.remove()"),
-            std::string::npos);
+  EXPECT_THAT(ReadWholeFile(Path("page/player.js")),
+              HasSubstr("getElementById(\"poster\")?.remove()"));
 
   const cv::Mat poster = cv::imread(Path("page/poster.png"), cv::IMREAD_COLOR);
   ASSERT_FALSE(poster.empty());
