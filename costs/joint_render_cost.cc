@@ -23,6 +23,43 @@ JointBlockLayout::JointBlockLayout(const LoopStructure& s) {
   }
 }
 
+namespace {
+
+FieldParams FieldBlocks(double const* const* parameters, int triplane) {
+  if (triplane < 0) return {};
+  return {parameters[triplane], parameters[triplane + 1]};
+}
+
+FieldGradients FieldGradientBlocks(double* const* gradients,
+                                   char* const* triplane_chunks,
+                                   int triplane) {
+  if (triplane < 0) return {};
+  return {gradients[triplane], gradients[triplane + 1],
+          triplane_chunks != nullptr ? triplane_chunks[triplane] : nullptr};
+}
+
+}  // namespace
+
+FieldParams JointBlockLayout::MotionParams(
+    double const* const* parameters) const {
+  return FieldBlocks(parameters, motion_);
+}
+
+FieldParams JointBlockLayout::ResidualParams(
+    double const* const* parameters) const {
+  return FieldBlocks(parameters, residual_);
+}
+
+FieldGradients JointBlockLayout::MotionGradients(
+    double* const* gradients, char* const* triplane_chunks) const {
+  return FieldGradientBlocks(gradients, triplane_chunks, motion_);
+}
+
+FieldGradients JointBlockLayout::ResidualGradients(
+    double* const* gradients, char* const* triplane_chunks) const {
+  return FieldGradientBlocks(gradients, triplane_chunks, residual_);
+}
+
 std::vector<double*> JointBlocks(LoopModel* model) {
   std::vector<double*> blocks = SplatRenderCost::Blocks(&model->gaussians);
   if (model->motion) {
@@ -80,14 +117,8 @@ LoopModelView JointRenderCost::View(double const* const* parameters) const {
   v.structure = structure_;
   ViewSplatBlocks(parameters, structure_.count, structure_.sh_degree,
                   &v.canonical);
-  if (structure_.motion != nullptr) {
-    v.motion_params = {parameters[layout_.motion_triplane()],
-                       parameters[layout_.motion_mlp()]};
-  }
-  if (structure_.residual != nullptr) {
-    v.residual_params = {parameters[layout_.residual_triplane()],
-                         parameters[layout_.residual_mlp()]};
-  }
+  v.motion_params = layout_.MotionParams(parameters);
+  v.residual_params = layout_.ResidualParams(parameters);
   return v;
 }
 
@@ -189,19 +220,8 @@ void JointRenderCost::Backward(const LoopModelView& model,
 
   LoopModelGradients out;
   PointAtSplatJacobians(jacobians, &out);
-  auto chunks = [triplane_chunks](int block) {
-    return triplane_chunks != nullptr ? triplane_chunks[block] : nullptr;
-  };
-  if (layout_.motion_triplane() >= 0) {
-    out.motion = {jacobians[layout_.motion_triplane()],
-                  jacobians[layout_.motion_mlp()],
-                  chunks(layout_.motion_triplane())};
-  }
-  if (layout_.residual_triplane() >= 0) {
-    out.residual = {jacobians[layout_.residual_triplane()],
-                    jacobians[layout_.residual_mlp()],
-                    chunks(layout_.residual_triplane())};
-  }
+  out.motion = layout_.MotionGradients(jacobians, triplane_chunks);
+  out.residual = layout_.ResidualGradients(jacobians, triplane_chunks);
   composer().Backward(model, grads_,
                      residual_on() ? d_residuals_.data() : nullptr, out);
   // The extra channel is the canonical probability (D does not touch it).

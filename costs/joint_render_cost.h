@@ -35,6 +35,17 @@ class JointBlockLayout {
   int residual_triplane() const { return residual_; }  // -1 if absent
   int residual_mlp() const { return residual_ < 0 ? -1 : residual_ + 1; }
 
+  // A field's two blocks of `parameters` (layout order), nulls when the
+  // layout has no such field.
+  FieldParams MotionParams(double const* const* parameters) const;
+  FieldParams ResidualParams(double const* const* parameters) const;
+  // A field's two blocks of `gradients`, with the triplane's chunk flags
+  // from `triplane_chunks` (nullable: none); nulls when it is absent.
+  FieldGradients MotionGradients(double* const* gradients,
+                                 char* const* triplane_chunks) const;
+  FieldGradients ResidualGradients(double* const* gradients,
+                                   char* const* triplane_chunks) const;
+
  private:
   std::vector<int32_t> sizes_;
   int motion_ = -1, residual_ = -1;

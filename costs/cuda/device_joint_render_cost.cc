@@ -53,14 +53,8 @@ DeviceLoopModelView DeviceJointRenderCost::View(
     c.num_extra = 1;
     c.extra = probability_.data();
   }
-  if (layout_.motion_triplane() >= 0) {
-    v.motion_params = {parameters[layout_.motion_triplane()],
-                       parameters[layout_.motion_mlp()]};
-  }
-  if (layout_.residual_triplane() >= 0) {
-    v.residual_params = {parameters[layout_.residual_triplane()],
-                         parameters[layout_.residual_mlp()]};
-  }
+  v.motion_params = layout_.MotionParams(parameters);
+  v.residual_params = layout_.ResidualParams(parameters);
   return v;
 }
 
@@ -118,14 +112,9 @@ void DeviceJointRenderCost::Backward(double const* const* parameters,
 
   LoopModelGradients out;
   PointAtSplatJacobians(gradients, &out);
-  if (layout_.motion_triplane() >= 0) {
-    out.motion = {gradients[layout_.motion_triplane()],
-                  gradients[layout_.motion_mlp()]};
-  }
-  if (layout_.residual_triplane() >= 0) {
-    out.residual = {gradients[layout_.residual_triplane()],
-                    gradients[layout_.residual_mlp()]};
-  }
+  // The device triplane gradient is dense: no chunk flags.
+  out.motion = layout_.MotionGradients(gradients, nullptr);
+  out.residual = layout_.ResidualGradients(gradients, nullptr);
   composer_.Backward(View(parameters, /*attach=*/false), grads,
                      residual_on() ? d_residuals_.data() : nullptr, out);
   // The extra channel is the canonical probability (D does not touch it).

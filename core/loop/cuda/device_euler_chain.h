@@ -19,10 +19,12 @@ namespace es {
 namespace cuda {
 
 // Keeps its state between Forward and Backward: not thread-safe.
-class DeviceEulerChain {
+class DeviceEulerChain
+    : public EulerChainBase<DeviceMotionField, DeviceFieldWorkspace> {
  public:
   DeviceEulerChain(const DeviceMotionField* field,
-                   const EulerOptions& options);
+                   const EulerOptions& options)
+      : EulerChainBase(field, options) {}
 
   // x_out (device, n x 3) = x0 (device, n x 3) advected steps[k] >= 0
   // times (steps: a host array of n). Keeps the trajectory for Backward;
@@ -35,25 +37,12 @@ class DeviceEulerChain {
   void Backward(const FieldParams& params, const double* d_x_out,
                 const FieldGradients& grads, double* d_x0);
 
-  // Counts of the last Forward.
-  const EulerStats& stats() const { return stats_; }
-  double max_step() const;
-
  private:
-  const DeviceMotionField* field_;
-  EulerOptions options_;
-  EulerStats stats_;
-  int n_ = 0;
-  DeviceBuffer<int> order_;  // sorted position -> caller's index
-  std::vector<int> active_;  // active_[s] = points with more than s steps
-  std::vector<size_t> offset_;  // trajectory_ offset of step s positions
+  DeviceBuffer<int> order_;  // schedule_.order on the device
   DeviceBuffer<double> trajectory_;  // x_s of the active points, s = 0 ..
   DeviceBuffer<double> velocities_;  // V(x_s), laid out as trajectory_
   DeviceBuffer<unsigned long long> counters_;  // clamped, non-finite
-  int kept_steps_ = 0;  // steps whose activations step_workspaces_ keep
-  std::vector<DeviceFieldWorkspace> step_workspaces_;  // only grows
   DeviceBuffer<double> velocity_, gradient_, step_gradient_;
-  DeviceFieldWorkspace workspace_;  // the steps past kept_steps_
 };
 
 }  // namespace cuda
