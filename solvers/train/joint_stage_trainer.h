@@ -25,6 +25,7 @@
 #include "solvers/checkpoint/joint_checkpoint.h"
 #include "costs/scene_flow_prior.h"
 #include "solvers/train/splat_training.h"
+#include "solvers/train/stage_trainer_base.h"
 #include "solvers/train/water_densify.h"
 
 namespace es {
@@ -153,10 +154,8 @@ struct JointIterationStats : JointObjectiveTerms {
 // What es_train drives: a Stage 3 trainer on the CPU (JointTrainer) or on
 // a CUDA device (cuda::DeviceJointTrainer), which take the same steps and
 // exchange the same checkpoints.
-class JointStageTrainer {
+class JointStageTrainer : public StageTrainer {
  public:
-  virtual ~JointStageTrainer() = default;
-
   // Keeps Stage 2's lifted samples as a decaying prior on V
   // (options.flow_prior); needs V, and options.flow_prior.weight > 0 to
   // have an effect. Not checkpointed: a resumed run passes them again.
@@ -168,22 +167,11 @@ class JointStageTrainer {
   // if the parameters become non-finite.
   virtual JointIterationStats Step() = 0;
 
-  virtual int64_t iteration() const = 0;
   // The current model (on a device trainer a download when it changed).
   virtual const LoopModel& model() const = 0;
   // The model to keep when training ends: model() without the Gaussians
   // that no frame shows (PruneInvisible over the video's frames).
   virtual LoopModel FinalModel(int* pruned = nullptr) const = 0;
-  virtual int64_t skipped_steps() const = 0;
-  // False right after a skipped step: the state is not one to checkpoint.
-  virtual bool last_step_ok() const = 0;
-  virtual bool uses_masks() const = 0;
-  virtual RenderOptions render_options() const = 0;
-
-  // Bytes one step sends to sum over the ranks, on average (data-parallel
-  // batches: the gradients' non-zero chunks; in one process all it would
-  // sum), 0 for a one-frame step.
-  virtual size_t allreduce_bytes() const { return 0; }
 
   virtual JointCheckpoint Save() const = 0;
   // Continues from a checkpoint of a run with the same frames and options;

@@ -1,22 +1,45 @@
 #ifndef EULERSPLAT_SOLVERS_TRAIN_STAGE_TRAINER_BASE_H_
 #define EULERSPLAT_SOLVERS_TRAIN_STAGE_TRAINER_BASE_H_
 
-// What the Stage-1 and Stage-3 trainers, CPU and device, hold alike: their
-// input (frames, training split, options, whether the mask term is on, the
-// cameras' extent), the step count, the divergence guard and the blocks it
-// bounds, with the accessors of these that their interfaces
-// (StaticStageTrainer, JointStageTrainer) declare. Written once, so a
-// field the four share is added in one place.
+// What the Stage-1 and Stage-3 trainers, CPU and device, share: the
+// questions their interfaces answer alike (StageTrainer), and what they
+// hold alike (StageTrainerBase): their input (frames, training split,
+// options, whether the mask term is on, the cameras' extent), the step
+// count, the divergence guard and the blocks it bounds, with the accessors
+// of these. Written once, so a field the four share is added in one place.
 
+#include <cstddef>
 #include <cstdint>
 #include <utility>
 #include <vector>
 
 #include "core/io/scene.h"
+#include "core/render/rasterizer.h"
 #include "solvers/train/divergence_guard.h"
 #include "solvers/train/splat_training.h"
 
 namespace es {
+
+// The part of the stage interfaces (StaticStageTrainer, JointStageTrainer)
+// that does not depend on the stage: the drivers' progress, checkpoint and
+// evaluation questions.
+class StageTrainer {
+ public:
+  virtual ~StageTrainer() = default;
+
+  virtual int64_t iteration() const = 0;
+  virtual int64_t skipped_steps() const = 0;
+  // False right after a skipped step: the state is not one to checkpoint.
+  virtual bool last_step_ok() const = 0;
+  virtual bool uses_masks() const = 0;
+  // How the model is rendered for evaluation.
+  virtual RenderOptions render_options() const = 0;
+
+  // Bytes one step sends to sum over the ranks, on average (data-parallel
+  // batches: the gradients' non-zero chunks; in one process all it would
+  // sum), 0 for a one-frame step.
+  virtual size_t allreduce_bytes() const { return 0; }
+};
 
 template <class Interface, class Options>
 class StageTrainerBase : public Interface {

@@ -1,12 +1,9 @@
 #ifndef EULERSPLAT_SOLVERS_TRAIN_STATIC_STAGE_TRAINER_H_
 #define EULERSPLAT_SOLVERS_TRAIN_STATIC_STAGE_TRAINER_H_
 
-#include <cstddef>
-#include <cstdint>
-
 #include "core/model/gaussians.h"
-#include "core/render/rasterizer.h"
 #include "solvers/checkpoint/checkpoint.h"
+#include "solvers/train/stage_trainer_base.h"
 
 namespace es {
 
@@ -21,30 +18,16 @@ struct IterationStats {
 // What RunStaticStage (static_stage.h) drives: a Stage 1 trainer on the
 // CPU (StaticTrainer) or on a CUDA device (cuda::DeviceStaticTrainer),
 // which take the same steps and exchange the same checkpoints.
-class StaticStageTrainer {
+class StaticStageTrainer : public StageTrainer {
  public:
-  virtual ~StaticStageTrainer() = default;
-
   // One iteration. A non-finite loss or gradient skips the update (counted
   // in skipped_steps()); throws TrainingDiverged after too many in a row or
   // if the parameters become non-finite.
   virtual IterationStats Step() = 0;
 
-  virtual int64_t iteration() const = 0;
   // The current model (on a device trainer a download when it changed).
   virtual const GaussianSet& gaussians() const = 0;
-  virtual int64_t skipped_steps() const = 0;
-  // False right after a skipped step: the state is not one to checkpoint.
-  virtual bool last_step_ok() const = 0;
-  virtual bool uses_masks() const = 0;
   virtual double scene_extent() const = 0;
-  // How the model is rendered for evaluation.
-  virtual RenderOptions render_options() const = 0;
-
-  // Bytes one step sends to sum over the ranks, on average (data-parallel
-  // batches: the gradients' non-zero chunks; in one process all it would
-  // sum), 0 for a one-frame step.
-  virtual size_t allreduce_bytes() const { return 0; }
 
   virtual Checkpoint Save() const = 0;
   // Continues from a checkpoint of a run with the same frames and options.
