@@ -15,12 +15,12 @@ DeviceJointRenderCost::DeviceJointRenderCost(const JointRenderTerms& terms,
                                              const Eigen::Vector3d& background,
                                              DeviceRasterizer* rasterizer,
                                              const EulerOptions& euler)
-    : terms_(terms),
+    : residual_weight_(terms.residual_weight),
       background_(background),
       rasterizer_(rasterizer),
       layout_(LoopStructure()),
       composer_(euler),
-      photometric_(terms.ssim_weight) {
+      image_loss_(terms) {
   CHECK(rasterizer_ != nullptr);
   set_num_residuals(1);
 }
@@ -28,14 +28,8 @@ DeviceJointRenderCost::DeviceJointRenderCost(const JointRenderTerms& terms,
 void DeviceJointRenderCost::Reset(const Camera& camera, const float* image,
                                   const float* mask, int frame_index,
                                   const LoopStructure& structure) {
-  CHECK(image != nullptr || terms_.photometric_weight == 0)
-      << "the photometric term needs the frame's image";
-  CHECK(mask != nullptr || !mask_on())
-      << "the mask term needs the frame's mask";
+  image_loss_.SetFrame(camera, image, mask);
   composer_.SetStructure(structure);
-  camera_ = camera;
-  image_ = image;
-  mask_ = mask;
   frame_index_ = frame_index;
   structure_ = structure;
   layout_ = JointBlockLayout(structure);
@@ -47,12 +41,7 @@ DeviceLoopModelView DeviceJointRenderCost::View(
   DeviceLoopModelView v;
   DeviceSplatView& c = v.canonical;
   ViewSplatBlocks(parameters, structure_.count, structure_.sh_degree, &c);
-  if (attach && mask_on()) {
-    probability_.Resize(c.count);
-    SigmoidArray(c.count, parameters[kDynamicBlock], probability_.data());
-    c.num_extra = 1;
-    c.extra = probability_.data();
-  }
+  if (attach) image_loss_.AttachDynamicChannel(parameters[kDynamicBlock], &c);
   v.motion_params = layout_.MotionParams(parameters);
   v.residual_params = layout_.ResidualParams(parameters);
   return v;
@@ -63,36 +52,20 @@ double DeviceJointRenderCost::Forward(double const* const* parameters,
   const DeviceSplatView& view =
       composer_.Compose(View(parameters, /*attach=*/true), frame_index_,
                         cycle_number_);
-  render_ = rasterizer_->ForwardDevice(camera_, view, background_);
+  render_ = rasterizer_->ForwardDevice(image_loss_.camera(), view,
+                                      background_);
 
   // RenderedFrameLoss::Score, then D's L2.
-  const int w = camera_.width, h = camera_.height;
-  const size_t pixels = static_cast<size_t>(w) * h;
-  double loss = 0;
-  last_photometric_ = last_mask_ = last_residual_ = 0;
-  have_d_rgb_ = terms_.photometric_weight != 0 && want_grad;
-  if (terms_.photometric_weight != 0) {
-    d_rgb_.Resize(3 * pixels);
-    last_photometric_ = photometric_.Evaluate(
-        render_.rgb, image_, w, h, terms_.photometric_weight,
-        want_grad ? d_rgb_.data() : nullptr);
-    loss += terms_.photometric_weight * last_photometric_;
-  }
-  if (mask_on()) {
-    d_extra_.Resize(pixels);
-    last_mask_ = mask_loss_.Evaluate(render_.extra, 1, 0, mask_, w, h,
-                                     terms_.mask_weight,
-                                     want_grad ? d_extra_.data() : nullptr);
-    loss += terms_.mask_weight * last_mask_;
-  }
+  double loss = image_loss_.Score(render_, want_grad);
+  last_residual_ = 0;
   if (residual_on()) {
     const long long outputs =
         static_cast<long long>(composer_.num_dynamic()) * kResidualDim;
     d_residuals_.Resize(outputs);
     last_residual_ = residual_loss_.Evaluate(
-        composer_.residuals(), outputs, terms_.residual_weight,
+        composer_.residuals(), outputs, residual_weight_,
         want_grad ? d_residuals_.data() : nullptr);
-    loss += terms_.residual_weight * last_residual_;
+    loss += residual_weight_ * last_residual_;
   }
   gradients_ready_ = want_grad;
   return loss;
@@ -102,13 +75,10 @@ void DeviceJointRenderCost::Backward(double const* const* parameters,
                                      double** gradients) const {
   CHECK(gradients_ready_)
       << "DeviceJointRenderCost: a backward without a forward for it";
-  DeviceImageGradients image_grads;
-  if (have_d_rgb_) image_grads.d_rgb = d_rgb_.data();
-  if (mask_on()) image_grads.d_extra = d_extra_.data();
   const int count = structure_.count;
   splat_grads_.Resize(count, structure_.sh_degree, mask_on() ? 1 : 0);
   const DeviceSplatGradients grads = splat_grads_.View();
-  rasterizer_->BackwardDevice(image_grads, grads);
+  rasterizer_->BackwardDevice(image_loss_.ImageGradients(), grads);
 
   LoopModelGradients out;
   PointAtSplatJacobians(gradients, &out);
@@ -120,8 +90,8 @@ void DeviceJointRenderCost::Backward(double const* const* parameters,
   // The extra channel is the canonical probability (D does not touch it).
   double* dynamic = gradients[kDynamicBlock];
   if (dynamic != nullptr && mask_on()) {
-    AddDynamicLogitGradient(count, grads.extra, probability_.data(), 1.0,
-                            dynamic);
+    AddDynamicLogitGradient(count, grads.extra, image_loss_.probability(),
+                            1.0, dynamic);
   }
 }
 
@@ -164,13 +134,7 @@ void DeviceJointRenderCost::BackwardWithImageGradient(
   if (extra_d_rgb != nullptr) {
     CHECK(gradients_ready_) << "BackwardWithImageGradient before "
                                "RenderForGradient";
-    const long long values = 3LL * camera_.width * camera_.height;
-    if (!have_d_rgb_) {  // the photometric term is off
-      d_rgb_.Resize(values);
-      d_rgb_.Zero();
-      have_d_rgb_ = true;
-    }
-    AddFloatArray(values, extra_d_rgb, d_rgb_.data());
+    image_loss_.AddRgbGradient(extra_d_rgb);
   }
   if (!accumulate) {
     const std::vector<int32_t>& sizes = layout_.sizes();

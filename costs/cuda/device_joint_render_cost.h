@@ -30,8 +30,7 @@
 #include "core/base/cuda/device_buffer.h"
 #include "core/render/cuda/device_rasterizer.h"
 #include "core/render/cuda/device_splats.h"
-#include "costs/cuda/device_mask_bce_loss.h"
-#include "costs/cuda/device_photometric_loss.h"
+#include "costs/cuda/device_rendered_frame_loss.h"
 #include "costs/cuda/device_residual_l2_loss.h"
 #include "costs/joint_render_cost.h"
 
@@ -89,10 +88,10 @@ class DeviceJointRenderCost : public ceres::CostFunction {
                                  bool accumulate = false) const;
 
   const JointBlockLayout& layout() const { return layout_; }
-  bool mask_on() const { return terms_.mask_weight != 0; }
+  bool mask_on() const { return image_loss_.mask_on(); }
   // Unweighted terms of the last evaluation (0 for a disabled term).
-  double last_photometric() const { return last_photometric_; }
-  double last_mask() const { return last_mask_; }
+  double last_photometric() const { return image_loss_.last_photometric(); }
+  double last_mask() const { return image_loss_.last_mask(); }
   double last_residual() const { return last_residual_; }
   const EulerStats& last_euler_stats() const {
     return composer_.euler_stats();
@@ -100,7 +99,7 @@ class DeviceJointRenderCost : public ceres::CostFunction {
 
  private:
   bool residual_on() const {
-    return terms_.residual_weight != 0 && structure_.residual != nullptr;
+    return residual_weight_ != 0 && structure_.residual != nullptr;
   }
   // The model's device view, the dynamic probability attached with the
   // mask term on (RenderedFrameLoss::AttachDynamicChannel).
@@ -113,30 +112,22 @@ class DeviceJointRenderCost : public ceres::CostFunction {
   // gradients of the last Forward(want_grad).
   void Backward(double const* const* parameters, double** gradients) const;
 
-  JointRenderTerms terms_;
+  double residual_weight_ = 0;
   Eigen::Vector3d background_;
   DeviceRasterizer* rasterizer_;
-  Camera camera_;
-  const float* image_ = nullptr;
-  const float* mask_ = nullptr;
   int frame_index_ = 0;
   std::optional<int> cycle_number_;
   LoopStructure structure_;
   JointBlockLayout layout_;
   // Reused between evaluations.
   mutable DeviceFrameComposer composer_;
-  mutable DevicePhotometricLoss photometric_;
-  mutable DeviceMaskBceLoss mask_loss_;
+  mutable DeviceRenderedFrameLoss image_loss_;
   mutable DeviceResidualL2Loss residual_loss_;
   mutable DeviceImages render_;
-  mutable DeviceBuffer<double> probability_, d_residuals_;
-  mutable DeviceBuffer<float> d_rgb_, d_extra_;
-  // d_rgb_ holds an image gradient for Backward: the photometric term's
-  // of the last Forward, or BackwardWithImageGradient's extra one.
-  mutable bool have_d_rgb_ = false;
+  mutable DeviceBuffer<double> d_residuals_;
   mutable DeviceGradientArrays splat_grads_;
   mutable bool gradients_ready_ = false;  // the last Forward kept them
-  mutable double last_photometric_ = 0, last_mask_ = 0, last_residual_ = 0;
+  mutable double last_residual_ = 0;
 };
 
 }  // namespace cuda

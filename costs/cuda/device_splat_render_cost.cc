@@ -13,10 +13,7 @@ namespace cuda {
 DeviceSplatRenderCost::DeviceSplatRenderCost(
     const ImageLossTerms& terms, const Eigen::Vector3d& background,
     DeviceRasterizer* rasterizer)
-    : terms_(terms),
-      background_(background),
-      rasterizer_(rasterizer),
-      photometric_(terms.ssim_weight) {
+    : background_(background), rasterizer_(rasterizer), loss_(terms) {
   CHECK(rasterizer_ != nullptr);
   set_num_residuals(1);
 }
@@ -24,13 +21,7 @@ DeviceSplatRenderCost::DeviceSplatRenderCost(
 void DeviceSplatRenderCost::Reset(const Camera& camera, const float* image,
                                   const float* mask, int count,
                                   int sh_degree) {
-  CHECK(image != nullptr || terms_.photometric_weight == 0)
-      << "the photometric term needs the frame's image";
-  CHECK(mask != nullptr || !mask_on())
-      << "the mask term needs the frame's mask";
-  camera_ = camera;
-  image_ = image;
-  mask_ = mask;
+  loss_.SetFrame(camera, image, mask);
   count_ = count;
   sh_degree_ = sh_degree;
   *mutable_parameter_block_sizes() = SplatBlockSizes(count, sh_degree);
@@ -41,38 +32,11 @@ bool DeviceSplatRenderCost::Evaluate(double const* const* parameters,
                                      double** jacobians) const {
   DeviceSplatView view;
   ViewSplatBlocks(parameters, count_, sh_degree_, &view);
-  if (mask_on()) {  // RenderedFrameLoss::AttachDynamicChannel
-    probability_.Resize(count_);
-    SigmoidArray(count_, parameters[kDynamicBlock], probability_.data());
-    view.num_extra = 1;
-    view.extra = probability_.data();
-  }
+  loss_.AttachDynamicChannel(parameters[kDynamicBlock], &view);
   const DeviceImages& images =
-      rasterizer_->ForwardDevice(camera_, view, background_);
-
-  // RenderedFrameLoss::Score.
+      rasterizer_->ForwardDevice(loss_.camera(), view, background_);
   const bool want_grad = jacobians != nullptr;
-  const int w = camera_.width, h = camera_.height;
-  const size_t pixels = static_cast<size_t>(w) * h;
-  double loss = 0;
-  last_photometric_ = last_mask_ = 0;
-  DeviceImageGradients image_grads;
-  if (terms_.photometric_weight != 0) {
-    d_rgb_.Resize(3 * pixels);
-    last_photometric_ = photometric_.Evaluate(
-        images.rgb, image_, w, h, terms_.photometric_weight,
-        want_grad ? d_rgb_.data() : nullptr);
-    loss += terms_.photometric_weight * last_photometric_;
-    image_grads.d_rgb = d_rgb_.data();
-  }
-  if (mask_on()) {
-    d_extra_.Resize(pixels);
-    last_mask_ = mask_loss_.Evaluate(images.extra, 1, 0, mask_, w, h,
-                                     terms_.mask_weight,
-                                     want_grad ? d_extra_.data() : nullptr);
-    loss += terms_.mask_weight * last_mask_;
-    image_grads.d_extra = d_extra_.data();
-  }
+  const double loss = loss_.Score(images, want_grad);
   const double r = ScalarLossResidual(loss);
   residuals[0] = r;
   if (!want_grad) return true;
@@ -87,13 +51,13 @@ bool DeviceSplatRenderCost::Evaluate(double const* const* parameters,
     d_probability_.Resize(count_);
     grads.extra = d_probability_.data();
   }
-  rasterizer_->BackwardDevice(image_grads, grads);
+  rasterizer_->BackwardDevice(loss_.ImageGradients(), grads);
   const double inv_r = 1.0 / r;
   for (int b = 0; b < kDynamicBlock; ++b)
     ScaleArray(parameter_block_sizes()[b], inv_r, jacobians[b]);
   double* dynamic = jacobians[kDynamicBlock];
   if (mask_on()) {
-    DynamicLogitGradient(count_, d_probability_.data(), probability_.data(),
+    DynamicLogitGradient(count_, d_probability_.data(), loss_.probability(),
                          inv_r, dynamic);
   } else {
     DeviceZero(dynamic, sizeof(double) * count_);

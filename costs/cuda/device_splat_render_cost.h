@@ -20,8 +20,7 @@
 #include "core/model/camera.h"
 #include "core/base/cuda/device_buffer.h"
 #include "core/render/cuda/device_rasterizer.h"
-#include "costs/cuda/device_mask_bce_loss.h"
-#include "costs/cuda/device_photometric_loss.h"
+#include "costs/cuda/device_rendered_frame_loss.h"
 #include "costs/rendered_frame_loss.h"
 
 namespace es {
@@ -49,26 +48,19 @@ class DeviceSplatRenderCost : public ceres::CostFunction {
   bool Evaluate(double const* const* parameters, double* residuals,
                 double** jacobians) const override;
 
-  bool mask_on() const { return terms_.mask_weight != 0; }
+  bool mask_on() const { return loss_.mask_on(); }
   // The unweighted terms of the last Evaluate (0 for a disabled term).
-  double last_photometric() const { return last_photometric_; }
-  double last_mask() const { return last_mask_; }
+  double last_photometric() const { return loss_.last_photometric(); }
+  double last_mask() const { return loss_.last_mask(); }
 
  private:
-  ImageLossTerms terms_;
   Eigen::Vector3d background_;
   DeviceRasterizer* rasterizer_;
-  Camera camera_;
-  const float* image_ = nullptr;
-  const float* mask_ = nullptr;
   int count_ = 0;
   int sh_degree_ = 0;
   // Reused between evaluations.
-  mutable DevicePhotometricLoss photometric_;
-  mutable DeviceMaskBceLoss mask_loss_;
-  mutable DeviceBuffer<double> probability_, d_probability_;
-  mutable DeviceBuffer<float> d_rgb_, d_extra_;
-  mutable double last_photometric_ = 0, last_mask_ = 0;
+  mutable DeviceRenderedFrameLoss loss_;
+  mutable DeviceBuffer<double> d_probability_;
 };
 
 // EvaluateScalarLossGradient (costs/scalar_loss.h) for a cost with device
