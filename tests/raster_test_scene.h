@@ -22,6 +22,18 @@
 namespace es {
 namespace reference {
 
+// The background the rasterizer tests render on: neither black nor white,
+// so a wrong blend with it shows.
+inline const Eigen::Vector3d kTestBackground(0.3, 0.6, 0.1);
+
+// Render options on kTestBackground, in double or (the default) float.
+inline RenderOptions TestRenderOptions(bool use_double = false) {
+  RenderOptions o;
+  o.use_double = use_double;
+  o.background = kTestBackground;
+  return o;
+}
+
 // Splat attributes in the SplatView layouts, in scalar type T.
 template <typename T>
 struct Splats {

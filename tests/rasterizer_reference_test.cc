@@ -25,15 +25,6 @@ using reference::RandomScene;
 using reference::StackedScene;
 using reference::TestScene;
 
-const Eigen::Vector3d kBackground(0.3, 0.6, 0.1);
-
-RenderOptions Options(bool use_double) {
-  RenderOptions o;
-  o.use_double = use_double;
-  o.background = kBackground;
-  return o;
-}
-
 // Largest |a - b| over two arrays, and how many entries differ by more
 // than `tol`.
 int CountMismatches(const std::vector<double>& fast,
@@ -60,9 +51,10 @@ ForwardRenders RenderForward(unsigned seed, int degree, bool use_double) {
   ForwardRenders r;
   r.scene = seed == 2 ? StackedScene(seed, degree)
                       : RandomScene(seed + 10 * degree, 20, degree, 2);
-  Rasterizer().Forward(r.scene.camera, r.scene.View(), Options(use_double),
-                       &r.fast);
-  r.ref = reference::Render(r.scene.camera, r.scene.As<double>(), kBackground);
+  Rasterizer().Forward(r.scene.camera, r.scene.View(),
+                       reference::TestRenderOptions(use_double), &r.fast);
+  r.ref = reference::Render(r.scene.camera, r.scene.As<double>(),
+                            reference::kTestBackground);
   return r;
 }
 
@@ -146,7 +138,8 @@ SplatGradients ReferenceGradients(const TestScene& s, const Weights& w) {
     for (int e = 0; e < s.num_extra; ++e) {
       js.extra[s.num_extra * n + e].v[11 + sh_size + e] = 1;
     }
-    const auto img = reference::Render(s.camera, js, kBackground);
+    const auto img =
+        reference::Render(s.camera, js, reference::kTestBackground);
     Jet loss(0);
     for (size_t i = 0; i < w.rgb.size(); ++i) loss += w.rgb[i] * img.rgb[i];
     for (size_t i = 0; i < w.alpha.size(); ++i) {
@@ -207,7 +200,8 @@ TEST_P(ReferenceBackwardTest, MatchesReferenceJetGradients) {
     SCOPED_TRACE(use_double ? "double" : "float");
     Rasterizer r;
     RenderResult out;
-    r.Forward(s.camera, s.View(), Options(use_double), &out);
+    r.Forward(s.camera, s.View(), reference::TestRenderOptions(use_double),
+              &out);
     const SplatGradients g = BackwardWith(&r, w);
     // Float: per-pixel float rounding, and T recovered by division.
     const double tol = use_double ? 1e-9 : 2e-3;
@@ -256,7 +250,8 @@ int RowsMissingTheEllipse(const TestScene& s) {
 TEST(RowSkipTest, NeedlesAndTileCornersMatchReference) {
   const TestScene s = NeedleScene();
   EXPECT_GT(RowsMissingTheEllipse(s), 150);
-  const auto ref = reference::Render(s.camera, s.As<double>(), kBackground);
+  const auto ref =
+      reference::Render(s.camera, s.As<double>(), reference::kTestBackground);
   double peak = 0;
   for (double a : ref.alpha) peak = std::max(peak, a);
   EXPECT_GT(peak, 0.5);  // the needles render
@@ -268,7 +263,7 @@ TEST(RowSkipTest, NeedlesAndTileCornersMatchReference) {
     for (bool use_double : {true, false}) {
       SCOPED_TRACE(std::string(SimdLevelName(level)) +
                    (use_double ? " double" : " float"));
-      RenderOptions o = Options(use_double);
+      RenderOptions o = reference::TestRenderOptions(use_double);
       o.simd = level;
       Rasterizer r;
       RenderResult out;

@@ -37,14 +37,6 @@ using reference::RandomScene;
 using reference::StackedScene;
 using reference::TestScene;
 
-const Eigen::Vector3d kBackground(0.3, 0.6, 0.1);
-
-RenderOptions FloatOptions() {
-  RenderOptions o;
-  o.background = kBackground;
-  return o;
-}
-
 // Where `got` and `want` differ by more than tol times the largest |want|
 // (or tol itself when want is all zeros): how many entries, and the
 // largest difference so scaled. Float rounding, and a decision flipped
@@ -139,7 +131,7 @@ FrameOutput RenderWith(const Camera& camera, const SplatView& view,
                        const ImageWeights& w) {
   R r;
   FrameOutput out;
-  r.Forward(camera, view, FloatOptions(), &out.images);
+  r.Forward(camera, view, reference::TestRenderOptions(), &out.images);
   r.Backward(w.View(), &out.grads);
   out.visible = r.num_visible();
   r.Radii(&out.radii);
@@ -468,7 +460,7 @@ TEST(CudaBinTest, NoGaussiansAndNoVisibleOnes) {
   EXPECT_EQ(f.gpu.visible, 0);
   ExpectFramesMatch(f);
   for (int c = 0; c < 3; ++c)
-    EXPECT_FLOAT_EQ(f.gpu.images.rgb[c], kBackground[c]);
+    EXPECT_FLOAT_EQ(f.gpu.images.rgb[c], reference::kTestBackground[c]);
 }
 
 // ---------------------------------------------------------- whole frames
@@ -529,14 +521,15 @@ TEST(CudaFrameTest, DeviceInterfaceMatchesHostInterface) {
   DeviceRasterizer host;
   RenderResult host_images;
   SplatGradients host_grads;
-  host.Forward(s.camera, s.View(), FloatOptions(), &host_images);
+  host.Forward(s.camera, s.View(), reference::TestRenderOptions(),
+               &host_images);
   host.Backward(w.View(), &host_grads);
 
   const DeviceScene d(s);
   const DeviceSplatView view = d.splats.View();
   DeviceRasterizer device;
-  const DeviceImages& images = device.ForwardDevice(s.camera, view,
-                                                    kBackground);
+  const DeviceImages& images =
+      device.ForwardDevice(s.camera, view, reference::kTestBackground);
   ASSERT_EQ(images.width, s.camera.width);
   std::vector<float> rgb(3 * pixels);
   CopyToHost(rgb.data(), images.rgb, rgb.size() * sizeof(float));
