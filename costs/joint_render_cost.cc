@@ -240,20 +240,16 @@ void JointRenderCost::Backward(const LoopModelView& model,
 ceres::CostFunction* CreateJointPhotometricCost(
     const Frame* frame, int frame_index, const LoopStructure& structure,
     double ssim_weight, const RenderOptions& options) {
-  JointRenderTerms terms;
-  terms.photometric_weight = 1.0;
-  terms.ssim_weight = ssim_weight;
-  return new JointRenderCost(frame, frame_index, structure, terms, options);
+  return new JointRenderCost(frame, frame_index, structure,
+                             {PhotometricOnlyTerms(ssim_weight)}, options);
 }
 
 ceres::CostFunction* CreateJointMaskBceCost(const Frame* frame,
                                             int frame_index,
                                             const LoopStructure& structure,
                                             const RenderOptions& options) {
-  JointRenderTerms terms;
-  terms.photometric_weight = 0.0;
-  terms.mask_weight = 1.0;
-  return new JointRenderCost(frame, frame_index, structure, terms, options);
+  return new JointRenderCost(frame, frame_index, structure, {MaskOnlyTerms()},
+                             options);
 }
 
 }  // namespace es

@@ -9,6 +9,21 @@
 
 namespace es {
 
+ImageLossTerms PhotometricOnlyTerms(double ssim_weight) {
+  ImageLossTerms terms;
+  terms.photometric_weight = 1.0;
+  terms.ssim_weight = ssim_weight;
+  terms.mask_weight = 0.0;
+  return terms;
+}
+
+ImageLossTerms MaskOnlyTerms() {
+  ImageLossTerms terms;
+  terms.photometric_weight = 0.0;
+  terms.mask_weight = 1.0;
+  return terms;
+}
+
 RenderedFrameLoss::RenderedFrameLoss(const ImageLossTerms& terms,
                                      const RenderOptions& options)
     : terms_(terms),

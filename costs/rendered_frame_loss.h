@@ -20,6 +20,11 @@ struct ImageLossTerms {
   size_t ssim_cache_bytes = kDefaultSsimCacheBytes;
 };
 
+// The single-term recipes (the Create*Cost factories'): one term at
+// weight 1, the other off.
+ImageLossTerms PhotometricOnlyTerms(double ssim_weight);
+ImageLossTerms MaskOnlyTerms();
+
 // The image-space half that SplatRenderCost and JointRenderCost share:
 //   l = w_p * photometric(rgb, image) + w_m * BCE(dynamic channel, mask).
 // The dynamic channel renders sigmoid(dynamic_logit) composited like a

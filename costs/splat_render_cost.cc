@@ -74,20 +74,15 @@ bool SplatRenderCost::Evaluate(double const* const* parameters,
 ceres::CostFunction* CreatePhotometricCost(const Frame* frame, int count,
                                            int sh_degree, double ssim_weight,
                                            const RenderOptions& options) {
-  ImageLossTerms terms;
-  terms.photometric_weight = 1.0;
-  terms.ssim_weight = ssim_weight;
-  terms.mask_weight = 0.0;
-  return new SplatRenderCost(frame, count, sh_degree, terms, options);
+  return new SplatRenderCost(frame, count, sh_degree,
+                             PhotometricOnlyTerms(ssim_weight), options);
 }
 
 ceres::CostFunction* CreateMaskBceCost(const Frame* frame, int count,
                                        int sh_degree,
                                        const RenderOptions& options) {
-  ImageLossTerms terms;
-  terms.photometric_weight = 0.0;
-  terms.mask_weight = 1.0;
-  return new SplatRenderCost(frame, count, sh_degree, terms, options);
+  return new SplatRenderCost(frame, count, sh_degree, MaskOnlyTerms(),
+                             options);
 }
 
 }  // namespace es
