@@ -2,13 +2,10 @@
 #define EULERSPLAT_CORE_FIELDS_RESIDUAL_FIELD_H_
 
 #include <cstdint>
-#include <vector>
 
 #include <Eigen/Core>
 
-#include "core/fields/mlp.h"
-#include "core/fields/motion_field.h"
-#include "core/fields/triplane.h"
+#include "core/fields/triplane_mlp_field.h"
 
 namespace es {
 
@@ -41,38 +38,24 @@ struct ResidualFieldOptions {
 // The non-periodic residual field D(x0, t, p) -> R^52 from the canonical
 // position x0, cycle index t and cycle number p. MLP input: triplane(x0),
 // then the encoding of t, then that of p.
-class ResidualField {
+class ResidualField : public TriplaneMlpField<kResidualDim> {
  public:
   explicit ResidualField(const ResidualFieldOptions& options);
 
   void SetBox(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi);
-  void Initialize(uint32_t seed);
 
   const ResidualFieldOptions& options() const { return options_; }
-  const Triplane& triplane() const { return triplane_; }
-  const Mlp& mlp() const { return mlp_; }
   int encoding_dim() const;
 
-  std::vector<double>& triplane_params() { return triplane_params_; }
-  std::vector<double>& mlp_params() { return mlp_params_; }
-  FieldParams params() const;
-
-  // out (n x kResidualDim) = D(x0 (n x 3), t (n), p (n)).
+  // out (n x kResidualDim) = D(x0 (n x 3), t (n), p (n)), keeping state in
+  // *ws for Backward (inherited: given d_out (n x kResidualDim), accumulates
+  // parameter gradients and dL/dx0).
   void Evaluate(const FieldParams& params, int n, const double* x0,
                 const int* t, const int* p, double* out,
-                FieldWorkspace* ws) const;
-  // Backward of the last Evaluate on *ws: given d_out (n x kResidualDim),
-  // accumulates parameter gradients and dL/dx0 (n x 3, nullable).
-  void Backward(const FieldParams& params, const double* d_out,
-                const FieldGradients& grads, double* d_x0,
                 FieldWorkspace* ws) const;
 
  private:
   ResidualFieldOptions options_;
-  Triplane triplane_;
-  Mlp mlp_;
-  Eigen::Matrix<double, kResidualDim, 1> output_scale_;
-  std::vector<double> triplane_params_, mlp_params_;
 };
 
 }  // namespace es

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "core/fields/cuda/device_mlp.h"
-#include "core/fields/motion_field.h"
+#include "core/fields/triplane_mlp_field.h"
 #include "core/base/cuda/device_buffer.h"
 
 namespace es {
