@@ -38,7 +38,9 @@ GaussianSet Gaussians(int n) {
 
 // Static 0, water 1 (large: split) and 2 (small: cloned).
 TEST(WaterDensifyTest, SplitsLargeClonesSmallAndKeepsTheLoopBookkeeping) {
-  GaussianSet g = Gaussians(3);
+  LoopModel model;
+  model.gaussians = Gaussians(3);
+  GaussianSet& g = model.gaussians;
   g.dynamic_logits[0] = -3;
   for (int a = 0; a < 3; ++a) {
     g.log_scales[3 * 1 + a] = std::log(0.2);
@@ -47,15 +49,16 @@ TEST(WaterDensifyTest, SplitsLargeClonesSmallAndKeepsTheLoopBookkeeping) {
   }
   GaussianAdam adam;
   adam.Reset(g);
-  std::vector<int> dynamic = {1, 2}, starts = {3, 7};
+  model.dynamic_index = {1, 2};
+  model.start_times = {3, 7};
   std::mt19937_64 rng(1);
-  const WaterDensifyResult r = DensifyWater({1, 2}, {0.05, 0.05}, 0, &rng,
-                                            &g, &adam, &dynamic, &starts);
+  const WaterDensifyResult r =
+      DensifyWater({1, 2}, {0.05, 0.05}, 0, &rng, &model, &adam);
   EXPECT_EQ(r.split, 1);
   EXPECT_EQ(r.cloned, 1);
   ASSERT_EQ(g.size(), 5);  // 0, old 2, two children of 1, clone of 2
-  EXPECT_EQ(dynamic, (std::vector<int>{1, 2, 3, 4}));
-  EXPECT_EQ(starts, (std::vector<int>{7, 3, 3, 7}));
+  EXPECT_EQ(model.dynamic_index, (std::vector<int>{1, 2, 3, 4}));
+  EXPECT_EQ(model.start_times, (std::vector<int>{7, 3, 3, 7}));
   EXPECT_EQ(g.opacity_logits, (std::vector<double>{0.5, 2.5, 1.5, 1.5, 2.5}));
   EXPECT_EQ(g.dynamic_logits[0], -3);
   for (int a = 0; a < 3; ++a) {
@@ -75,14 +78,18 @@ TEST(WaterDensifyTest, SplitsLargeClonesSmallAndKeepsTheLoopBookkeeping) {
 // one phase (the loop's seam when that phase is 0).
 TEST(WaterDensifyTest, ChildrenDrawTheirOwnStartTimes) {
   const int n = 3000, length = 15;
-  GaussianSet g = Gaussians(n);
-  std::vector<int> dynamic(n), starts(n, 0), picked(n);
-  for (int i = 0; i < n; ++i) dynamic[i] = picked[i] = i;
+  LoopModel model;
+  model.gaussians = Gaussians(n);
+  model.dynamic_index.resize(n);
+  model.start_times.assign(n, 0);
+  std::vector<int> picked(n);
+  for (int i = 0; i < n; ++i) model.dynamic_index[i] = picked[i] = i;
   GaussianAdam adam;
-  adam.Reset(g);
+  adam.Reset(model.gaussians);
   std::mt19937_64 rng(3);
-  DensifyWater(picked, std::vector<double>(n, 1e9), length, &rng, &g, &adam,
-               &dynamic, &starts);
+  DensifyWater(picked, std::vector<double>(n, 1e9), length, &rng, &model,
+               &adam);
+  const std::vector<int>& starts = model.start_times;
   ASSERT_EQ(starts.size(), 2u * n);  // every parent cloned
   std::vector<int> count(length, 0);
   for (int k = 0; k < n; ++k) EXPECT_EQ(starts[k], 0);  // parents keep theirs
@@ -98,11 +105,15 @@ TEST(WaterDensifyTest, ChildrenDrawTheirOwnStartTimes) {
 // Split children are drawn from the parent's own normal distribution.
 TEST(WaterDensifyTest, ChildrenFillTheParentsVolume) {
   const int n = 4000;
-  GaussianSet g = Gaussians(n);
+  LoopModel model;
+  model.gaussians = Gaussians(n);
+  GaussianSet& g = model.gaussians;
   const Eigen::Vector3d scale(0.3, 0.1, 0.05);
   const Eigen::Quaterniond q(
       Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()));
-  std::vector<int> dynamic(n), starts(n, 0), picked(n);
+  model.dynamic_index.resize(n);
+  model.start_times.assign(n, 0);
+  std::vector<int> picked(n);
   for (int i = 0; i < n; ++i) {
     for (int a = 0; a < 3; ++a) {
       g.means[3 * i + a] = 1.0 + a;
@@ -112,13 +123,12 @@ TEST(WaterDensifyTest, ChildrenFillTheParentsVolume) {
     g.quats[4 * i + 1] = q.x();
     g.quats[4 * i + 2] = q.y();
     g.quats[4 * i + 3] = q.z();
-    dynamic[i] = picked[i] = i;
+    model.dynamic_index[i] = picked[i] = i;
   }
   GaussianAdam adam;
   adam.Reset(g);
   std::mt19937_64 rng(2);
-  DensifyWater(picked, std::vector<double>(n, 0.01), 0, &rng, &g, &adam,
-               &dynamic, &starts);
+  DensifyWater(picked, std::vector<double>(n, 0.01), 0, &rng, &model, &adam);
   ASSERT_EQ(g.size(), 2 * n);
   Eigen::Vector3d mean = Eigen::Vector3d::Zero();
   for (int i = 0; i < g.size(); ++i) mean += Eigen::Vector3d(&g.means[3 * i]);

@@ -288,9 +288,8 @@ WaterDensifyResult DensifyRankedWater(const JointTrainerOptions& o,
   std::mt19937_64 rng(seq);
   const int child_cycle_length =
       o.random_start && d.fresh_start_times ? o.cycle_length : 0;
-  return DensifyWater(picked, split_scale, child_cycle_length, &rng,
-                      &model->gaussians, adam,
-                      &model->dynamic_index, &model->start_times);
+  return DensifyWater(picked, split_scale, child_cycle_length, &rng, model,
+                      adam);
 }
 
 JointCheckpoint PackJointCheckpoint(

@@ -39,11 +39,11 @@ std::vector<int> PickWaterToDensify(const std::vector<int>& dynamic_index,
 
 WaterDensifyResult DensifyWater(const std::vector<int>& picked,
                                 const std::vector<double>& split_scale,
-                                int child_cycle_length,
-                                std::mt19937_64* rng, GaussianSet* g,
-                                GaussianAdam* adam,
-                                std::vector<int>* dynamic_index,
-                                std::vector<int>* start_times) {
+                                int child_cycle_length, std::mt19937_64* rng,
+                                LoopModel* model, GaussianAdam* adam) {
+  GaussianSet* g = &model->gaussians;
+  std::vector<int>* dynamic_index = &model->dynamic_index;
+  std::vector<int>* start_times = &model->start_times;
   CHECK_EQ(picked.size(), split_scale.size());
   CHECK_EQ(dynamic_index->size(), start_times->size());
   CHECK_GE(child_cycle_length, 0);

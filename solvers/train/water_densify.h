@@ -5,6 +5,7 @@
 #include <random>
 #include <vector>
 
+#include "core/loop/loop_model.h"
 #include "core/model/gaussians.h"
 #include "solvers/optim/adam.h"
 
@@ -46,21 +47,18 @@ struct WaterDensifyResult {
   int cloned = 0;
 };
 
-// Densifies the picked Gaussians: one whose largest scale exceeds
-// split_scale[k] is replaced by two children drawn from its own normal
-// distribution with scales divided by 1.6; a smaller one stays and gains a
-// clone drawn the same way at its size. Children are appended (water,
-// with a start time drawn uniformly in [0, child_cycle_length) from rng,
-// or the parent's where child_cycle_length is 0); dynamic_index stays
-// sorted and is remapped with start_times; Adam moments follow, new ones
-// at zero.
+// Densifies the picked Gaussians of `model`: one whose largest scale
+// exceeds split_scale[k] is replaced by two children drawn from its own
+// normal distribution with scales divided by 1.6; a smaller one stays and
+// gains a clone drawn the same way at its size. Children are appended
+// (water, with a start time drawn uniformly in [0, child_cycle_length)
+// from rng, or the parent's where child_cycle_length is 0); the model's
+// dynamic_index stays sorted and is remapped with its start_times; Adam
+// moments follow, new ones at zero. The fields are left alone.
 WaterDensifyResult DensifyWater(const std::vector<int>& picked,
                                 const std::vector<double>& split_scale,
-                                int child_cycle_length,
-                                std::mt19937_64* rng, GaussianSet* g,
-                                GaussianAdam* adam,
-                                std::vector<int>* dynamic_index,
-                                std::vector<int>* start_times);
+                                int child_cycle_length, std::mt19937_64* rng,
+                                LoopModel* model, GaussianAdam* adam);
 
 }  // namespace es
 
