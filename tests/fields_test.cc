@@ -19,21 +19,14 @@ namespace {
 using central_differences::ExpectGradientsNear;
 using central_differences::Uniform;
 
-const Eigen::Vector3d kBoxMin(-2.0, -1.0, 0.0);
-const Eigen::Vector3d kBoxMax(2.0, 1.0, 3.0);
+const Eigen::Vector3d kBoxMin = kFieldTestBoxMin;
+const Eigen::Vector3d kBoxMax = kFieldTestBoxMax;
 
 class MotionFieldGradientTest
     : public ::testing::TestWithParam<PlaneCombination> {};
 
 TEST_P(MotionFieldGradientTest, MatchesCentralDifferences) {
-  MotionFieldOptions options;
-  options.triplane = SmallPlanes(GetParam());
-  options.mlp_width = 16;
-  options.last_layer_init_scale = 1.0;
-  options.velocity_scale = 0.1;
-  MotionField field(options);
-  field.SetBox(kBoxMin, kBoxMax);
-  field.Initialize(21);
+  MotionField field = TestMotionField(SmallPlanes(GetParam()), 16, 21);
   const int n = 10;
   std::vector<double> x = Uniform(3 * n, -1.5, 2.5, 22);
   const std::vector<double> weights = Uniform(3 * n, -1.0, 1.0, 23);

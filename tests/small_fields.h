@@ -1,6 +1,10 @@
 #ifndef EULERSPLAT_TESTS_SMALL_FIELDS_H_
 #define EULERSPLAT_TESTS_SMALL_FIELDS_H_
 
+#include <cstdint>
+
+#include <Eigen/Core>
+
 #include "core/fields/motion_field.h"
 #include "core/fields/residual_field.h"
 #include "core/fields/triplane.h"
@@ -38,6 +42,26 @@ FieldOptions SmallFieldOptions(double last_layer_init_scale) {
   SetFieldSize(8, 4, 16, &o);
   o.last_layer_init_scale = last_layer_init_scale;
   return o;
+}
+
+// The field tests' box: not a cube, not at the origin.
+inline const Eigen::Vector3d kFieldTestBoxMin(-2.0, -1.0, 0.0);
+inline const Eigen::Vector3d kFieldTestBoxMax(2.0, 1.0, 3.0);
+
+// A motion field on `planes` with an MLP `width` wide whose outputs are far
+// from zero (velocity scale 0.1), over the field tests' box, drawn from
+// `seed`: the subject of the gradient and CPU-vs-device tests.
+inline MotionField TestMotionField(const TriplaneOptions& planes, int width,
+                                   uint32_t seed) {
+  MotionFieldOptions options;
+  options.triplane = planes;
+  options.mlp_width = width;
+  options.last_layer_init_scale = 1.0;
+  options.velocity_scale = 0.1;
+  MotionField field(options);
+  field.SetBox(kFieldTestBoxMin, kFieldTestBoxMax);
+  field.Initialize(seed);
+  return field;
 }
 
 inline MotionFieldOptions SmallMotionFieldOptions(double velocity_scale) {

@@ -34,8 +34,8 @@ using central_differences::Uniform;
 
 constexpr double kTolerance = 1e-10;
 constexpr double kInf = std::numeric_limits<double>::infinity();
-const Eigen::Vector3d kBoxMin(-2.0, -1.0, 0.0);
-const Eigen::Vector3d kBoxMax(2.0, 1.0, 3.0);
+const Eigen::Vector3d kBoxMin = kFieldTestBoxMin;
+const Eigen::Vector3d kBoxMax = kFieldTestBoxMax;
 
 // n points spread over twice the box, so some lie outside it, with the
 // hard cases in the first rows: NaN, +-Inf, far away, on the upper corner.
@@ -161,14 +161,7 @@ class DeviceMotionFieldTest
 
 TEST_P(DeviceMotionFieldTest, EvaluateAndBackwardMatchCpuTwin) {
   ES_REQUIRE_GPU("CUDA motion field");
-  MotionFieldOptions options;
-  options.triplane = SmallPlanes(GetParam(), 5);
-  options.mlp_width = 24;
-  options.last_layer_init_scale = 1.0;
-  options.velocity_scale = 0.1;
-  MotionField cpu(options);
-  cpu.SetBox(kBoxMin, kBoxMax);
-  cpu.Initialize(13);
+  MotionField cpu = TestMotionField(SmallPlanes(GetParam(), 5), 24, 13);
   const int n = 64;
   const std::vector<double> x = HardPoints(n, 14);
   const std::vector<double> d_v = Uniform(3 * n, -1.0, 1.0, 15);
