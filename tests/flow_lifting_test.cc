@@ -101,6 +101,19 @@ cv::Mat Ones(const Camera& c) {
   return cv::Mat(c.height, c.width, CV_32FC1, cv::Scalar(1));
 }
 
+// What LiftFlow makes of one pair: its samples and its counts.
+struct Lifted {
+  std::vector<SceneFlowSample> samples;
+  LiftingStats stats;
+};
+
+Lifted Lift(const LiftingView& first, const LiftingView& second,
+            const FlowPair& flow, const LiftingOptions& options) {
+  Lifted out;
+  LiftFlow(first, second, flow, options, &out.samples, &out.stats);
+  return out;
+}
+
 TEST(FlowLiftingTest, ExactFlowRecoversPlaneTranslation) {
   const TwoViews v = MakeTwoViews(64, 48, 60);
   const Plane moved = v.plane.Moved(v.motion);
@@ -112,9 +125,7 @@ TEST(FlowLiftingTest, ExactFlowRecoversPlaneTranslation) {
   LiftingOptions options;
   options.stride = 1;
   options.second_end = SecondEnd::kRenderedDepth;
-  std::vector<SceneFlowSample> samples;
-  LiftingStats stats;
-  LiftFlow(first, second, flow, options, &samples, &stats);
+  const auto [samples, stats] = Lift(first, second, flow, options);
 
   EXPECT_EQ(stats.candidates, 64 * 48);
   EXPECT_EQ(stats.inconsistent + stats.depth_edge + stats.no_depth +
@@ -145,9 +156,7 @@ TEST(FlowLiftingTest, FrameGapDividesTheDisplacement) {
   options.stride = 2;
   options.second_end = SecondEnd::kRenderedDepth;
   options.frame_gap = 3;
-  std::vector<SceneFlowSample> samples;
-  LiftingStats stats;
-  LiftFlow(first, second, flow, options, &samples, &stats);
+  const auto [samples, stats] = Lift(first, second, flow, options);
   ASSERT_GT(stats.accepted, stats.candidates / 2);
   for (const SceneFlowSample& s : samples)
     EXPECT_LT((s.v - v.motion).norm(), 1e-3 * v.motion.norm());
@@ -166,9 +175,7 @@ TEST(FlowLiftingTest, EstimatedFlowRecoversPlaneTranslation) {
   const LiftingView second{&v.b, PlaneDepth(v.b, moved), Ones(v.b)};
   LiftingOptions options;
   options.second_end = SecondEnd::kRenderedDepth;
-  std::vector<SceneFlowSample> samples;
-  LiftingStats stats;
-  LiftFlow(first, second, flow, options, &samples, &stats);
+  const auto [samples, stats] = Lift(first, second, flow, options);
 
   ASSERT_GT(stats.accepted, stats.candidates / 2);
   Eigen::Vector3d mean = Eigen::Vector3d::Zero();
@@ -212,9 +219,7 @@ TEST(FlowLiftingTest, FacingPlaneRecoversMotionAcrossTheLineOfSight) {
   options.stride = 1;
   options.max_fb_error_px = 1e9;
   ASSERT_EQ(options.second_end, SecondEnd::kFacingPlane);  // the default
-  std::vector<SceneFlowSample> samples;
-  LiftingStats stats;
-  LiftFlow(first, second, flow, options, &samples, &stats);
+  auto [samples, stats] = Lift(first, second, flow, options);
 
   EXPECT_EQ(stats.no_depth + stats.depth_edge, 0);
   EXPECT_GT(stats.accepted, 64 * 48 * 3 / 4);
@@ -227,15 +232,13 @@ TEST(FlowLiftingTest, FacingPlaneRecoversMotionAcrossTheLineOfSight) {
   }
   // A partial weight on it: the same line, shortened to sqrt(1 - weight).
   options.line_of_sight_weight = 0.36;
-  samples.clear();
-  LiftFlow(first, second, flow, options, &samples, nullptr);
+  samples = Lift(first, second, flow, options).samples;
   ASSERT_FALSE(samples.empty());
   for (const SceneFlowSample& s : samples) {
     EXPECT_LT((s.unseen - 0.8 * (s.x - center).normalized()).norm(), 1e-12);
   }
   options.line_of_sight_weight = 1.0;  // --free_line_of_sight=false
-  samples.clear();
-  LiftFlow(first, second, flow, options, &samples, nullptr);
+  samples = Lift(first, second, flow, options).samples;
   ASSERT_FALSE(samples.empty());
   for (const SceneFlowSample& s : samples) EXPECT_TRUE(s.unseen.isZero());
 }
@@ -262,10 +265,8 @@ TEST(FlowLiftingTest, RejectsDepthDiscontinuities) {
   const LiftingView view{&scene.camera, scene.depth, Ones(scene.camera)};
   LiftingOptions options;
   options.stride = 1;
-  std::vector<SceneFlowSample> samples;
-  LiftingStats stats;
-  LiftFlow(view, view, ConstantFlow(scene.depth.size(), 0, 0), options,
-           &samples, &stats);
+  const auto [samples, stats] =
+      Lift(view, view, ConstantFlow(scene.depth.size(), 0, 0), options);
   // Every pixel whose 3x3 neighbourhood touches the blended ring is dropped:
   // the 14x10 block around the 12x8 ring, less the 8x4 pixels inside that
   // see only the square.
@@ -289,9 +290,7 @@ TEST(FlowLiftingTest, RejectsInconsistentFlowAtOcclusions) {
   LiftingOptions options;
   options.stride = 1;
   options.second_end = SecondEnd::kRenderedDepth;  // x' on the wall too
-  std::vector<SceneFlowSample> samples;
-  LiftingStats stats;
-  LiftFlow(view, view, flow, options, &samples, &stats);
+  const auto [samples, stats] = Lift(view, view, flow, options);
   // Integer targets x + 2 read one column of the backward flow: columns
   // 12..15 land on the occluder.
   EXPECT_EQ(stats.inconsistent, 4 * 24);
@@ -313,10 +312,8 @@ TEST(FlowLiftingTest, RejectsFlowLeavingTheWater) {
   const LiftingView second{&camera, depth, water_b};
   LiftingOptions options;
   options.stride = 2;
-  std::vector<SceneFlowSample> samples;
-  LiftingStats stats;
-  LiftFlow(first, second, ConstantFlow(depth.size(), 1, 0), options, &samples,
-           &stats);
+  const auto [samples, stats] =
+      Lift(first, second, ConstantFlow(depth.size(), 1, 0), options);
   // Stride 2: columns 4, 6, ..., 30 (14) on rows 0, 2, ..., 22 (12).
   EXPECT_EQ(stats.candidates, 14 * 12);
   // Columns 20..30 land on 21..31 (6 columns), none outside (x + 1 <= 31).
@@ -331,19 +328,21 @@ TEST(FlowLiftingTest, PixelsWithoutSurfaceAreNotLifted) {
   const LiftingView view{&camera, depth, Ones(camera)};
   LiftingOptions options;
   options.stride = 1;
-  std::vector<SceneFlowSample> samples;
-  LiftingStats stats;
-  LiftFlow(view, view, ConstantFlow(depth.size(), 0, 0), options, &samples,
-           &stats);
+  const auto [samples, stats] =
+      Lift(view, view, ConstantFlow(depth.size(), 0, 0), options);
   EXPECT_EQ(stats.no_depth, 6 * 16);
   EXPECT_EQ(stats.depth_edge, 16);  // row 6 touches the empty row 5
   EXPECT_EQ(stats.accepted, 5 * 16);
 }
 
-TEST(FlowLiftingTest, ParsesSecondEnd) {
+// The lifting's two flag choices (--second_end, --flow_image).
+TEST(FlowLiftingTest, ParsesItsChoices) {
   EXPECT_EQ(ParseSecondEnd("plane"), SecondEnd::kFacingPlane);
   EXPECT_EQ(ParseSecondEnd("depth"), SecondEnd::kRenderedDepth);
   EXPECT_THROW(ParseSecondEnd("ray"), InputError);
+  EXPECT_EQ(ParseFlowImage("frame"), FlowImage::kFrame);
+  EXPECT_EQ(ParseFlowImage("fluctuation"), FlowImage::kFluctuation);
+  EXPECT_THROW(ParseFlowImage("residual"), InputError);
 }
 
 TEST(FlowLiftingTest, FluctuationOfTheRenderedImageIsGray) {
@@ -397,12 +396,6 @@ TEST(FlowLiftingTest, FluctuationFlowFollowsWaterOverStillScenery) {
       truth, valid);
   EXPECT_LT(on_fluctuation, 0.2);
   EXPECT_GT(on_frames, 2 * on_fluctuation);
-}
-
-TEST(FlowLiftingTest, ParsesFlowImage) {
-  EXPECT_EQ(ParseFlowImage("frame"), FlowImage::kFrame);
-  EXPECT_EQ(ParseFlowImage("fluctuation"), FlowImage::kFluctuation);
-  EXPECT_THROW(ParseFlowImage("residual"), InputError);
 }
 
 TEST(FlowLiftingTest, DepthMapDividesByAlphaAndMasksEmptyPixels) {
