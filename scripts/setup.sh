@@ -11,8 +11,8 @@ cd "$(dirname "$0")/.."
 
 PACKAGES=(cmake g++ make pkg-config libceres-dev libeigen3-dev libopencv-dev
           libopencv-contrib-dev libgoogle-glog-dev libgflags-dev libgtest-dev
-          libgmock-dev libbenchmark-dev nlohmann-json3-dev colmap ffmpeg chromium
-          libopenmpi-dev openmpi-bin)
+          libgmock-dev libbenchmark-dev nlohmann-json3-dev colmap ffmpeg
+          chromium libopenmpi-dev openmpi-bin)
 # node and npm run the web page's viewer install and the tests that drive a
 # browser or check our files with other splat tools; a node from elsewhere
 # (with its own npm) is used as it is.

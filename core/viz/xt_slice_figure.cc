@@ -80,7 +80,8 @@ cv::Mat XtSliceFigure(const cv::Mat& frame, const cv::Mat& slice, int row,
     if (t > slice.rows) break;
     const int y = slice_top + static_cast<int>(t * sy);
     cv::line(figure, {left - 6, y}, {left - 1, y}, kInk, 1);
-    Text(&figure, ShortNumber(t), {left - 10 - TextWidth(ShortNumber(t)), y + 5});
+    const std::string tick = ShortNumber(t);
+    Text(&figure, tick, {left - 10 - TextWidth(tick), y + 5});
   }
   if (cycle_length > 0) {
     for (int t = cycle_length; t < slice.rows; t += cycle_length) {
@@ -105,7 +106,8 @@ cv::Mat XtSliceFigure(const cv::Mat& frame, const cv::Mat& slice, int row,
     if (x > slice.cols) break;
     const int px = left + static_cast<int>(x * sx);
     cv::line(figure, {px, axis_y}, {px, axis_y + 5}, kInk, 1);
-    Text(&figure, ShortNumber(x), {px - TextWidth(ShortNumber(x)) / 2, axis_y + 20});
+    const std::string tick = ShortNumber(x);
+    Text(&figure, tick, {px - TextWidth(tick) / 2, axis_y + 20});
   }
   std::string x_label = "x (pixel column)";
   if (cycle_length > 0) {

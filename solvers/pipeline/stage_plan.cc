@@ -59,7 +59,8 @@ StagePlan::StagePlan(const PipelineOptions& options)
 }
 
 void StagePlan::SetScene(const fs::path& scene, double image_scale) {
-  common_ = {"--scene", scene.string(), "--image_scale", ShortNumber(image_scale)};
+  common_ = {"--scene", scene.string(), "--image_scale",
+             ShortNumber(image_scale)};
 }
 
 std::vector<std::string> StagePlan::Args(const std::vector<std::string>& extra,
