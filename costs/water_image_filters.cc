@@ -6,94 +6,27 @@
 #include <glog/logging.h>
 
 #include "costs/water_energy_terms.h"
+#include "costs/water_filter_kernels.h"
 
 namespace es {
+
+const WaterFilterKernelSet& WaterFilterKernels(SimdLevel level) {
+  return ForSimdLevel(level, &water_filter_sse2::Kernels,
+                      &water_filter_avx2::Kernels,
+                      &water_filter_avx512::Kernels)();
+}
+
 namespace internal {
 namespace {
 
-// The blurs below clamp the borders: out[i] = sum_j k[j] in[clamp(i + j -
-// r)]. Rows are padded with their clamped ends, and columns are blurred a
-// whole row at a time, so every inner loop runs over contiguous memory
-// with a fixed kernel tap and vectorizes.
-
-// Along x: each row through a padded copy of itself.
-void BlurRows(const double* in, int w, int h, const std::vector<double>& k,
-              std::vector<double>* line, double* out) {
-  const int r = static_cast<int>(k.size()) / 2;
-  line->resize(w + 2 * r);
-  double* pad = line->data();
-  for (int y = 0; y < h; ++y) {
-    const double* src = in + static_cast<size_t>(y) * w;
-    double* dst = out + static_cast<size_t>(y) * w;
-    for (int m = 0; m < r; ++m) {
-      pad[m] = src[0];
-      pad[w + r + m] = src[w - 1];
-    }
-    std::copy(src, src + w, pad + r);
-    std::fill(dst, dst + w, 0.0);
-    for (int j = 0; j <= 2 * r; ++j) {
-      const double kj = k[j];
-      const double* shifted = pad + j;
-      for (int x = 0; x < w; ++x) dst[x] += kj * shifted[x];
-    }
-  }
-}
-
-// The adjoint of BlurRows: each row's gradient spread into a padded line,
-// whose ends fold back onto the clamped border pixels.
-void BlurRowsAdjoint(const double* g_out, int w, int h,
-                     const std::vector<double>& k, std::vector<double>* line,
-                     double* g_in) {
-  const int r = static_cast<int>(k.size()) / 2;
-  line->resize(w + 2 * r);
-  double* pad = line->data();
-  for (int y = 0; y < h; ++y) {
-    const double* src = g_out + static_cast<size_t>(y) * w;
-    double* dst = g_in + static_cast<size_t>(y) * w;
-    std::fill(pad, pad + w + 2 * r, 0.0);
-    for (int j = 0; j <= 2 * r; ++j) {
-      const double kj = k[j];
-      double* shifted = pad + j;
-      for (int x = 0; x < w; ++x) shifted[x] += kj * src[x];
-    }
-    std::copy(pad + r, pad + r + w, dst);
-    for (int m = 0; m < r; ++m) {
-      dst[0] += pad[m];
-      dst[w - 1] += pad[w + r + m];
-    }
-  }
-}
-
-// Along y: output row y gathers whole input rows clamp(y + j - r).
-void BlurColumns(const double* in, int w, int h, const std::vector<double>& k,
-                 double* out) {
-  const int r = static_cast<int>(k.size()) / 2;
-  for (int y = 0; y < h; ++y) {
-    double* dst = out + static_cast<size_t>(y) * w;
-    std::fill(dst, dst + w, 0.0);
-    for (int j = 0; j <= 2 * r; ++j) {
-      const double kj = k[j];
-      const double* src =
-          in + static_cast<size_t>(std::clamp(y + j - r, 0, h - 1)) * w;
-      for (int x = 0; x < w; ++x) dst[x] += kj * src[x];
-    }
-  }
-}
-
-// The adjoint of BlurColumns: input row y scatters into the rows it fed.
-void BlurColumnsAdjoint(const double* g_out, int w, int h,
-                        const std::vector<double>& k, double* g_in) {
-  const int r = static_cast<int>(k.size()) / 2;
-  std::fill(g_in, g_in + static_cast<size_t>(w) * h, 0.0);
-  for (int y = 0; y < h; ++y) {
-    const double* src = g_out + static_cast<size_t>(y) * w;
-    for (int j = 0; j <= 2 * r; ++j) {
-      const double kj = k[j];
-      double* dst =
-          g_in + static_cast<size_t>(std::clamp(y + j - r, 0, h - 1)) * w;
-      for (int x = 0; x < w; ++x) dst[x] += kj * src[x];
-    }
-  }
+// The scratch of a pass with kernel k over rows of w values.
+WaterFilterScratch ScratchFor(const std::vector<double>& k, int w,
+                              BlurScratch* tmp) {
+  const size_t terms = k.size() * k.size();
+  tmp->sources.resize(terms);
+  tmp->coefficients.resize(terms);
+  tmp->line.resize(w + k.size() - 1);
+  return {tmp->sources.data(), tmp->coefficients.data(), tmp->line.data()};
 }
 
 }  // namespace
@@ -104,8 +37,12 @@ void Blur(const std::vector<double>& in, int w, int h,
           std::vector<double>* out) {
   tmp->image.resize(in.size());
   out->resize(in.size());
-  BlurRows(in.data(), w, h, k, &tmp->line, tmp->image.data());
-  BlurColumns(tmp->image.data(), w, h, k, out->data());
+  const WaterFilterScratch scratch = ScratchFor(k, w, tmp);
+  const WaterFilterKernelSet& kernels = WaterFilterKernels();
+  const int r = static_cast<int>(k.size()) / 2;
+  kernels.blur_rows(in.data(), w, h, k.data(), r, scratch, tmp->image.data());
+  kernels.blur_columns(tmp->image.data(), w, h, k.data(), r, scratch,
+                       out->data());
 }
 
 void BlurAdjoint(const std::vector<double>& g_out, int w, int h,
@@ -113,8 +50,13 @@ void BlurAdjoint(const std::vector<double>& g_out, int w, int h,
                  std::vector<double>* g_in) {
   tmp->image.resize(g_out.size());
   g_in->resize(g_out.size());
-  BlurColumnsAdjoint(g_out.data(), w, h, k, tmp->image.data());
-  BlurRowsAdjoint(tmp->image.data(), w, h, k, &tmp->line, g_in->data());
+  const WaterFilterScratch scratch = ScratchFor(k, w, tmp);
+  const WaterFilterKernelSet& kernels = WaterFilterKernels();
+  const int r = static_cast<int>(k.size()) / 2;
+  kernels.blur_columns_adjoint(g_out.data(), w, h, k.data(), r, scratch,
+                               tmp->image.data());
+  kernels.blur_rows_adjoint(tmp->image.data(), w, h, k.data(), r, scratch,
+                            g_in->data());
 }
 
 void ChannelOf(const double* rgb, size_t pixels, int c,

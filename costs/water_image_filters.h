@@ -17,10 +17,11 @@ namespace internal {
 
 constexpr int kWaterChannels = 3;  // RGB, and the opponent channels
 
-// Scratch of a 2D blur: the image between its two passes, and one padded
-// row.
+// Scratch of a 2D blur: the image between its two passes, one padded
+// row, and the row pointers and taps of a pass.
 struct BlurScratch {
-  std::vector<double> image, line;
+  std::vector<double> image, line, coefficients;
+  std::vector<const double*> sources;
 };
 
 // out = k * in along x, then along y (clamped borders), and its adjoint:

@@ -1,0 +1,58 @@
+#ifndef EULERSPLAT_COSTS_WATER_FILTER_KERNELS_H_
+#define EULERSPLAT_COSTS_WATER_FILTER_KERNELS_H_
+
+// The separable blurs of the water losses (costs/water_image_filters.h)
+// and their adjoints, compiled once per instruction set
+// (water_filter_kernels_{sse2,avx2,avx512}.cc from the one source in
+// water_filter_kernels_impl.h) and picked at run time. Every set sums each
+// output's taps in the same order without fused multiply-adds, so all
+// give the same bits: a run resumed on another CPU goes on unchanged.
+//
+// Images are row-major doubles, w x h; k holds the 2 r + 1 taps of a 1D
+// kernel; borders are clamped: out[i] = sum_j k[j] in[clamp(i + j - r)].
+
+#include "core/base/simd_level.h"
+
+namespace es {
+
+// What a pass needs besides its images, sized by the caller for the
+// kernel's radius r and the image's width w.
+struct WaterFilterScratch {
+  const double** sources = nullptr;  // (2 r + 1)^2 row pointers
+  double* coefficients = nullptr;    // (2 r + 1)^2 taps
+  double* line = nullptr;            // w + 2 r values
+};
+
+struct WaterFilterKernelSet {
+  // Along x, then along y.
+  void (*blur_rows)(const double* in, int w, int h, const double* k, int r,
+                    const WaterFilterScratch& scratch, double* out);
+  void (*blur_columns)(const double* in, int w, int h, const double* k,
+                       int r, const WaterFilterScratch& scratch,
+                       double* out);
+  // Their adjoints: g_in = B^T g_out, exact at the borders.
+  void (*blur_rows_adjoint)(const double* g_out, int w, int h,
+                            const double* k, int r,
+                            const WaterFilterScratch& scratch, double* g_in);
+  void (*blur_columns_adjoint)(const double* g_out, int w, int h,
+                               const double* k, int r,
+                               const WaterFilterScratch& scratch,
+                               double* g_in);
+};
+
+// The set for `level` (kAuto: the best this CPU runs).
+const WaterFilterKernelSet& WaterFilterKernels(
+    SimdLevel level = SimdLevel::kAuto);
+
+#define ES_DECLARE_WATER_FILTER_KERNELS(isa) \
+  namespace isa {                            \
+  const WaterFilterKernelSet& Kernels();     \
+  }
+ES_DECLARE_WATER_FILTER_KERNELS(water_filter_sse2)
+ES_DECLARE_WATER_FILTER_KERNELS(water_filter_avx2)
+ES_DECLARE_WATER_FILTER_KERNELS(water_filter_avx512)
+#undef ES_DECLARE_WATER_FILTER_KERNELS
+
+}  // namespace es
+
+#endif  // EULERSPLAT_COSTS_WATER_FILTER_KERNELS_H_

@@ -1,0 +1,163 @@
+// The water losses' blurs. Included only by
+// water_filter_kernels_{sse2,avx2,avx512}.cc, each compiled for its
+// instruction set with ES_WATER_FILTER_ISA naming its namespace and
+// -ffp-contract=off (CMakeLists.txt), so that every set rounds as the
+// others do. Everything here has internal linkage and calls no
+// out-of-line library code (memcpy aside), so nothing compiled for AVX2 /
+// AVX-512 runs on a CPU without it.
+//
+// Every pass is a gather: an output sums its terms from 0.0 in the order
+// in which a scatter into zeroed outputs would add them, and blocks of
+// outputs stay in vector registers over all their taps (one store per
+// output, not one per tap).
+
+#if !defined(ES_WATER_FILTER_ISA)
+#error "define ES_WATER_FILTER_ISA before this header"
+#endif
+
+#include <cstddef>
+#include <cstring>
+
+#include "costs/water_filter_kernels.h"
+
+namespace es {
+namespace ES_WATER_FILTER_ISA {
+namespace {
+
+#if defined(__AVX512F__)
+constexpr int kVectorBytes = 64;
+#elif defined(__AVX2__)
+constexpr int kVectorBytes = 32;
+#else
+constexpr int kVectorBytes = 16;
+#endif
+typedef double Vec __attribute__((vector_size(kVectorBytes)));
+constexpr int kLanes = kVectorBytes / sizeof(double);
+// Independent sums in flight: enough to hide the adds' latency.
+constexpr int kAccumulators = 8;
+constexpr int kBlock = kLanes * kAccumulators;
+
+inline int Min(int a, int b) { return a < b ? a : b; }
+inline int Max(int a, int b) { return a > b ? a : b; }
+inline int Clamp(int v, int lo, int hi) { return Min(Max(v, lo), hi); }
+
+inline Vec Load(const double* p) {
+  Vec v;
+  std::memcpy(&v, p, sizeof(v));
+  return v;
+}
+
+// out[x] = sum_t k[t] src[t][x] over t = 0 .. terms - 1 in order, for x in
+// [begin, end).
+void SumTerms(const double* const* src, const double* k, int terms,
+              int begin, int end, double* out) {
+  int x = begin;
+  for (; x + kBlock <= end; x += kBlock) {
+    Vec acc[kAccumulators];
+    for (Vec& a : acc) a = Vec{};
+    for (int t = 0; t < terms; ++t) {
+      const double kt = k[t];
+      const double* s = src[t] + x;
+      for (int a = 0; a < kAccumulators; ++a)
+        acc[a] += kt * Load(s + a * kLanes);
+    }
+    std::memcpy(out + x, acc, sizeof(acc));
+  }
+  for (; x < end; ++x) {
+    double acc = 0.0;
+    for (int t = 0; t < terms; ++t) acc += k[t] * src[t][x];
+    out[x] = acc;
+  }
+}
+
+// Each row through a copy padded with its clamped ends.
+void BlurRows(const double* in, int w, int h, const double* k, int r,
+              const WaterFilterScratch& s, double* out) {
+  const int taps = 2 * r + 1;
+  double* line = s.line;
+  for (int j = 0; j < taps; ++j) s.sources[j] = line + j;
+  for (int y = 0; y < h; ++y) {
+    const double* row = in + static_cast<size_t>(y) * w;
+    for (int m = 0; m < r; ++m) {
+      line[m] = row[0];
+      line[r + w + m] = row[w - 1];
+    }
+    std::memcpy(line + r, row, sizeof(double) * w);
+    SumTerms(s.sources, k, taps, 0, w, out + static_cast<size_t>(y) * w);
+  }
+}
+
+// Output row y gathers the rows clamp(y + j - r).
+void BlurColumns(const double* in, int w, int h, const double* k, int r,
+                 const WaterFilterScratch& s, double* out) {
+  const int taps = 2 * r + 1;
+  for (int y = 0; y < h; ++y) {
+    for (int j = 0; j < taps; ++j)
+      s.sources[j] = in + static_cast<size_t>(Clamp(y + j - r, 0, h - 1)) * w;
+    SumTerms(s.sources, k, taps, 0, w, out + static_cast<size_t>(y) * w);
+  }
+}
+
+// The rows' adjoint as a scatter of a row into a zeroed padded line builds
+// it: pad[q] = sum over taps j in order of k[j] g[q - j] (0 <= q - j < w);
+// g_in is pad[r .. r + w) with the ends then folded onto the border
+// pixels.
+double PaddedAdjointAt(const double* g, int q, int w, const double* k,
+                       int r) {
+  double acc = 0.0;
+  for (int j = Max(0, q - w + 1); j <= Min(2 * r, q); ++j)
+    acc += k[j] * g[q - j];
+  return acc;
+}
+
+void BlurRowsAdjoint(const double* g_out, int w, int h, const double* k,
+                     int r, const WaterFilterScratch& s, double* g_in) {
+  const int taps = 2 * r + 1;
+  // Where pad[x + r] has all its taps and x is no border pixel.
+  const int begin = Min(Max(r, 1), w);
+  const int end = Max(begin, Min(w - r, w - 1));
+  for (int y = 0; y < h; ++y) {
+    const double* g = g_out + static_cast<size_t>(y) * w;
+    double* dst = g_in + static_cast<size_t>(y) * w;
+    for (int j = 0; j < taps; ++j) s.sources[j] = g + r - j;
+    SumTerms(s.sources, k, taps, begin, end, dst);
+    for (int x = 0; x < begin; ++x) dst[x] = PaddedAdjointAt(g, x + r, w, k, r);
+    for (int x = end; x < w; ++x) dst[x] = PaddedAdjointAt(g, x + r, w, k, r);
+    for (int m = 0; m < r; ++m) {
+      dst[0] += PaddedAdjointAt(g, m, w, k, r);
+      dst[w - 1] += PaddedAdjointAt(g, w + r + m, w, k, r);
+    }
+  }
+}
+
+// The columns' adjoint as a scatter of rows i = 0 .. h - 1 in order, each
+// through its taps j in order, into the zeroed rows clamp(i + j - r)
+// builds it.
+void BlurColumnsAdjoint(const double* g_out, int w, int h, const double* k,
+                        int r, const WaterFilterScratch& s, double* g_in) {
+  for (int p = 0; p < h; ++p) {
+    int terms = 0;
+    for (int i = Max(0, p - r); i <= Min(h - 1, p + r); ++i) {
+      // Row i's taps landing on row p: one inside, a run at a clamped
+      // border.
+      const int lo = p == 0 ? 0 : p - i + r;
+      const int hi = p == h - 1 ? 2 * r : p - i + r;
+      for (int j = Max(lo, 0); j <= Min(hi, 2 * r); ++j) {
+        s.sources[terms] = g_out + static_cast<size_t>(i) * w;
+        s.coefficients[terms++] = k[j];
+      }
+    }
+    SumTerms(s.sources, s.coefficients, terms, 0, w,
+             g_in + static_cast<size_t>(p) * w);
+  }
+}
+
+const WaterFilterKernelSet kKernels = {&BlurRows, &BlurColumns,
+                                       &BlurRowsAdjoint, &BlurColumnsAdjoint};
+
+}  // namespace
+
+const WaterFilterKernelSet& Kernels() { return kKernels; }
+
+}  // namespace ES_WATER_FILTER_ISA
+}  // namespace es

@@ -1,0 +1,103 @@
+// The water losses' blur kernels at every SIMD level against the plain
+// definitions: the blur gathers its clamped taps, the adjoint scatters
+// each output back through them. Bit for bit: the kernels promise the same
+// rounding on every set, so a run resumed on another CPU goes on alike.
+
+#include <random>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "costs/water_energy_terms.h"
+#include "costs/water_filter_kernels.h"
+#include "tests/per_simd_level_test.h"
+
+namespace es {
+namespace {
+
+using Image = std::vector<double>;
+
+int Clamp(int v, int hi) { return v < 0 ? 0 : (v > hi ? hi : v); }
+
+// out(x, y) = sum_j k[j] in(clamp(x + j - r), y), or along y.
+Image ReferenceBlur(const Image& in, int w, int h, const Image& k,
+                    bool along_x) {
+  const int r = static_cast<int>(k.size()) / 2;
+  Image out(in.size(), 0.0);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      for (int j = 0; j <= 2 * r; ++j) {
+        const int sx = along_x ? Clamp(x + j - r, w - 1) : x;
+        const int sy = along_x ? y : Clamp(y + j - r, h - 1);
+        out[y * w + x] += k[j] * in[sy * w + sx];
+      }
+  return out;
+}
+
+// The adjoint as a scatter: each output, in order, through its taps in
+// order. Along x the scatter goes into a padded row whose ends are folded
+// onto the border pixels afterwards, as the losses first defined it.
+Image ReferenceAdjoint(const Image& g, int w, int h, const Image& k,
+                       bool along_x) {
+  const int r = static_cast<int>(k.size()) / 2;
+  Image out(g.size(), 0.0);
+  if (!along_x) {
+    for (int y = 0; y < h; ++y)
+      for (int j = 0; j <= 2 * r; ++j)
+        for (int x = 0; x < w; ++x)
+          out[Clamp(y + j - r, h - 1) * w + x] += k[j] * g[y * w + x];
+    return out;
+  }
+  for (int y = 0; y < h; ++y) {
+    Image pad(w + 2 * r, 0.0);
+    for (int j = 0; j <= 2 * r; ++j)
+      for (int x = 0; x < w; ++x) pad[x + j] += k[j] * g[y * w + x];
+    double* row = out.data() + y * w;
+    for (int x = 0; x < w; ++x) row[x] = pad[x + r];
+    for (int m = 0; m < r; ++m) {
+      row[0] += pad[m];
+      row[w - 1] += pad[w + r + m];
+    }
+  }
+  return out;
+}
+
+class WaterFilterKernelsTest : public PerSimdLevelTest {};
+
+TEST_P(WaterFilterKernelsTest, EveryPassMatchesItsDefinitionBitForBit) {
+  const WaterFilterKernelSet& kernels = WaterFilterKernels(GetParam());
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> value(-1.0, 1.0);
+  // Widths around the kernels' blocks (up to 64 values) and below a
+  // kernel's reach; heights from a single row.
+  for (const int w : {1, 2, 5, 13, 64, 70, 131})
+    for (const int h : {1, 3, 12})
+      for (const double sigma : {0.3, 1.0, 2.0, 4.0}) {
+        SCOPED_TRACE(testing::Message() << w << "x" << h << " sigma " << sigma);
+        const Image k = WaterEnergyGaussian(sigma);
+        const int r = static_cast<int>(k.size()) / 2;
+        Image in(static_cast<size_t>(w) * h), out(in.size());
+        for (double& v : in) v = value(rng);
+        std::vector<const double*> sources(k.size() * k.size());
+        Image coefficients(sources.size()), line(w + 2 * r);
+        const WaterFilterScratch scratch{sources.data(), coefficients.data(),
+                                         line.data()};
+        kernels.blur_rows(in.data(), w, h, k.data(), r, scratch, out.data());
+        EXPECT_EQ(out, ReferenceBlur(in, w, h, k, true));
+        kernels.blur_columns(in.data(), w, h, k.data(), r, scratch,
+                             out.data());
+        EXPECT_EQ(out, ReferenceBlur(in, w, h, k, false));
+        kernels.blur_rows_adjoint(in.data(), w, h, k.data(), r, scratch,
+                                  out.data());
+        EXPECT_EQ(out, ReferenceAdjoint(in, w, h, k, true));
+        kernels.blur_columns_adjoint(in.data(), w, h, k.data(), r, scratch,
+                                     out.data());
+        EXPECT_EQ(out, ReferenceAdjoint(in, w, h, k, false));
+      }
+}
+
+INSTANTIATE_TEST_SUITE_P(Levels, WaterFilterKernelsTest, AllSimdLevels(),
+                         SimdLevelTestName);
+
+}  // namespace
+}  // namespace es
