@@ -6,6 +6,7 @@
 #include <glog/logging.h>
 
 #include "core/base/stage_profile.h"
+#include "costs/water_filter_kernels.h"
 
 namespace es {
 namespace {
@@ -44,20 +45,24 @@ double WaterEnergyLoss::AmplitudeL1(const std::vector<double>& e_rendered,
                                     const std::vector<double>& e_input,
                                     const std::vector<double>& mask,
                                     double floor, double scale,
+                                    std::vector<double>* term,
                                     std::vector<double>* d_energy) const {
   double count = 0;
   for (double m : mask) count += m;
-  d_energy->assign(mask.size(), 0.0);
-  if (count == 0) return 0;
-  double sum = 0;
-  for (size_t p = 0; p < mask.size(); ++p) {
-    if (mask[p] == 0) continue;
-    const double a = std::sqrt(std::max(e_rendered[p], 0.0) + floor);
-    const double b = std::sqrt(std::max(e_input[p], 0.0) + options_.eps);
-    sum += std::abs(a - b);
-    const double sign = a > b ? 1.0 : (a < b ? -1.0 : 0.0);
-    (*d_energy)[p] = scale * sign / (2 * a * count);
+  d_energy->resize(mask.size());
+  term->resize(mask.size());
+  if (count == 0) {
+    std::fill(d_energy->begin(), d_energy->end(), 0.0);
+    return 0;
   }
+  WaterFilterKernels().amplitude_terms(
+      e_rendered.data(), e_input.data(), mask.data(),
+      static_cast<long>(mask.size()), floor, options_.eps, scale, count,
+      term->data(), d_energy->data());
+  // Summed in pixel order, as one thread would: the same bits on every
+  // CPU.
+  double sum = 0;
+  for (double t : *term) sum += t;
   return sum / count;
 }
 
@@ -126,7 +131,8 @@ void WaterEnergyLoss::EvaluateChannel(int c, const double* rendered_a,
     for (size_t p = 0; p < pixels; ++p) s->diff[p] = s->yb[p] - s->ya[p];
     Energy(s->diff, w, h, kernels_.window[0], &s->blur, &s->g, &s->e_r);
     *motion = AmplitudeL1(s->e_r, s->e_i, mask_, motion_floors_[c],
-                          channel_scale * options_.motion_weight, &s->d_e) /
+                          channel_scale * options_.motion_weight, &s->term,
+                          &s->d_e) /
               kChannels;
     BlurAdjoint(s->d_e, w, h, kernels_.window[0], &s->blur, &s->g);
     for (size_t p = 0; p < pixels; ++p) {
@@ -152,7 +158,7 @@ void WaterEnergyLoss::EvaluateChannel(int c, const double* rendered_a,
         Energy(s->high, w, h, window, &s->blur, &s->g, &s->e_r);
         *detail += 0.5 *
                    AmplitudeL1(s->e_r, s->e_i, water, band_floors_[k][c],
-                               band_scale, &s->d_e) /
+                               band_scale, &s->term, &s->d_e) /
                    (kChannels * octaves);
         BlurAdjoint(s->d_e, w, h, window, &s->blur, &s->g);
         for (size_t p = 0; p < pixels; ++p) s->g[p] *= 2 * s->high[p];

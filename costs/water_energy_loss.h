@@ -16,7 +16,7 @@ namespace internal {
 // and inputs, its gradient per render, and the blurs' images.
 struct ChannelScratch {
   std::vector<double> ya, yb, ia, ib, dya, dyb, diff, e_r, e_i, d_e, g,
-      high, low;
+      high, low, term;
   BlurScratch blur;
 };
 }  // namespace internal
@@ -74,11 +74,12 @@ class WaterEnergyLoss {
  private:
   // sum_p m_p |sqrt(e_r + floor) - sqrt(e_i + eps)| / sum_p m_p and,
   // into d_energy, its derivative by e_r (times `scale`); floor: the
-  // channel's and term's from RenderedEnergyFloors.
+  // channel's and term's from RenderedEnergyFloors; `term` is scratch.
   double AmplitudeL1(const std::vector<double>& e_rendered,
                      const std::vector<double>& e_input,
                      const std::vector<double>& mask, double floor,
-                     double scale, std::vector<double>* d_energy) const;
+                     double scale, std::vector<double>* term,
+                     std::vector<double>* d_energy) const;
 
   // One opponent channel's unweighted motion and detail terms (each
   // already divided by the channel count) and, into s->dya / s->dyb,

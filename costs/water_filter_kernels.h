@@ -2,7 +2,7 @@
 #define EULERSPLAT_COSTS_WATER_FILTER_KERNELS_H_
 
 // The separable blurs of the water losses (costs/water_image_filters.h)
-// and their adjoints, compiled once per instruction set
+// and their adjoints, and the energy loss's per-pixel terms, compiled once per instruction set
 // (water_filter_kernels_{sse2,avx2,avx512}.cc from the one source in
 // water_filter_kernels_impl.h) and picked at run time. Every set sums each
 // output's taps in the same order without fused multiply-adds, so all
@@ -38,6 +38,14 @@ struct WaterFilterKernelSet {
                                const double* k, int r,
                                const WaterFilterScratch& scratch,
                                double* g_in);
+  // The energy loss's per-pixel amplitude terms over n pixels: where
+  // water[p] != 0, a = sqrt(max(e_rendered[p], 0) + floor), b =
+  // sqrt(max(e_input[p], 0) + eps), term[p] = |a - b| and d_energy[p] =
+  // scale sign(a - b) / (2 a count); elsewhere both 0.
+  void (*amplitude_terms)(const double* e_rendered, const double* e_input,
+                          const double* water, long n, double floor,
+                          double eps, double scale, double count,
+                          double* term, double* d_energy);
 };
 
 // The set for `level` (kAuto: the best this CPU runs).
