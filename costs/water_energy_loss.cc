@@ -6,7 +6,7 @@
 #include <glog/logging.h>
 
 #include "core/base/stage_profile.h"
-#include "costs/water_filter_kernels.h"
+#include "costs/water_kernels.h"
 
 namespace es {
 namespace {
@@ -55,7 +55,7 @@ double WaterEnergyLoss::AmplitudeL1(const std::vector<double>& e_rendered,
     std::fill(d_energy->begin(), d_energy->end(), 0.0);
     return 0;
   }
-  WaterFilterKernels().amplitude_terms(
+  WaterKernels().amplitude_terms(
       e_rendered.data(), e_input.data(), mask.data(),
       static_cast<long>(mask.size()), floor, options_.eps, scale, count,
       term->data(), d_energy->data());

@@ -6,14 +6,14 @@
 #include <glog/logging.h>
 
 #include "costs/water_energy_terms.h"
-#include "costs/water_filter_kernels.h"
+#include "costs/water_kernels.h"
 
 namespace es {
 
-const WaterFilterKernelSet& WaterFilterKernels(SimdLevel level) {
-  return ForSimdLevel(level, &water_filter_sse2::Kernels,
-                      &water_filter_avx2::Kernels,
-                      &water_filter_avx512::Kernels)();
+const WaterKernelSet& WaterKernels(SimdLevel level) {
+  return ForSimdLevel(level, &water_kernels_sse2::Kernels,
+                      &water_kernels_avx2::Kernels,
+                      &water_kernels_avx512::Kernels)();
 }
 
 namespace internal {
@@ -38,7 +38,7 @@ void Blur(const std::vector<double>& in, int w, int h,
   tmp->image.resize(in.size());
   out->resize(in.size());
   const WaterFilterScratch scratch = ScratchFor(k, w, tmp);
-  const WaterFilterKernelSet& kernels = WaterFilterKernels();
+  const WaterKernelSet& kernels = WaterKernels();
   const int r = static_cast<int>(k.size()) / 2;
   kernels.blur_rows(in.data(), w, h, k.data(), r, scratch, tmp->image.data());
   kernels.blur_columns(tmp->image.data(), w, h, k.data(), r, scratch,
@@ -51,7 +51,7 @@ void BlurAdjoint(const std::vector<double>& g_out, int w, int h,
   tmp->image.resize(g_out.size());
   g_in->resize(g_out.size());
   const WaterFilterScratch scratch = ScratchFor(k, w, tmp);
-  const WaterFilterKernelSet& kernels = WaterFilterKernels();
+  const WaterKernelSet& kernels = WaterKernels();
   const int r = static_cast<int>(k.size()) / 2;
   kernels.blur_columns_adjoint(g_out.data(), w, h, k.data(), r, scratch,
                                tmp->image.data());

@@ -10,6 +10,7 @@
 #include "core/metrics/random_direction.h"
 #include "core/base/stage_profile.h"
 #include "costs/water_energy_terms.h"
+#include "costs/water_kernels.h"
 
 namespace es {
 namespace {
@@ -18,7 +19,7 @@ constexpr int kChannels = internal::kWaterChannels;
 constexpr int kNeighbours = 9;  // 3 x 3
 // Rows of the projections that one thread updates at a time: small enough
 // for their n x projections block to stay in cache across the features.
-constexpr Eigen::Index kRowBlock = 512;
+constexpr long kRowBlock = 512;
 
 // Offset o of the 3 x 3 neighbourhood, spaced `step` pixels, clamped.
 inline int Neighbour(int x, int y, int o, int step, int w, int h) {
@@ -70,30 +71,35 @@ void WaterTextureLoss::FindTaps() {
   }
 }
 
+TextureProjection WaterTextureLoss::Projection(
+    const std::vector<std::vector<double>>& bands) {
+  band_pointers_.clear();
+  for (const std::vector<double>& band : bands)
+    band_pointers_.push_back(band.data());
+  tap_pointers_.clear();
+  for (const std::vector<int>& taps : taps_) tap_pointers_.push_back(taps.data());
+  TextureProjection p;
+  p.bands = band_pointers_.data();
+  p.count = static_cast<int>(bands.size());
+  p.levels = options_.bands;
+  p.taps = tap_pointers_.data();
+  p.n = static_cast<long>(water_.size());
+  p.directions = directions_.data();
+  p.projections = options_.projections;
+  return p;
+}
+
 void WaterTextureLoss::Project(const std::vector<std::vector<double>>& bands,
                                Eigen::MatrixXd* out) {
-  const Eigen::Index n = static_cast<Eigen::Index>(water_.size());
-  out->setZero(n, options_.projections);
-  const Eigen::Index blocks = (n + kRowBlock - 1) / kRowBlock;
-  // Per block of pixels, feature (b, o) of each at once times its row of
-  // the directions: no n x dims feature matrix is ever held. Each block
-  // is its own rows, so the threads do not change the sums.
+  const TextureProjection p = Projection(bands);
+  out->resize(p.n, p.projections);
+  const long blocks = (p.n + kRowBlock - 1) / kRowBlock;
+  const WaterKernelSet& kernels = WaterKernels();
+  // Each block is its own rows, so the threads do not change the sums.
 #pragma omp parallel for schedule(static)
-  for (Eigen::Index k = 0; k < blocks; ++k) {
-    const Eigen::Index begin = k * kRowBlock;
-    const Eigen::Index rows = std::min(kRowBlock, n - begin);
-    Eigen::VectorXd values(rows);
-    auto block = out->middleRows(begin, rows);
-    for (size_t b = 0; b < bands.size(); ++b) {
-      const int* taps = taps_[b % options_.bands].data() + begin * kNeighbours;
-      const double* band = bands[b].data();
-      for (int o = 0; o < kNeighbours; ++o) {
-        for (Eigen::Index i = 0; i < rows; ++i)
-          values[i] = band[taps[i * kNeighbours + o]];
-        block.noalias() += values * directions_.row(b * kNeighbours + o);
-      }
-    }
-  }
+  for (long k = 0; k < blocks; ++k)
+    kernels.project(p, k * kRowBlock, std::min(p.n, (k + 1) * kRowBlock),
+                    out->data());
 }
 
 double WaterTextureLoss::Evaluate(const double* rendered,
@@ -162,22 +168,15 @@ double WaterTextureLoss::Evaluate(const double* rendered,
 
   if (d_rendered != nullptr) {
     // The projections' adjoint: feature (b, o)'s gradient, scattered to
-    // its taps.
+    // its taps, each band into its own array.
     d_bands_.resize(rendered_bands_.size());
     for (std::vector<double>& d : d_bands_) d.assign(pixels, 0.0);
+    const TextureProjection p = Projection(rendered_bands_);
+    const WaterKernelSet& kernels = WaterKernels();
     const int num_bands = static_cast<int>(d_bands_.size());
 #pragma omp parallel for schedule(dynamic)
-    for (int b = 0; b < num_bands; ++b) {  // each band its own array
-      const std::vector<int>& taps = taps_[b % options_.bands];
-      double* d = d_bands_[b].data();
-      Eigen::VectorXd values(static_cast<Eigen::Index>(n));
-      for (int o = 0; o < kNeighbours; ++o) {
-        values.noalias() =
-            d_proj_ * directions_.row(b * kNeighbours + o).transpose();
-        for (size_t i = 0; i < n; ++i)
-          d[taps[i * kNeighbours + o]] += values[i];
-      }
-    }
+    for (int b = 0; b < num_bands; ++b)
+      kernels.project_adjoint(p, b, d_proj_.data(), d_bands_[b].data());
     for (int c = 0; c < kChannels; ++c) {
       channel_.assign(pixels, 0.0);
       for (int k = 0; k < options_.bands; ++k)

@@ -11,6 +11,7 @@
 
 #include "core/metrics/sorted_order.h"
 #include "costs/water_image_filters.h"
+#include "costs/water_kernels.h"
 
 namespace es {
 
@@ -73,6 +74,10 @@ class WaterTextureLoss {
   // o], pixel indices.
   void FindTaps();
 
+  // The kernels' view of `bands` (rendered or input), the taps and the
+  // directions.
+  TextureProjection Projection(const std::vector<std::vector<double>>& bands);
+
   // Every water pixel's projection on every direction: n x projections.
   void Project(const std::vector<std::vector<double>>& bands,
                Eigen::MatrixXd* out);
@@ -82,6 +87,8 @@ class WaterTextureLoss {
   int w_ = 0, h_ = 0;
   std::vector<int> water_;  // pixel indices
   std::vector<std::vector<int>> taps_;
+  std::vector<const double*> band_pointers_;
+  std::vector<const int*> tap_pointers_;
   // Scratch, reused.
   cv::Mat input_;
   std::vector<double> channel_, low_, coarse_, mask_;

@@ -1,6 +1,6 @@
 // The water losses' blurs. Included only by
-// water_filter_kernels_{sse2,avx2,avx512}.cc, each compiled for its
-// instruction set with ES_WATER_FILTER_ISA naming its namespace and
+// water_kernels_{sse2,avx2,avx512}.cc, each compiled for its
+// instruction set with ES_WATER_KERNELS_ISA naming its namespace and
 // -ffp-contract=off (CMakeLists.txt), so that every set rounds as the
 // others do. Everything here has internal linkage and calls no
 // out-of-line library code (memcpy aside), so nothing compiled for AVX2 /
@@ -11,17 +11,17 @@
 // outputs stay in vector registers over all their taps (one store per
 // output, not one per tap).
 
-#if !defined(ES_WATER_FILTER_ISA)
-#error "define ES_WATER_FILTER_ISA before this header"
+#if !defined(ES_WATER_KERNELS_ISA)
+#error "define ES_WATER_KERNELS_ISA before this header"
 #endif
 
 #include <cstddef>
 #include <cstring>
 
-#include "costs/water_filter_kernels.h"
+#include "costs/water_kernels.h"
 
 namespace es {
-namespace ES_WATER_FILTER_ISA {
+namespace ES_WATER_KERNELS_ISA {
 namespace {
 
 #if defined(__AVX512F__)
@@ -171,13 +171,107 @@ void AmplitudeTerms(const double* e_rendered, const double* e_input,
   }
 }
 
-const WaterFilterKernelSet kKernels = {&BlurRows, &BlurColumns,
-                                       &BlurRowsAdjoint, &BlurColumnsAdjoint,
-                                       &AmplitudeTerms};
+constexpr int kNeighbours = 9;
+
+// Project for directions [j0, j0 + M), kLanes pixels at a time: their M
+// sums stay in registers over all the features.
+template <int M>
+void ProjectDirections(const TextureProjection& p, long begin, long end,
+                       int j0, double* out) {
+  const int dims = kNeighbours * p.count;
+  const double* d = p.directions + static_cast<long>(j0) * dims;
+  long i = begin;
+  for (; i + kLanes <= end; i += kLanes) {
+    Vec acc[M];
+    for (Vec& a : acc) a = Vec{};
+    for (int b = 0; b < p.count; ++b) {
+      const double* band = p.bands[b];
+      const int* taps = p.taps[b % p.levels] + kNeighbours * i;
+      for (int o = 0; o < kNeighbours; ++o) {
+        Vec v;
+        for (int l = 0; l < kLanes; ++l) v[l] = band[taps[kNeighbours * l + o]];
+        const int f = kNeighbours * b + o;
+        for (int m = 0; m < M; ++m) acc[m] += v * d[static_cast<long>(m) * dims + f];
+      }
+    }
+    for (int m = 0; m < M; ++m)
+      std::memcpy(out + static_cast<long>(j0 + m) * p.n + i, &acc[m],
+                  sizeof(Vec));
+  }
+  for (; i < end; ++i) {
+    for (int m = 0; m < M; ++m) {
+      double acc = 0.0;
+      for (int b = 0; b < p.count; ++b) {
+        const int* taps = p.taps[b % p.levels] + kNeighbours * i;
+        for (int o = 0; o < kNeighbours; ++o)
+          acc += p.bands[b][taps[o]] *
+                 d[static_cast<long>(m) * dims + kNeighbours * b + o];
+      }
+      out[static_cast<long>(j0 + m) * p.n + i] = acc;
+    }
+  }
+}
+
+void Project(const TextureProjection& p, long begin, long end, double* out) {
+  int j = 0;
+  for (; j + 16 <= p.projections; j += 16)
+    ProjectDirections<16>(p, begin, end, j, out);
+  for (; j + 4 <= p.projections; j += 4)
+    ProjectDirections<4>(p, begin, end, j, out);
+  for (; j < p.projections; ++j) ProjectDirections<1>(p, begin, end, j, out);
+}
+
+// kLanes pixels at a time: their gradients by the projections are read
+// once for all nine features of band b.
+template <int M>
+void ProjectAdjointDirections(const TextureProjection& p, int b, int j0,
+                              const double* d_proj, double* d_band) {
+  const int dims = kNeighbours * p.count;
+  const int* taps = p.taps[b % p.levels];
+  const double* d = p.directions + static_cast<long>(j0) * dims +
+                    kNeighbours * b;  // (9 b, j0)
+  long i = 0;
+  for (; i + kLanes <= p.n; i += kLanes) {
+    Vec g[M];
+    for (int m = 0; m < M; ++m)
+      g[m] = Load(d_proj + static_cast<long>(j0 + m) * p.n + i);
+    for (int o = 0; o < kNeighbours; ++o) {
+      Vec v{};
+      for (int m = 0; m < M; ++m) v += g[m] * d[static_cast<long>(m) * dims + o];
+      for (int l = 0; l < kLanes; ++l)
+        d_band[taps[kNeighbours * (i + l) + o]] += v[l];
+    }
+  }
+  for (; i < p.n; ++i) {
+    for (int o = 0; o < kNeighbours; ++o) {
+      double v = 0.0;
+      for (int m = 0; m < M; ++m)
+        v += d_proj[static_cast<long>(j0 + m) * p.n + i] *
+             d[static_cast<long>(m) * dims + o];
+      d_band[taps[kNeighbours * i + o]] += v;
+    }
+  }
+}
+
+void ProjectAdjoint(const TextureProjection& p, int b, const double* d_proj,
+                    double* d_band) {
+  int j = 0;
+  for (; j + 16 <= p.projections; j += 16)
+    ProjectAdjointDirections<16>(p, b, j, d_proj, d_band);
+  for (; j + 4 <= p.projections; j += 4)
+    ProjectAdjointDirections<4>(p, b, j, d_proj, d_band);
+  for (; j < p.projections; ++j)
+    ProjectAdjointDirections<1>(p, b, j, d_proj, d_band);
+}
+
+const WaterKernelSet kKernels = {&BlurRows,        &BlurColumns,
+                                 &BlurRowsAdjoint, &BlurColumnsAdjoint,
+                                 &AmplitudeTerms,  &Project,
+                                 &ProjectAdjoint};
 
 }  // namespace
 
-const WaterFilterKernelSet& Kernels() { return kKernels; }
+const WaterKernelSet& Kernels() { return kKernels; }
 
-}  // namespace ES_WATER_FILTER_ISA
+}  // namespace ES_WATER_KERNELS_ISA
 }  // namespace es

@@ -1,10 +1,10 @@
-#ifndef EULERSPLAT_COSTS_WATER_FILTER_KERNELS_H_
-#define EULERSPLAT_COSTS_WATER_FILTER_KERNELS_H_
+#ifndef EULERSPLAT_COSTS_WATER_KERNELS_H_
+#define EULERSPLAT_COSTS_WATER_KERNELS_H_
 
 // The separable blurs of the water losses (costs/water_image_filters.h)
 // and their adjoints, and the energy loss's per-pixel terms, compiled once per instruction set
-// (water_filter_kernels_{sse2,avx2,avx512}.cc from the one source in
-// water_filter_kernels_impl.h) and picked at run time. Every set sums each
+// (water_kernels_{sse2,avx2,avx512}.cc from the one source in
+// water_kernels_impl.h) and picked at run time. Every set sums each
 // output's taps in the same order without fused multiply-adds, so all
 // give the same bits: a run resumed on another CPU goes on unchanged.
 //
@@ -23,7 +23,20 @@ struct WaterFilterScratch {
   double* line = nullptr;            // w + 2 r values
 };
 
-struct WaterFilterKernelSet {
+// The texture loss's features and their projections
+// (costs/water_texture_loss.h): pixel i's feature 9 b + o is band b's
+// value at taps[b % levels][9 i + o], its 3 x 3 neighbourhood at that
+// band's spacing.
+struct TextureProjection {
+  const double* const* bands = nullptr;  // `count` images
+  int count = 0, levels = 0;
+  const int* const* taps = nullptr;      // per level, 9 n pixel indices
+  long n = 0;                            // pixels
+  const double* directions = nullptr;    // 9 count x projections, col-major
+  int projections = 0;
+};
+
+struct WaterKernelSet {
   // Along x, then along y.
   void (*blur_rows)(const double* in, int w, int h, const double* k, int r,
                     const WaterFilterScratch& scratch, double* out);
@@ -46,21 +59,32 @@ struct WaterFilterKernelSet {
                           const double* water, long n, double floor,
                           double eps, double scale, double count,
                           double* term, double* d_energy);
+  // out(i, j) = sum over the features f in order of feature f of pixel i
+  // times directions(f, j), for pixels i in [begin, end); out is n x
+  // projections, col-major.
+  void (*project)(const TextureProjection& p, long begin, long end,
+                  double* out);
+  // The adjoint for band b: d_band[taps[9 i + o]] += sum_j d_proj(i, j)
+  // directions(9 b + o, j) for every pixel i and o = 0 .. 8 (16 directions
+  // at a time, a block of pixels at a time, its o in order); d_proj is n x
+  // projections, col-major.
+  void (*project_adjoint)(const TextureProjection& p, int b,
+                          const double* d_proj, double* d_band);
 };
 
 // The set for `level` (kAuto: the best this CPU runs).
-const WaterFilterKernelSet& WaterFilterKernels(
+const WaterKernelSet& WaterKernels(
     SimdLevel level = SimdLevel::kAuto);
 
-#define ES_DECLARE_WATER_FILTER_KERNELS(isa) \
+#define ES_DECLARE_WATER_KERNELS(isa) \
   namespace isa {                            \
-  const WaterFilterKernelSet& Kernels();     \
+  const WaterKernelSet& Kernels();     \
   }
-ES_DECLARE_WATER_FILTER_KERNELS(water_filter_sse2)
-ES_DECLARE_WATER_FILTER_KERNELS(water_filter_avx2)
-ES_DECLARE_WATER_FILTER_KERNELS(water_filter_avx512)
-#undef ES_DECLARE_WATER_FILTER_KERNELS
+ES_DECLARE_WATER_KERNELS(water_kernels_sse2)
+ES_DECLARE_WATER_KERNELS(water_kernels_avx2)
+ES_DECLARE_WATER_KERNELS(water_kernels_avx512)
+#undef ES_DECLARE_WATER_KERNELS
 
 }  // namespace es
 
-#endif  // EULERSPLAT_COSTS_WATER_FILTER_KERNELS_H_
+#endif  // EULERSPLAT_COSTS_WATER_KERNELS_H_

@@ -11,7 +11,7 @@
 #include <gtest/gtest.h>
 
 #include "costs/water_energy_terms.h"
-#include "costs/water_filter_kernels.h"
+#include "costs/water_kernels.h"
 #include "tests/per_simd_level_test.h"
 
 namespace es {
@@ -64,10 +64,10 @@ Image ReferenceAdjoint(const Image& g, int w, int h, const Image& k,
   return out;
 }
 
-class WaterFilterKernelsTest : public PerSimdLevelTest {};
+class WaterKernelsTest : public PerSimdLevelTest {};
 
-TEST_P(WaterFilterKernelsTest, EveryPassMatchesItsDefinitionBitForBit) {
-  const WaterFilterKernelSet& kernels = WaterFilterKernels(GetParam());
+TEST_P(WaterKernelsTest, EveryPassMatchesItsDefinitionBitForBit) {
+  const WaterKernelSet& kernels = WaterKernels(GetParam());
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> value(-1.0, 1.0);
   // Widths around the kernels' blocks (up to 64 values) and below a
@@ -98,8 +98,8 @@ TEST_P(WaterFilterKernelsTest, EveryPassMatchesItsDefinitionBitForBit) {
       }
 }
 
-TEST_P(WaterFilterKernelsTest, AmplitudeTermsMatchTheirDefinitionBitForBit) {
-  const WaterFilterKernelSet& kernels = WaterFilterKernels(GetParam());
+TEST_P(WaterKernelsTest, AmplitudeTermsMatchTheirDefinitionBitForBit) {
+  const WaterKernelSet& kernels = WaterKernels(GetParam());
   std::mt19937 rng(8);
   std::uniform_real_distribution<double> energy(-1e-6, 1e-2);
   const long n = 203;  // past every set's vectors, with a tail
@@ -125,7 +125,7 @@ TEST_P(WaterFilterKernelsTest, AmplitudeTermsMatchTheirDefinitionBitForBit) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Levels, WaterFilterKernelsTest, AllSimdLevels(),
+INSTANTIATE_TEST_SUITE_P(Levels, WaterKernelsTest, AllSimdLevels(),
                          SimdLevelTestName);
 
 }  // namespace
