@@ -150,14 +150,14 @@ double WaterTextureLoss::Evaluate(const double* rendered,
 #pragma omp parallel for schedule(static)
   for (int j = 0; j < projections; ++j) {
     DirectionSort& s = sorts_[j];
-    SortedOrder(proj_i_.col(j).data(), static_cast<int>(n), 1, &s.scratch,
-                &s.input_order);
+    SortedValues(proj_i_.col(j).data(), static_cast<int>(n), &s.scratch,
+                 &s.input_sorted);
     SortedOrder(proj_r_.col(j).data(), static_cast<int>(n), 1, &s.scratch,
                 &s.rendered_order);
     double sum = 0;
     for (size_t r = 0; r < n; ++r) {
       const int k = s.rendered_order[r];
-      const double diff = proj_r_(k, j) - proj_i_(s.input_order[r], j);
+      const double diff = proj_r_(k, j) - s.input_sorted[r];
       sum += std::abs(diff);
       d_proj_(k, j) = diff > 0 ? step : (diff < 0 ? -step : 0.0);
     }

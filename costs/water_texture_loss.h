@@ -96,10 +96,12 @@ class WaterTextureLoss {
   std::vector<std::vector<double>> rendered_bands_, input_bands_, d_bands_;
   Eigen::MatrixXd directions_;  // dims x projections, unit columns
   Eigen::MatrixXd proj_r_, proj_i_, d_proj_;  // n x projections
-  // Per direction, both sets' rank orders (one per thread at a time).
+  // Per direction, the input's sorted projections and the render's rank
+  // order (one per thread at a time).
   struct DirectionSort {
     SortedOrderScratch scratch;
-    std::vector<int> input_order, rendered_order;
+    std::vector<double> input_sorted;
+    std::vector<int> rendered_order;
   };
   std::vector<DirectionSort> sorts_;
 };

@@ -53,6 +53,18 @@ TEST(SortedOrderTest, MatchesSortedPairsOnMixedValues) {
       values[3] = std::numeric_limits<double>::denorm_min();
     }
     EXPECT_EQ(Order(values), ReferenceOrder(values)) << "n = " << n;
+    // The values alone, sorted: the same values in std::sort's order,
+    // -0 as +0.
+    std::vector<double> want = values, sorted;
+    std::sort(want.begin(), want.end());
+    for (double& v : want) v = v == 0 ? 0.0 : v;
+    SortedOrderScratch scratch;
+    SortedValues(values.data(), n, &scratch, &sorted);
+    ASSERT_EQ(sorted.size(), want.size());
+    for (int i = 0; i < n; ++i) {
+      EXPECT_EQ(sorted[i], want[i]) << i;
+      EXPECT_FALSE(std::signbit(sorted[i]) && sorted[i] == 0) << i;
+    }
   }
 }
 

@@ -1,6 +1,5 @@
 #include "core/metrics/sorted_order.h"
 
-#include <array>
 #include <cstring>
 #include <utility>
 
@@ -16,34 +15,69 @@ uint64_t OrderKey(double v) {
   return (bits >> 63) ? ~bits : bits | (uint64_t{1} << 63);
 }
 
+uint64_t KeyOf(uint64_t key) { return key; }
+uint64_t KeyOf(const SortedOrderScratch::Entry& e) { return e.key; }
+
+double ValueOf(uint64_t key) {
+  const uint64_t bits = (key >> 63) ? key & ~(uint64_t{1} << 63) : ~key;
+  double v;
+  std::memcpy(&v, &bits, sizeof(v));
+  return v;
+}
+
+// A stable least-significant-digit radix sort of `in` by KeyOf, 11 bits a
+// pass (six passes, not eight of a byte); all digits counted in one
+// read, and a digit that every key shares (the exponent's, often)
+// skipped. The result is left in *in.
+template <typename T>
+void RadixSort(std::vector<T>* in, std::vector<T>* out,
+               std::vector<int>* counts) {
+  constexpr int kBits = 11, kDigits = (64 + kBits - 1) / kBits;
+  constexpr uint64_t kMask = (uint64_t{1} << kBits) - 1;
+  constexpr size_t kSlots = kMask + 2;
+  const size_t n = in->size();
+  out->resize(n);
+  counts->assign(kDigits * kSlots, 0);
+  int* start = counts->data();
+  for (const T& e : *in) {
+    const uint64_t key = KeyOf(e);
+    for (int d = 0; d < kDigits; ++d)
+      ++start[d * kSlots + ((key >> (kBits * d)) & kMask) + 1];
+  }
+  for (int d = 0; d < kDigits; ++d) {
+    const int shift = kBits * d;
+    int* s = start + d * kSlots;
+    if (s[((KeyOf((*in)[0]) >> shift) & kMask) + 1] == static_cast<int>(n))
+      continue;
+    for (uint64_t v = 0; v <= kMask; ++v) s[v + 1] += s[v];
+    for (const T& e : *in) (*out)[s[(KeyOf(e) >> shift) & kMask]++] = e;
+    std::swap(*in, *out);
+  }
+}
+
 }  // namespace
 
 void SortedOrder(const double* values, int n, int stride,
                  SortedOrderScratch* scratch, std::vector<int>* order) {
-  using Entry = SortedOrderScratch::Entry;
   order->resize(n);
   if (n == 0) return;
-  std::vector<Entry>& in = scratch->entries;
-  std::vector<Entry>& out = scratch->spare;
+  std::vector<SortedOrderScratch::Entry>& in = scratch->entries;
   in.resize(n);
-  out.resize(n);
   for (int i = 0; i < n; ++i)
     in[i] = {OrderKey(values[static_cast<size_t>(i) * stride]), i};
-  // Every byte's counts in one read, then one stable scatter per byte,
-  // lowest first; a byte that every key shares (the exponent's, often) is
-  // skipped.
-  std::array<std::array<int, 257>, 8> start{};
-  for (const Entry& e : in)
-    for (int b = 0; b < 8; ++b) ++start[b][((e.key >> (8 * b)) & 255) + 1];
-  for (int b = 0; b < 8; ++b) {
-    const int shift = 8 * b;
-    std::array<int, 257>& s = start[b];
-    if (s[((in[0].key >> shift) & 255) + 1] == n) continue;
-    for (int d = 0; d < 256; ++d) s[d + 1] += s[d];
-    for (const Entry& e : in) out[s[(e.key >> shift) & 255]++] = e;
-    std::swap(in, out);
-  }
+  RadixSort(&in, &scratch->spare, &scratch->counts);
   for (int i = 0; i < n; ++i) (*order)[i] = in[i].index;
+}
+
+void SortedValues(const double* values, int n, SortedOrderScratch* scratch,
+                  std::vector<double>* sorted) {
+  sorted->resize(n);
+  if (n == 0) return;
+  std::vector<uint64_t>& keys = scratch->keys;
+  keys.resize(n);
+  for (int i = 0; i < n; ++i) keys[i] = OrderKey(values[i]);
+  RadixSort(&keys, &scratch->spare_keys, &scratch->counts);
+  for (int i = 0; i < n; ++i) (*sorted)[i] = ValueOf(keys[i]);
 }
 
 }  // namespace es

@@ -13,6 +13,8 @@ struct SortedOrderScratch {
     int32_t index;
   };
   std::vector<Entry> entries, spare;
+  std::vector<uint64_t> keys, spare_keys;
+  std::vector<int> counts;  // per digit, its values' counts
 };
 
 // The indices 0 .. n - 1 of values[0], values[stride], ... in ascending
@@ -23,6 +25,12 @@ struct SortedOrderScratch {
 // values must not be NaN.
 void SortedOrder(const double* values, int n, int stride,
                  SortedOrderScratch* scratch, std::vector<int>* order);
+
+// values[0 .. n - 1] in ascending order, by the same sort on the values
+// alone (half the data to move): for the side of a distance whose indices
+// are not needed. A -0 comes out as +0.
+void SortedValues(const double* values, int n, SortedOrderScratch* scratch,
+                  std::vector<double>* sorted);
 
 }  // namespace es
 
