@@ -90,9 +90,9 @@ TextureProjection WaterTextureLoss::Projection(
 }
 
 void WaterTextureLoss::Project(const std::vector<std::vector<double>>& bands,
-                               Eigen::MatrixXd* out) {
+                               std::vector<double>* out) {
   const TextureProjection p = Projection(bands);
-  out->resize(p.n, p.projections);
+  out->resize(p.n * p.projections);
   const long blocks = (p.n + kRowBlock - 1) / kRowBlock;
   const WaterKernelSet& kernels = WaterKernels();
   // Each block is its own rows, so the threads do not change the sums.
@@ -143,23 +143,23 @@ double WaterTextureLoss::Evaluate(const double* rendered,
   // Per direction: both sets sorted, rank r of the render meets rank r of
   // the input. Each direction writes its own column and sum, so the
   // result does not depend on the threads.
-  d_proj_.resize(static_cast<Eigen::Index>(n), projections);
+  d_proj_.resize(n * projections);
   std::vector<double> distances(projections);
   const double step = factor / (static_cast<double>(n) * projections);
   sorts_.resize(projections);
 #pragma omp parallel for schedule(static)
   for (int j = 0; j < projections; ++j) {
     DirectionSort& s = sorts_[j];
-    SortedValues(proj_i_.col(j).data(), static_cast<int>(n), &s.scratch,
+    SortedValues(&proj_i_[j * n], static_cast<int>(n), &s.scratch,
                  &s.input_sorted);
-    SortedOrder(proj_r_.col(j).data(), static_cast<int>(n), 1, &s.scratch,
+    SortedOrder(&proj_r_[j * n], static_cast<int>(n), 1, &s.scratch,
                 &s.rendered_order);
     double sum = 0;
     for (size_t r = 0; r < n; ++r) {
       const int k = s.rendered_order[r];
-      const double diff = proj_r_(k, j) - s.input_sorted[r];
+      const double diff = proj_r_[j * n + k] - s.input_sorted[r];
       sum += std::abs(diff);
-      d_proj_(k, j) = diff > 0 ? step : (diff < 0 ? -step : 0.0);
+      d_proj_[j * n + k] = diff > 0 ? step : (diff < 0 ? -step : 0.0);
     }
     distances[j] = sum;
   }

@@ -80,7 +80,7 @@ class WaterTextureLoss {
 
   // Every water pixel's projection on every direction: n x projections.
   void Project(const std::vector<std::vector<double>>& bands,
-               Eigen::MatrixXd* out);
+               std::vector<double>* out);
 
   WaterTextureOptions options_;
   std::vector<std::vector<double>> kernels_;  // G_k
@@ -95,7 +95,9 @@ class WaterTextureLoss {
   internal::BlurScratch blur_;
   std::vector<std::vector<double>> rendered_bands_, input_bands_, d_bands_;
   Eigen::MatrixXd directions_;  // dims x projections, unit columns
-  Eigen::MatrixXd proj_r_, proj_i_, d_proj_;  // n x projections
+  // n x projections, column-major; vectors, so that a frame with more
+  // water pixels than the last reuses their memory.
+  std::vector<double> proj_r_, proj_i_, d_proj_;
   // Per direction, the input's sorted projections and the render's rank
   // order (one per thread at a time).
   struct DirectionSort {
