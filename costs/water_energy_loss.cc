@@ -36,7 +36,9 @@ void Energy(const std::vector<double>& x, int w, int h,
 WaterEnergyLoss::WaterEnergyLoss(const WaterEnergyOptions& options)
     : options_(options),
       kernels_(MakeWaterEnergyKernels(options)),
-      motion_floors_(RenderedEnergyFloors(options, kernels_, -1)) {
+      motion_floors_(RenderedEnergyFloors(options, kernels_, -1)),
+      motion_inputs_(options.input_cache_bytes / 2),
+      detail_inputs_(options.input_cache_bytes / 2) {
   for (int k = 0; k < options.detail_octaves; ++k)
     band_floors_.push_back(RenderedEnergyFloors(options, kernels_, k));
 }
@@ -81,8 +83,25 @@ double WaterEnergyLoss::Evaluate(const double* rendered_a,
   CHECK_EQ(mask_a.empty(), mask_b.empty());
   const int w = input_a.cols, h = input_a.rows;
   const size_t pixels = static_cast<size_t>(w) * h;
-  input_a.convertTo(input_a_, CV_64FC3);
-  input_b.convertTo(input_b_, CV_64FC3);
+  // The inputs' energies, each computed once while the cache has room.
+  const size_t channel_bytes = kChannels * pixels * sizeof(double);
+  const internal::InputEnergies* motion_in = nullptr;
+  const internal::InputEnergies* detail_in[2] = {nullptr, nullptr};
+  if (options_.motion_weight != 0) {
+    motion_in = &motion_inputs_.Get(
+        {&input_a, &input_b}, channel_bytes,
+        [&](internal::InputEnergies* e) { MotionInputs(input_a, input_b, e); });
+  }
+  if (options_.detail_weight != 0) {
+    const size_t bytes = options_.detail_octaves * channel_bytes;
+    detail_in[0] = &detail_inputs_.Get(
+        {&input_a}, bytes,
+        [&](internal::InputEnergies* e) { DetailInputs(input_a, e); });
+    detail_in[1] = &detail_inputs_.Get(
+        {&input_b}, bytes,
+        [&](internal::InputEnergies* e) { DetailInputs(input_b, e); },
+        &detail_b_spare_);
+  }
   WaterOf(mask_a, pixels, &mask_a_);
   WaterOf(mask_b, pixels, &mask_b_);
   mask_.resize(pixels);
@@ -97,7 +116,8 @@ double WaterEnergyLoss::Evaluate(const double* rendered_a,
 #pragma omp parallel for schedule(dynamic, 1) if (pixels >= 16384)
   for (int c = 0; c < kChannels; ++c) {
     EvaluateChannel(c, rendered_a, rendered_b, w, h, channel_scale,
-                    &channels_[c], &motion[c], &detail[c]);
+                    motion_in, detail_in, &channels_[c], &motion[c],
+                    &detail[c]);
   }
   WaterEnergyTerms t;
   for (int c = 0; c < kChannels; ++c) {
@@ -111,26 +131,59 @@ double WaterEnergyLoss::Evaluate(const double* rendered_a,
                   options_.detail_weight * t.detail);
 }
 
-void WaterEnergyLoss::EvaluateChannel(int c, const double* rendered_a,
-                                      const double* rendered_b, int w, int h,
-                                      double channel_scale,
-                                      internal::ChannelScratch* s,
-                                      double* motion, double* detail) const {
+void WaterEnergyLoss::MotionInputs(const cv::Mat& input_a,
+                                   const cv::Mat& input_b,
+                                   internal::InputEnergies* out) {
+  const int w = input_a.cols, h = input_a.rows;
+  const size_t pixels = static_cast<size_t>(w) * h;
+  input_a.convertTo(input_a_, CV_64FC3);
+  input_b.convertTo(input_b_, CV_64FC3);
+  internal::ChannelScratch& s = channels_[0];
+  for (int c = 0; c < kChannels; ++c) {
+    ChannelOf(input_a_.ptr<double>(), pixels, c, &s.ia);
+    ChannelOf(input_b_.ptr<double>(), pixels, c, &s.ib);
+    s.diff.resize(pixels);
+    for (size_t p = 0; p < pixels; ++p) s.diff[p] = s.ib[p] - s.ia[p];
+    out->energies[c].resize(1);
+    Energy(s.diff, w, h, kernels_.window[0], &s.blur, &s.g,
+           &out->energies[c][0]);
+  }
+}
+
+void WaterEnergyLoss::DetailInputs(const cv::Mat& input,
+                                   internal::InputEnergies* out) {
+  const int w = input.cols, h = input.rows;
+  const size_t pixels = static_cast<size_t>(w) * h;
+  input.convertTo(input_a_, CV_64FC3);
+  internal::ChannelScratch& s = channels_[0];
+  for (int c = 0; c < kChannels; ++c) {
+    ChannelOf(input_a_.ptr<double>(), pixels, c, &s.ia);
+    out->energies[c].resize(options_.detail_octaves);
+    for (int k = 0; k < options_.detail_octaves; ++k) {
+      Band(s.ia, w, h, k, kernels_.detail, &s.blur, &s.low, &s.high);
+      Energy(s.high, w, h, kernels_.window[k], &s.blur, &s.g,
+             &out->energies[c][k]);
+    }
+  }
+}
+
+void WaterEnergyLoss::EvaluateChannel(
+    int c, const double* rendered_a, const double* rendered_b, int w, int h,
+    double channel_scale, const internal::InputEnergies* motion_in,
+    const internal::InputEnergies* const* detail_in,
+    internal::ChannelScratch* s, double* motion, double* detail) const {
   const size_t pixels = static_cast<size_t>(w) * h;
   ChannelOf(rendered_a, pixels, c, &s->ya);
   ChannelOf(rendered_b, pixels, c, &s->yb);
-  ChannelOf(input_a_.ptr<double>(), pixels, c, &s->ia);
-  ChannelOf(input_b_.ptr<double>(), pixels, c, &s->ib);
   s->dya.assign(pixels, 0.0);
   s->dyb.assign(pixels, 0.0);
   *motion = *detail = 0;
-  if (options_.motion_weight != 0) {
+  if (motion_in != nullptr) {
     s->diff.resize(pixels);
-    for (size_t p = 0; p < pixels; ++p) s->diff[p] = s->ib[p] - s->ia[p];
-    Energy(s->diff, w, h, kernels_.window[0], &s->blur, &s->g, &s->e_i);
     for (size_t p = 0; p < pixels; ++p) s->diff[p] = s->yb[p] - s->ya[p];
     Energy(s->diff, w, h, kernels_.window[0], &s->blur, &s->g, &s->e_r);
-    *motion = AmplitudeL1(s->e_r, s->e_i, mask_, motion_floors_[c],
+    *motion = AmplitudeL1(s->e_r, motion_in->energies[c][0], mask_,
+                          motion_floors_[c],
                           channel_scale * options_.motion_weight, &s->term,
                           &s->d_e) /
               kChannels;
@@ -141,24 +194,22 @@ void WaterEnergyLoss::EvaluateChannel(int c, const double* rendered_a,
       s->dya[p] -= g;
     }
   }
-  if (options_.detail_weight != 0) {
+  if (detail_in[0] != nullptr) {
     const int octaves = options_.detail_octaves;
     const double band_scale =
         0.5 * channel_scale * options_.detail_weight / octaves;
     for (int f = 0; f < 2; ++f) {
       const std::vector<double>& y = f == 0 ? s->ya : s->yb;
-      const std::vector<double>& input = f == 0 ? s->ia : s->ib;
       const std::vector<double>& water = f == 0 ? mask_a_ : mask_b_;
       std::vector<double>& dy = f == 0 ? s->dya : s->dyb;
       for (int k = 0; k < octaves; ++k) {
         const std::vector<double>& window = kernels_.window[k];
-        Band(input, w, h, k, kernels_.detail, &s->blur, &s->low, &s->high);
-        Energy(s->high, w, h, window, &s->blur, &s->g, &s->e_i);
         Band(y, w, h, k, kernels_.detail, &s->blur, &s->low, &s->high);
         Energy(s->high, w, h, window, &s->blur, &s->g, &s->e_r);
         *detail += 0.5 *
-                   AmplitudeL1(s->e_r, s->e_i, water, band_floors_[k][c],
-                               band_scale, &s->term, &s->d_e) /
+                   AmplitudeL1(s->e_r, detail_in[f]->energies[c][k], water,
+                               band_floors_[k][c], band_scale, &s->term,
+                               &s->d_e) /
                    (kChannels * octaves);
         BlurAdjoint(s->d_e, w, h, window, &s->blur, &s->g);
         for (size_t p = 0; p < pixels; ++p) s->g[p] *= 2 * s->high[p];

@@ -6,17 +6,25 @@
 
 #include <opencv2/core.hpp>
 
+#include "costs/input_cache.h"
 #include "costs/water_energy_terms.h"
 #include "costs/water_image_filters.h"
 
 namespace es {
 
 namespace internal {
+// What the loss takes from its inputs alone, per opponent channel c:
+// energies[c][t] is the input's motion energy of a pair, W_0 * (y_B -
+// y_A)^2 (t = 0), or a frame's detail energy of band t, W_t * band_t(y)^2.
+struct InputEnergies {
+  std::array<std::vector<std::vector<double>>, 3> energies;
+};
+
 // Scratch of one opponent channel's terms: the channel of the two renders
 // and inputs, its gradient per render, and the blurs' images.
 struct ChannelScratch {
-  std::vector<double> ya, yb, ia, ib, dya, dyb, diff, e_r, e_i, d_e, g,
-      high, low, term;
+  std::vector<double> ya, yb, ia, ib, dya, dyb, diff, e_r, d_e, g, high,
+      low, term;
   BlurScratch blur;
 };
 }  // namespace internal
@@ -49,7 +57,8 @@ struct ChannelScratch {
 // (WaterEnergyOptions::input_noise), the render's energies get its
 // expected energy added: the render is scored as if it had the input's
 // noise, so it is not asked to paint it. Options and terms:
-// costs/water_energy_terms.h.
+// costs/water_energy_terms.h. The inputs' own energies are kept between
+// calls (WaterEnergyOptions::input_cache_bytes).
 //
 // Evaluates the loss for one pair; reuses its buffers between calls, so
 // not thread-safe.
@@ -81,13 +90,23 @@ class WaterEnergyLoss {
                      double scale, std::vector<double>* term,
                      std::vector<double>* d_energy) const;
 
+  // The inputs' energies: the pair's motion, one frame's detail bands.
+  void MotionInputs(const cv::Mat& input_a, const cv::Mat& input_b,
+                    internal::InputEnergies* out);
+  void DetailInputs(const cv::Mat& input, internal::InputEnergies* out);
+
   // One opponent channel's unweighted motion and detail terms (each
   // already divided by the channel count) and, into s->dya / s->dyb,
-  // their gradients by the channel of each render, times channel_scale.
+  // their gradients by the channel of each render, times channel_scale;
+  // `motion_in` and `detail_in` (null: that term is off) the inputs'
+  // energies.
   void EvaluateChannel(int c, const double* rendered_a,
                        const double* rendered_b, int w, int h,
-                       double channel_scale, internal::ChannelScratch* s,
-                       double* motion, double* detail) const;
+                       double channel_scale,
+                       const internal::InputEnergies* motion_in,
+                       const internal::InputEnergies* const* detail_in,
+                       internal::ChannelScratch* s, double* motion,
+                       double* detail) const;
 
   WaterEnergyOptions options_;
   // G_k and W_k of the detail bands.
@@ -95,8 +114,12 @@ class WaterEnergyLoss {
   // The rendered energies' floors per channel: motion, and detail band k.
   std::array<double, 3> motion_floors_;
   std::vector<std::array<double, 3>> band_floors_;
+  // The inputs' energies: of the pairs, and of the frames (with a spare
+  // for frame B while frame A's may be in the cache's own).
+  InputCache<internal::InputEnergies> motion_inputs_, detail_inputs_;
+  internal::InputEnergies detail_b_spare_;
   // Per-frame scratch, reused; the channels are evaluated in parallel.
-  cv::Mat input_a_, input_b_;  // CV_64FC3
+  cv::Mat input_a_, input_b_;  // CV_64FC3, for the inputs' energies
   std::vector<double> mask_, mask_a_, mask_b_;
   std::array<internal::ChannelScratch, 3> channels_;
 };

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstddef>
 #include <vector>
 
 #include <glog/logging.h>
@@ -29,6 +30,10 @@ struct WaterEnergyOptions {
   // added to the render's before the comparison: the input's change and
   // texture hold that noise, which no model should place.
   std::array<double, 3> input_noise = {0, 0, 0};
+  // What the inputs' own energies may keep between calls (the CPU loss:
+  // costs/input_cache.h): every frame's of a 224 x 168 clip of 54
+  // training frames takes 98 MB.
+  size_t input_cache_bytes = size_t{128} << 20;
 };
 
 // The loss's terms, unweighted.

@@ -31,7 +31,7 @@ inline int Neighbour(int x, int y, int o, int step, int w, int h) {
 }  // namespace
 
 WaterTextureLoss::WaterTextureLoss(const WaterTextureOptions& options)
-    : options_(options) {
+    : options_(options), inputs_(options.input_cache_bytes) {
   CHECK_GE(options.bands, 1);
   CHECK_GE(options.projections, 1);
   CHECK_GT(options.sigma, 0);
@@ -59,16 +59,24 @@ void WaterTextureLoss::Bands(const double* rgb, std::mt19937_64* noise,
   }
 }
 
-void WaterTextureLoss::FindTaps() {
-  taps_.resize(options_.bands);
+void WaterTextureLoss::FindInputs(const cv::Mat& input,
+                                  internal::TextureInputs* out) {
+  const size_t pixels = static_cast<size_t>(w_) * h_;
+  out->water.clear();
+  for (size_t p = 0; p < pixels; ++p)
+    if (mask_[p] > 0) out->water.push_back(static_cast<int>(p));
+  out->taps.resize(options_.bands);
   for (int k = 0; k < options_.bands; ++k) {
-    taps_[k].resize(water_.size() * kNeighbours);
-    for (size_t i = 0; i < water_.size(); ++i) {
-      const int x = water_[i] % w_, y = water_[i] / w_;
+    std::vector<int>& taps = out->taps[k];
+    taps.resize(out->water.size() * kNeighbours);
+    for (size_t i = 0; i < out->water.size(); ++i) {
+      const int x = out->water[i] % w_, y = out->water[i] / w_;
       for (int o = 0; o < kNeighbours; ++o)
-        taps_[k][i * kNeighbours + o] = Neighbour(x, y, o, 1 << k, w_, h_);
+        taps[i * kNeighbours + o] = Neighbour(x, y, o, 1 << k, w_, h_);
     }
   }
+  input.convertTo(input_, CV_64FC3);
+  Bands(input_.ptr<double>(), nullptr, &out->bands);
 }
 
 TextureProjection WaterTextureLoss::Projection(
@@ -77,13 +85,14 @@ TextureProjection WaterTextureLoss::Projection(
   for (const std::vector<double>& band : bands)
     band_pointers_.push_back(band.data());
   tap_pointers_.clear();
-  for (const std::vector<int>& taps : taps_) tap_pointers_.push_back(taps.data());
+  for (const std::vector<int>& taps : inputs_now_->taps)
+    tap_pointers_.push_back(taps.data());
   TextureProjection p;
   p.bands = band_pointers_.data();
   p.count = static_cast<int>(bands.size());
   p.levels = options_.bands;
   p.taps = tap_pointers_.data();
-  p.n = static_cast<long>(water_.size());
+  p.n = static_cast<long>(inputs_now_->water.size());
   p.directions = directions_.data();
   p.projections = options_.projections;
   return p;
@@ -112,21 +121,26 @@ double WaterTextureLoss::Evaluate(const double* rendered,
   w_ = input.cols;
   h_ = input.rows;
   const size_t pixels = static_cast<size_t>(w_) * h_;
-  internal::WaterOf(mask, pixels, &mask_);
-  water_.clear();
-  for (size_t p = 0; p < pixels; ++p)
-    if (mask_[p] > 0) water_.push_back(static_cast<int>(p));
   const double factor = options_.weight * scale;
-  if (water_.size() < 2 || factor == 0) return 0;
+  if (factor == 0) return 0;
+  internal::WaterOf(mask, pixels, &mask_);
+  size_t n = 0;
+  for (double m : mask_) n += m > 0;
+  if (n < 2) return 0;
+  // The water pixels, their taps and the input's bands, each computed
+  // once while the cache has room.
+  const size_t bytes =
+      n * sizeof(int) * (1 + kNeighbours * options_.bands) +
+      dims() / kNeighbours * pixels * sizeof(double);
+  inputs_now_ = &inputs_.Get({&input, &mask}, bytes,
+                             [&](internal::TextureInputs* inputs) {
+                               FindInputs(input, inputs);
+                             });
 
-  input.convertTo(input_, CV_64FC3);
   // Its own stream: the directions below stay those of `draw`.
   std::mt19937_64 noise(draw ^ 0x9e3779b97f4a7c15ULL);
   Bands(rendered, &noise, &rendered_bands_);
-  Bands(input_.ptr<double>(), nullptr, &input_bands_);
-  FindTaps();
 
-  const size_t n = water_.size();
   const int projections = options_.projections;
   std::mt19937_64 rng(draw);
   std::normal_distribution<double> normal;
@@ -138,7 +152,7 @@ double WaterTextureLoss::Evaluate(const double* rendered,
                                                             dims());
   }
   Project(rendered_bands_, &proj_r_);
-  Project(input_bands_, &proj_i_);
+  Project(inputs_now_->bands, &proj_i_);
 
   // Per direction: both sets sorted, rank r of the render meets rank r of
   // the input. Each direction writes its own column and sum, so the

@@ -10,6 +10,7 @@
 #include <opencv2/core.hpp>
 
 #include "core/metrics/sorted_order.h"
+#include "costs/input_cache.h"
 #include "costs/water_image_filters.h"
 #include "costs/water_kernels.h"
 
@@ -26,7 +27,22 @@ struct WaterTextureOptions {
   // compared as the camera would have filmed it and is not asked to
   // paint the noise.
   std::array<double, 3> input_noise = {0, 0, 0};
+  // What each input's water pixels, their neighbourhoods and the input's
+  // bands may keep between calls (costs/input_cache.h): every frame's of
+  // a 224 x 168 clip of 54 training frames with 40% water takes 117 MB.
+  size_t input_cache_bytes = size_t{128} << 20;
 };
+
+namespace internal {
+// What the loss takes from an input and its mask alone: the water pixels'
+// indices, their 3 x 3 neighbourhoods per band level (taps[k][9 i + o],
+// pixel indices) and the input's bands, channel-major.
+struct TextureInputs {
+  std::vector<int> water;
+  std::vector<std::vector<int>> taps;
+  std::vector<std::vector<double>> bands;
+};
+}  // namespace internal
 
 // A loss on the distribution of the water's texture rather than its
 // pixels or its local energy (costs/water_energy_loss.h matches how much
@@ -70,9 +86,8 @@ class WaterTextureLoss {
   void Bands(const double* rgb, std::mt19937_64* noise,
              std::vector<std::vector<double>>* bands);
 
-  // Each water pixel's 3 x 3 neighbourhood per band level: taps_[k][9 i +
-  // o], pixel indices.
-  void FindTaps();
+  // The water pixels of mask_ (w_ x h_), their taps and the input's bands.
+  void FindInputs(const cv::Mat& input, internal::TextureInputs* out);
 
   // The kernels' view of `bands` (rendered or input), the taps and the
   // directions.
@@ -85,15 +100,15 @@ class WaterTextureLoss {
   WaterTextureOptions options_;
   std::vector<std::vector<double>> kernels_;  // G_k
   int w_ = 0, h_ = 0;
-  std::vector<int> water_;  // pixel indices
-  std::vector<std::vector<int>> taps_;
+  InputCache<internal::TextureInputs> inputs_;
+  const internal::TextureInputs* inputs_now_ = nullptr;  // this call's
   std::vector<const double*> band_pointers_;
   std::vector<const int*> tap_pointers_;
   // Scratch, reused.
   cv::Mat input_;
   std::vector<double> channel_, low_, coarse_, mask_;
   internal::BlurScratch blur_;
-  std::vector<std::vector<double>> rendered_bands_, input_bands_, d_bands_;
+  std::vector<std::vector<double>> rendered_bands_, d_bands_;
   Eigen::MatrixXd directions_;  // dims x projections, unit columns
   // n x projections, column-major; vectors, so that a frame with more
   // water pixels than the last reuses their memory.

@@ -328,5 +328,42 @@ TEST(WaterEnergyLossTest, KnownInputNoiseIsNotAskedOfTheRender) {
   }
 }
 
+// The inputs' energies kept between calls give exactly what computing
+// them at each call gives, over several pairs and rounds (frames A of one
+// pair are frames B of another, some past the cache's budget); and an
+// input copied into a cached input's buffer is not taken for the old one.
+TEST(WaterEnergyLossTest, CachedInputEnergiesEqualRecomputedOnes) {
+  WaterEnergyOptions options;
+  options.detail_octaves = 2;
+  WaterEnergyOptions uncached_options = options;
+  uncached_options.input_cache_bytes = 0;
+  // Room for two pairs' motion and three frames' detail energies.
+  options.input_cache_bytes = 2 * 2 * 3 * kW * kH * sizeof(double) * 2;
+  WaterEnergyLoss cached(options), uncached(uncached_options);
+  std::vector<cv::Mat> frames = {RandomImage(11), RandomImage(12),
+                                 RandomImage(13), RandomImage(14)};
+  const std::vector<double> render_a = FlatRgb(RandomImage(15)),
+                            render_b = FlatRgb(RandomImage(16));
+  auto expect_same = [&](const cv::Mat& a, const cv::Mat& b) {
+    std::vector<double> da(render_a.size(), 0.0), db = da, ua = da, ub = da;
+    const double x =
+        cached.Evaluate(render_a.data(), render_b.data(), a, b,
+                        HalfMask(true), HalfMask(false), 1.0, da.data(),
+                        db.data());
+    const double y =
+        uncached.Evaluate(render_a.data(), render_b.data(), a, b,
+                          HalfMask(true), HalfMask(false), 1.0, ua.data(),
+                          ub.data());
+    EXPECT_EQ(x, y);
+    EXPECT_EQ(da, ua);
+    EXPECT_EQ(db, ub);
+  };
+  for (int round = 0; round < 2; ++round)
+    for (size_t f = 0; f + 1 < frames.size(); ++f)
+      expect_same(frames[f], frames[f + 1]);
+  RandomImage(17).copyTo(frames[0]);  // into frame 0's buffer
+  expect_same(frames[0], frames[1]);
+}
+
 }  // namespace
 }  // namespace es

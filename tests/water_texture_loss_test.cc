@@ -179,5 +179,42 @@ TEST(WaterTextureLossTest, KnownInputNoiseIsNotAskedOfTheRender) {
   EXPECT_LT(d_told, 0.3 * d_not);
 }
 
+// The inputs' water pixels, taps and bands kept between calls give
+// exactly what computing them at each call gives, over several inputs and
+// rounds (some past the cache's budget); another mask or input in a
+// cached one's buffer is not taken for the old one.
+TEST(WaterTextureLossTest, CachedInputsEqualRecomputedOnes) {
+  const int w = 20, h = 16;
+  WaterTextureOptions options = On(), uncached_options = On();
+  uncached_options.input_cache_bytes = 0;
+  options.input_cache_bytes = 2 * (3 * 2 * w * h * sizeof(double) +
+                                   w * h * sizeof(int) * (1 + 9 * 2));
+  WaterTextureLoss cached(options), uncached(uncached_options);
+  std::vector<cv::Mat> inputs = {RandomRgbImage(w, h, 21),
+                                 RandomRgbImage(w, h, 22),
+                                 RandomRgbImage(w, h, 23)};
+  cv::Mat mask(h, w, CV_32FC1, cv::Scalar(1.0));
+  mask.colRange(0, w / 3).setTo(0.0);
+  const std::vector<double> render = FlatRgb(RandomRgbImage(w, h, 24));
+  uint64_t draw = 0;
+  auto expect_same = [&](const cv::Mat& input) {
+    std::vector<double> a(render.size(), 0.0), b = a;
+    const double x =
+        cached.Evaluate(render.data(), input, mask, 1.0, draw, a.data());
+    const double y =
+        uncached.Evaluate(render.data(), input, mask, 1.0, draw++, b.data());
+    EXPECT_EQ(x, y);
+    EXPECT_EQ(a, b);
+  };
+  for (int round = 0; round < 2; ++round)
+    for (const cv::Mat& input : inputs) expect_same(input);
+  // Another mask in the same buffer: water on the left now.
+  mask.setTo(0.0);
+  mask.colRange(0, 2 * w / 3).setTo(1.0);
+  expect_same(inputs[0]);
+  RandomRgbImage(w, h, 25).copyTo(inputs[0]);
+  expect_same(inputs[0]);
+}
+
 }  // namespace
 }  // namespace es
