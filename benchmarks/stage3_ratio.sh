@@ -17,7 +17,10 @@
 #     --threads N         --threads of both stages (default 2)
 #     --width W --height H --frames N   the clip (224, 168, 60)
 #     --static_its N      es_static iterations (default 300)
-#     --joint_its N       es_train iterations per run (default 100)
+#     --joint_its N       es_train iterations per run (default 300: the
+#                         losses keep what they compute from each input
+#                         frame, so the first pass over the 54 training
+#                         frames costs more than the rest of a long run)
 #     --rounds N          es_train runs per build (default 1)
 #     --baseline BIN      another build's bin folder to compare with
 #     --train_flags "..." extra es_train flags of this build's runs only,
@@ -28,7 +31,7 @@ cd "$(dirname "$0")/.."
 source scripts/lib/options.sh
 source scripts/lib/time_v.sh
 work=/tmp/es_stage3_ratio; threads=2; width=224; height=168; frames=60
-static_its=300; joint_its=100; rounds=1; baseline=""; train_flags=""
+static_its=300; joint_its=300; rounds=1; baseline=""; train_flags=""
 parse_options \
   "work threads width height frames static_its joint_its rounds baseline"\
 " train_flags" \
