@@ -212,6 +212,32 @@ TEST_P(ReferenceBackwardTest, MatchesReferenceJetGradients) {
 INSTANTIATE_TEST_SUITE_P(ShDegrees, ReferenceBackwardTest,
                          ::testing::Values(0, 1, 2, 3));
 
+// Image gradients that are zero on whole tiles (a loss that reads some
+// pixels only): the tiles skipped, the others (each with one kind of
+// gradient, one of them at the image's ragged right edge) still match the
+// reference.
+TEST(ReferenceBackwardTest, TilesWithoutGradientsAreSkippedExactly) {
+  const TestScene s = RandomScene(41, 12, 1, 1, 40, 24);  // 3 x 2 tiles
+  const int w = s.camera.width, pixels = w * s.camera.height;
+  Weights weights = RandomWeights(s, 10);
+  Weights sparse;
+  sparse.rgb.assign(3 * pixels, 0.0);
+  sparse.alpha.assign(pixels, 0.0);
+  sparse.depth.assign(pixels, 0.0);
+  sparse.extra.assign(pixels * s.num_extra, 0.0);
+  for (int y = 0; y < 16; ++y)  // tile (1, 0): colour
+    for (int x = 16; x < 32; ++x)
+      for (int c = 0; c < 3; ++c)
+        sparse.rgb[3 * (y * w + x) + c] = weights.rgb[3 * (y * w + x) + c];
+  sparse.alpha[20 * w + 37] = weights.alpha[20 * w + 37];  // tile (2, 1)
+  sparse.extra[s.num_extra * (17 * w + 3)] = 1.0;           // tile (0, 1)
+  const SplatGradients ref = ReferenceGradients(s, sparse);
+  Rasterizer r;
+  RenderResult out;
+  r.Forward(s.camera, s.View(), reference::TestRenderOptions(true), &out);
+  ExpectAllGradientsClose(BackwardWith(&r, sparse), ref, 1e-9);
+}
+
 // Rows of pixel boxes within tiles where no pixel reaches kMinAlpha (the
 // Gaussian's sigma above log(opacity / kMinAlpha) at every pixel), in
 // double from the projection: what the scene gives the row skip to do.

@@ -125,6 +125,8 @@ struct Rasterizer::State {
   void ForwardTiles(RenderResult* result);
   template <typename S>
   void BackwardTiles(const RenderGradients& image_grads);
+  // Whether every image gradient of the tile's pixels is zero.
+  bool NoTileGradient(const RenderGradients& image_grads, int tile) const;
   // Sums each Gaussian's tile shares and chains them back to its
   // attributes (every value of *grads is written).
   template <typename S>
@@ -397,10 +399,38 @@ void Rasterizer::State::BackwardTiles(const RenderGradients& ig) {
   const int num_tiles = camera->tiles_x * camera->tiles_y;
 #pragma omp parallel for schedule(dynamic, 1) if (ParallelTiles())
   for (int tile = 0; tile < num_tiles; ++tile) {
+    if (NoTileGradient(ig, tile)) {
+      // Nothing to pass back (a loss that reads only some pixels, as the
+      // loop texture's the water): no entry of the tile took part.
+      tile_last_entry[tile] = -1;
+      continue;
+    }
     S* mine =
         &all_scratch[static_cast<size_t>(omp_get_thread_num()) * per_thread];
     backward(pass, tile, mine);
   }
+}
+
+bool Rasterizer::State::NoTileGradient(const RenderGradients& ig,
+                                       int tile) const {
+  const int width = camera->width, height = camera->height;
+  const int x0 = (tile % camera->tiles_x) * kTileSize;
+  const int y0 = (tile / camera->tiles_x) * kTileSize;
+  const int x1 = std::min(x0 + kTileSize, width);
+  const int y1 = std::min(y0 + kTileSize, height);
+  // Each image's values of the tile's pixels, `channels` per pixel.
+  const auto zero = [&](const double* image, int channels) {
+    if (image == nullptr) return true;
+    for (int y = y0; y < y1; ++y) {
+      const double* row =
+          image + (static_cast<size_t>(y) * width + x0) * channels;
+      for (int i = 0; i < (x1 - x0) * channels; ++i)
+        if (row[i] != 0) return false;
+    }
+    return true;
+  };
+  return zero(ig.d_rgb, 3) && zero(ig.d_alpha, 1) && zero(ig.d_depth, 1) &&
+         zero(ig.d_extra, splats.num_extra);
 }
 
 template <typename S>
