@@ -9,7 +9,8 @@ namespace es {
 // Scratch for SortedOrder, reused between calls.
 struct SortedOrderScratch {
   struct Entry {
-    uint64_t key;  // the value's bits, mapped so that keys sort as values
+    uint32_t top;  // the top half of the value's bits, mapped so that
+                   // they sort as values do
     int32_t index;
   };
   std::vector<Entry> entries, spare;
@@ -20,9 +21,10 @@ struct SortedOrderScratch {
 // The indices 0 .. n - 1 of values[0], values[stride], ... in ascending
 // order of value, equal values in index order (-0 equals +0): the order
 // that std::sort gives on (value, index) pairs, by a least-significant-
-// digit radix sort of the values' bits in O(n), for the sliced
-// Wasserstein distances' many sorts of a few thousand values each. The
-// values must not be NaN.
+// digit radix sort of the top half of the values' bits in O(n), then a
+// comparison sort of each run that shares them (rare unless values tie),
+// for the sliced Wasserstein distances' many sorts of thousands of values
+// each. The values must not be NaN.
 void SortedOrder(const double* values, int n, int stride,
                  SortedOrderScratch* scratch, std::vector<int>* order);
 
