@@ -109,22 +109,51 @@ double WaterEnergyLoss::Evaluate(const double* rendered_a,
     mask_[p] = std::max(mask_a_[p], mask_b_[p]);
 
   // Each opponent channel on its own, averaged: a change of hue that the
-  // input does not have is not counted as the input's change.
+  // input does not have is not counted as the input's change. Each
+  // channel's terms run as three tasks (the motion, frame A's detail and
+  // frame B's), each into its own gradients, added up after in the order
+  // one task after another would have.
   const double channel_scale = scale / kChannels;
   // (Small images on one thread: there the fork costs more than it saves.)
-  std::array<double, kChannels> motion{}, detail{};
-#pragma omp parallel for schedule(dynamic, 1) if (pixels >= 16384)
+  const bool parallel = pixels >= 16384;
+#pragma omp parallel for schedule(dynamic, 1) if (parallel)
   for (int c = 0; c < kChannels; ++c) {
-    EvaluateChannel(c, rendered_a, rendered_b, w, h, channel_scale,
-                    motion_in, detail_in, &channels_[c], &motion[c],
-                    &detail[c]);
+    ChannelOf(rendered_a, pixels, c, &channels_[c].ya);
+    ChannelOf(rendered_b, pixels, c, &channels_[c].yb);
+  }
+  std::array<double, kChannels> motion{}, detail[2] = {};
+#pragma omp parallel for schedule(dynamic, 1) if (parallel)
+  for (int task = 0; task < 3 * kChannels; ++task) {
+    const int c = task / 3, part = task % 3;
+    internal::ChannelScratch& s = channels_[c];
+    internal::TermScratch& scratch = s.terms[part];
+    scratch.dya.assign(part == 2 ? 0 : pixels, 0.0);
+    scratch.dyb.assign(part == 1 ? 0 : pixels, 0.0);
+    if (part == 0 && motion_in != nullptr) {
+      motion[c] = MotionTerm(c, s.ya, s.yb, w, h, channel_scale,
+                             motion_in->energies[c][0], &scratch);
+    } else if (part > 0 && detail_in[0] != nullptr) {
+      const int f = part - 1;
+      detail[f][c] = DetailTerm(c, f == 0 ? s.ya : s.yb, w, h, channel_scale,
+                                detail_in[f]->energies[c],
+                                f == 0 ? mask_a_ : mask_b_,
+                                f == 0 ? &scratch.dya : &scratch.dyb,
+                                &scratch);
+    }
   }
   WaterEnergyTerms t;
   for (int c = 0; c < kChannels; ++c) {
     t.motion += motion[c];
-    t.detail += detail[c];
-    AddChannelGradient(channels_[c].dya, c, d_a);
-    AddChannelGradient(channels_[c].dyb, c, d_b);
+    t.detail += detail[0][c] + detail[1][c];
+    internal::ChannelScratch& s = channels_[c];
+    s.dya = s.terms[0].dya;
+    s.dyb = s.terms[0].dyb;
+    for (size_t p = 0; p < pixels; ++p) {
+      s.dya[p] += s.terms[1].dya[p];
+      s.dyb[p] += s.terms[2].dyb[p];
+    }
+    AddChannelGradient(s.dya, c, d_a);
+    AddChannelGradient(s.dyb, c, d_b);
   }
   if (terms) *terms = t;
   return scale * (options_.motion_weight * t.motion +
@@ -138,12 +167,15 @@ void WaterEnergyLoss::MotionInputs(const cv::Mat& input_a,
   const size_t pixels = static_cast<size_t>(w) * h;
   input_a.convertTo(input_a_, CV_64FC3);
   input_b.convertTo(input_b_, CV_64FC3);
-  internal::ChannelScratch& s = channels_[0];
+  // Scratch: the renders' are not taken yet.
+  std::vector<double>& ia = channels_[0].ya;
+  std::vector<double>& ib = channels_[0].yb;
+  internal::TermScratch& s = channels_[0].terms[0];
   for (int c = 0; c < kChannels; ++c) {
-    ChannelOf(input_a_.ptr<double>(), pixels, c, &s.ia);
-    ChannelOf(input_b_.ptr<double>(), pixels, c, &s.ib);
+    ChannelOf(input_a_.ptr<double>(), pixels, c, &ia);
+    ChannelOf(input_b_.ptr<double>(), pixels, c, &ib);
     s.diff.resize(pixels);
-    for (size_t p = 0; p < pixels; ++p) s.diff[p] = s.ib[p] - s.ia[p];
+    for (size_t p = 0; p < pixels; ++p) s.diff[p] = ib[p] - ia[p];
     out->energies[c].resize(1);
     Energy(s.diff, w, h, kernels_.window[0], &s.blur, &s.g,
            &out->energies[c][0]);
@@ -155,69 +187,66 @@ void WaterEnergyLoss::DetailInputs(const cv::Mat& input,
   const int w = input.cols, h = input.rows;
   const size_t pixels = static_cast<size_t>(w) * h;
   input.convertTo(input_a_, CV_64FC3);
-  internal::ChannelScratch& s = channels_[0];
+  // Scratch: the renders' are not taken yet.
+  std::vector<double>& y = channels_[0].ya;
+  internal::TermScratch& s = channels_[0].terms[0];
   for (int c = 0; c < kChannels; ++c) {
-    ChannelOf(input_a_.ptr<double>(), pixels, c, &s.ia);
+    ChannelOf(input_a_.ptr<double>(), pixels, c, &y);
     out->energies[c].resize(options_.detail_octaves);
     for (int k = 0; k < options_.detail_octaves; ++k) {
-      Band(s.ia, w, h, k, kernels_.detail, &s.blur, &s.low, &s.high);
+      Band(y, w, h, k, kernels_.detail, &s.blur, &s.low, &s.high);
       Energy(s.high, w, h, kernels_.window[k], &s.blur, &s.g,
              &out->energies[c][k]);
     }
   }
 }
 
-void WaterEnergyLoss::EvaluateChannel(
-    int c, const double* rendered_a, const double* rendered_b, int w, int h,
-    double channel_scale, const internal::InputEnergies* motion_in,
-    const internal::InputEnergies* const* detail_in,
-    internal::ChannelScratch* s, double* motion, double* detail) const {
+double WaterEnergyLoss::MotionTerm(int c, const std::vector<double>& ya,
+                                   const std::vector<double>& yb, int w,
+                                   int h, double channel_scale,
+                                   const std::vector<double>& e_input,
+                                   internal::TermScratch* s) const {
   const size_t pixels = static_cast<size_t>(w) * h;
-  ChannelOf(rendered_a, pixels, c, &s->ya);
-  ChannelOf(rendered_b, pixels, c, &s->yb);
-  s->dya.assign(pixels, 0.0);
-  s->dyb.assign(pixels, 0.0);
-  *motion = *detail = 0;
-  if (motion_in != nullptr) {
-    s->diff.resize(pixels);
-    for (size_t p = 0; p < pixels; ++p) s->diff[p] = s->yb[p] - s->ya[p];
-    Energy(s->diff, w, h, kernels_.window[0], &s->blur, &s->g, &s->e_r);
-    *motion = AmplitudeL1(s->e_r, motion_in->energies[c][0], mask_,
-                          motion_floors_[c],
-                          channel_scale * options_.motion_weight, &s->term,
-                          &s->d_e) /
-              kChannels;
-    BlurAdjoint(s->d_e, w, h, kernels_.window[0], &s->blur, &s->g);
-    for (size_t p = 0; p < pixels; ++p) {
-      const double g = 2 * s->diff[p] * s->g[p];
-      s->dyb[p] += g;
-      s->dya[p] -= g;
-    }
+  s->diff.resize(pixels);
+  for (size_t p = 0; p < pixels; ++p) s->diff[p] = yb[p] - ya[p];
+  Energy(s->diff, w, h, kernels_.window[0], &s->blur, &s->g, &s->e_r);
+  const double motion =
+      AmplitudeL1(s->e_r, e_input, mask_, motion_floors_[c],
+                  channel_scale * options_.motion_weight, &s->term, &s->d_e) /
+      kChannels;
+  BlurAdjoint(s->d_e, w, h, kernels_.window[0], &s->blur, &s->g);
+  for (size_t p = 0; p < pixels; ++p) {
+    const double g = 2 * s->diff[p] * s->g[p];
+    s->dyb[p] += g;
+    s->dya[p] -= g;
   }
-  if (detail_in[0] != nullptr) {
-    const int octaves = options_.detail_octaves;
-    const double band_scale =
-        0.5 * channel_scale * options_.detail_weight / octaves;
-    for (int f = 0; f < 2; ++f) {
-      const std::vector<double>& y = f == 0 ? s->ya : s->yb;
-      const std::vector<double>& water = f == 0 ? mask_a_ : mask_b_;
-      std::vector<double>& dy = f == 0 ? s->dya : s->dyb;
-      for (int k = 0; k < octaves; ++k) {
-        const std::vector<double>& window = kernels_.window[k];
-        Band(y, w, h, k, kernels_.detail, &s->blur, &s->low, &s->high);
-        Energy(s->high, w, h, window, &s->blur, &s->g, &s->e_r);
-        *detail += 0.5 *
-                   AmplitudeL1(s->e_r, detail_in[f]->energies[c][k], water,
-                               band_floors_[k][c], band_scale, &s->term,
-                               &s->d_e) /
-                   (kChannels * octaves);
-        BlurAdjoint(s->d_e, w, h, window, &s->blur, &s->g);
-        for (size_t p = 0; p < pixels; ++p) s->g[p] *= 2 * s->high[p];
-        AddBandAdjoint(s->g, w, h, k, kernels_.detail, &s->blur, &s->low,
-                       &s->diff, &dy);
-      }
-    }
+  return motion;
+}
+
+double WaterEnergyLoss::DetailTerm(
+    int c, const std::vector<double>& y, int w, int h, double channel_scale,
+    const std::vector<std::vector<double>>& e_input,
+    const std::vector<double>& water, std::vector<double>* dy,
+    internal::TermScratch* s) const {
+  const size_t pixels = static_cast<size_t>(w) * h;
+  const int octaves = options_.detail_octaves;
+  const double band_scale =
+      0.5 * channel_scale * options_.detail_weight / octaves;
+  double detail = 0;
+  for (int k = 0; k < octaves; ++k) {
+    const std::vector<double>& window = kernels_.window[k];
+    Band(y, w, h, k, kernels_.detail, &s->blur, &s->low, &s->high);
+    Energy(s->high, w, h, window, &s->blur, &s->g, &s->e_r);
+    detail += 0.5 *
+              AmplitudeL1(s->e_r, e_input[k], water, band_floors_[k][c],
+                          band_scale, &s->term, &s->d_e) /
+              (kChannels * octaves);
+    BlurAdjoint(s->d_e, w, h, window, &s->blur, &s->g);
+    for (size_t p = 0; p < pixels; ++p) s->g[p] *= 2 * s->high[p];
+    AddBandAdjoint(s->g, w, h, k, kernels_.detail, &s->blur, &s->low,
+                   &s->diff, dy);
   }
+  return detail;
 }
 
 }  // namespace es

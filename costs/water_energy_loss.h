@@ -20,12 +20,19 @@ struct InputEnergies {
   std::array<std::vector<std::vector<double>>, 3> energies;
 };
 
-// Scratch of one opponent channel's terms: the channel of the two renders
-// and inputs, its gradient per render, and the blurs' images.
-struct ChannelScratch {
-  std::vector<double> ya, yb, ia, ib, dya, dyb, diff, e_r, d_e, g, high,
-      low, term;
+// Scratch of one term of one opponent channel (the motion, or one
+// frame's detail): its gradients by the channel of each render (those it
+// has), and its blurs' images.
+struct TermScratch {
+  std::vector<double> dya, dyb, diff, e_r, d_e, g, high, low, term;
   BlurScratch blur;
+};
+
+// One opponent channel of the two renders, its gradients, and its terms'
+// scratch.
+struct ChannelScratch {
+  std::vector<double> ya, yb, dya, dyb;
+  std::array<TermScratch, 3> terms;
 };
 }  // namespace internal
 
@@ -95,18 +102,21 @@ class WaterEnergyLoss {
                     internal::InputEnergies* out);
   void DetailInputs(const cv::Mat& input, internal::InputEnergies* out);
 
-  // One opponent channel's unweighted motion and detail terms (each
-  // already divided by the channel count) and, into s->dya / s->dyb,
-  // their gradients by the channel of each render, times channel_scale;
-  // `motion_in` and `detail_in` (null: that term is off) the inputs'
-  // energies.
-  void EvaluateChannel(int c, const double* rendered_a,
-                       const double* rendered_b, int w, int h,
-                       double channel_scale,
-                       const internal::InputEnergies* motion_in,
-                       const internal::InputEnergies* const* detail_in,
-                       internal::ChannelScratch* s, double* motion,
-                       double* detail) const;
+  // Opponent channel c's unweighted motion term of the renders' channels
+  // ya, yb (divided by the channel count); its gradients by ya and yb,
+  // times channel_scale, are added to s->dya and s->dyb.
+  double MotionTerm(int c, const std::vector<double>& ya,
+                    const std::vector<double>& yb, int w, int h,
+                    double channel_scale, const std::vector<double>& e_input,
+                    internal::TermScratch* s) const;
+  // Half of channel c's unweighted detail term of one frame's render
+  // channel y (its share of the two frames' mean, divided by the channel
+  // count); its gradient, times channel_scale, is added to *dy.
+  double DetailTerm(int c, const std::vector<double>& y, int w, int h,
+                    double channel_scale,
+                    const std::vector<std::vector<double>>& e_input,
+                    const std::vector<double>& water, std::vector<double>* dy,
+                    internal::TermScratch* s) const;
 
   WaterEnergyOptions options_;
   // G_k and W_k of the detail bands.

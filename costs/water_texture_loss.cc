@@ -48,14 +48,22 @@ void WaterTextureLoss::Bands(const double* rgb, std::mt19937_64* noise,
                              std::vector<std::vector<double>>* bands) {
   const size_t pixels = static_cast<size_t>(w_) * h_;
   bands->resize(kChannels * options_.bands);
+  // The noise drawn channel by channel in one stream, then the channels'
+  // bands in parallel.
   for (int c = 0; c < kChannels; ++c) {
-    internal::ChannelOf(rgb, pixels, c, &channel_);
+    ChannelWork& work = channels_[c];
+    internal::ChannelOf(rgb, pixels, c, &work.channel);
     if (noise != nullptr && options_.input_noise[c] > 0) {
       std::normal_distribution<double> normal(0.0, options_.input_noise[c]);
-      for (double& v : channel_) v += normal(*noise);
+      for (double& v : work.channel) v += normal(*noise);
     }
-    internal::Bands(channel_, w_, h_, options_.bands, kernels_, &blur_,
-                    &low_, &coarse_, &(*bands)[c * options_.bands]);
+  }
+#pragma omp parallel for schedule(dynamic, 1)
+  for (int c = 0; c < kChannels; ++c) {
+    ChannelWork& work = channels_[c];
+    internal::Bands(work.channel, w_, h_, options_.bands, kernels_,
+                    &work.blur, &work.low, &work.coarse,
+                    &(*bands)[c * options_.bands]);
   }
 }
 
@@ -191,14 +199,17 @@ double WaterTextureLoss::Evaluate(const double* rendered,
 #pragma omp parallel for schedule(dynamic)
     for (int b = 0; b < num_bands; ++b)
       kernels.project_adjoint(p, b, d_proj_.data(), d_bands_[b].data());
+#pragma omp parallel for schedule(dynamic, 1)
     for (int c = 0; c < kChannels; ++c) {
-      channel_.assign(pixels, 0.0);
+      ChannelWork& work = channels_[c];
+      work.channel.assign(pixels, 0.0);
       for (int k = 0; k < options_.bands; ++k)
         internal::AddBandAdjoint(d_bands_[c * options_.bands + k], w_, h_, k,
-                                 kernels_, &blur_, &low_, &coarse_,
-                                 &channel_);
-      internal::AddChannelGradient(channel_, c, d_rendered);
+                                 kernels_, &work.blur, &work.low,
+                                 &work.coarse, &work.channel);
     }
+    for (int c = 0; c < kChannels; ++c)
+      internal::AddChannelGradient(channels_[c].channel, c, d_rendered);
   }
   return factor * distance / (static_cast<double>(n) * projections);
 }

@@ -106,8 +106,14 @@ class WaterTextureLoss {
   std::vector<const int*> tap_pointers_;
   // Scratch, reused.
   cv::Mat input_;
-  std::vector<double> channel_, low_, coarse_, mask_;
-  internal::BlurScratch blur_;
+  std::vector<double> mask_;
+  // Per opponent channel (they run in parallel): the channel or its
+  // gradient, and its blurs' scratch.
+  struct ChannelWork {
+    std::vector<double> channel, low, coarse;
+    internal::BlurScratch blur;
+  };
+  std::array<ChannelWork, 3> channels_;
   std::vector<std::vector<double>> rendered_bands_, d_bands_;
   Eigen::MatrixXd directions_;  // dims x projections, unit columns
   // n x projections, column-major; vectors, so that a frame with more
