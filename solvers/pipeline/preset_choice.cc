@@ -31,17 +31,18 @@ std::string Minutes(double seconds) {
 TimeModel MeasuredTimeModel() {
   TimeModel m;
   // CPU, single-thread seconds per pixel (docs/BENCHMARKS.md, "The preset
-  // that fits", has both commands). The scale: Stage 3 of the README's
-  // run on an idle 2-core machine, 237 s for 4000 iterations of 160x120
-  // with 2 threads (x 1.5, the 2-thread speed-up): 4.6e-6. The stages'
-  // costs relative to Stage 3's: the CPU seconds per pixel-iteration (or
-  // pixel-frame) of benchmarks/profile_driver.sh on a 320x240, 120-frame
-  // clip (Stage 1 0.243 of Stage 3's, its evaluations included; the
-  // flow init, videos, export and evaluation 0.427 per frame), measured
-  // under load, where only ratios of CPU seconds carry over.
-  m.joint_seconds = 4.6e-6;
-  m.static_seconds = 0.243 * m.joint_seconds;
-  m.frame_seconds = 0.427 * m.joint_seconds;
+  // that fits", has the commands). Stage 3: the README's run on an idle
+  // 2-core machine, 174 s for 4000 iterations of 160x120 with 2 threads
+  // (x 1.5, the 2-thread speed-up): 3.4e-6. The other stages, per
+  // pixel-iteration or pixel-frame: from the CPU seconds of
+  // benchmarks/profile_driver.sh on a 320x240, 120-frame clip relative to
+  // Stage 3's when it cost 4.6e-6 (Stage 1 0.243 of it, its evaluations
+  // included; the flow init, videos, export and evaluation 0.427 per
+  // frame), measured under load, where only ratios of CPU seconds carry
+  // over.
+  m.joint_seconds = 3.4e-6;
+  m.static_seconds = 0.243 * 4.6e-6;
+  m.frame_seconds = 0.427 * 4.6e-6;
   // One thread to two: es_static 1.67x, es_train 1.41x (docs/BENCHMARKS.md,
   // "thread scaling").
   m.extra_thread_gain = 0.5;
