@@ -16,23 +16,14 @@
 #endif
 
 #include <cstddef>
-#include <cstring>
 
+#include "core/base/simd_vector.h"
 #include "costs/water_kernels.h"
 
 namespace es {
 namespace ES_WATER_KERNELS_ISA {
 namespace {
 
-#if defined(__AVX512F__)
-constexpr int kVectorBytes = 64;
-#elif defined(__AVX2__)
-constexpr int kVectorBytes = 32;
-#else
-constexpr int kVectorBytes = 16;
-#endif
-typedef double Vec __attribute__((vector_size(kVectorBytes)));
-constexpr int kLanes = kVectorBytes / sizeof(double);
 // Independent sums in flight: enough to hide the adds' latency.
 constexpr int kAccumulators = 8;
 constexpr int kBlock = kLanes * kAccumulators;
@@ -40,12 +31,6 @@ constexpr int kBlock = kLanes * kAccumulators;
 inline int Min(int a, int b) { return a < b ? a : b; }
 inline int Max(int a, int b) { return a > b ? a : b; }
 inline int Clamp(int v, int lo, int hi) { return Min(Max(v, lo), hi); }
-
-inline Vec Load(const double* p) {
-  Vec v;
-  std::memcpy(&v, p, sizeof(v));
-  return v;
-}
 
 // out[x] = sum_t k[t] src[t][x] over t = 0 .. terms - 1 in order, for x in
 // [begin, end).
@@ -61,7 +46,7 @@ void SumTerms(const double* const* src, const double* k, int terms,
       for (int a = 0; a < kAccumulators; ++a)
         acc[a] += kt * Load(s + a * kLanes);
     }
-    std::memcpy(out + x, acc, sizeof(acc));
+    __builtin_memcpy(out + x, acc, sizeof(acc));
   }
   for (; x < end; ++x) {
     double acc = 0.0;
@@ -82,7 +67,7 @@ void BlurRows(const double* in, int w, int h, const double* k, int r,
       line[m] = row[0];
       line[r + w + m] = row[w - 1];
     }
-    std::memcpy(line + r, row, sizeof(double) * w);
+    __builtin_memcpy(line + r, row, sizeof(double) * w);
     SumTerms(s.sources, k, taps, 0, w, out + static_cast<size_t>(y) * w);
   }
 }
@@ -195,8 +180,7 @@ void ProjectDirections(const TextureProjection& p, long begin, long end,
       }
     }
     for (int m = 0; m < M; ++m)
-      std::memcpy(out + static_cast<long>(j0 + m) * p.n + i, &acc[m],
-                  sizeof(Vec));
+      Store(acc[m], out + static_cast<long>(j0 + m) * p.n + i);
   }
   for (; i < end; ++i) {
     for (int m = 0; m < M; ++m) {

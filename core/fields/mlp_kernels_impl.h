@@ -16,6 +16,7 @@
 #error "define ES_MLP_ISA before this header"
 #endif
 
+#include "core/base/simd_vector.h"
 #include "core/fields/mlp_kernels.h"
 
 namespace es {
@@ -23,25 +24,6 @@ namespace ES_MLP_ISA {
 namespace {
 
 constexpr int kTileRows = 4;
-#if defined(__AVX512F__)
-constexpr int kVectorBytes = 64;
-#elif defined(__AVX2__)
-constexpr int kVectorBytes = 32;
-#else
-constexpr int kVectorBytes = 16;
-#endif
-typedef double Vec __attribute__((vector_size(kVectorBytes)));
-constexpr int kLanes = kVectorBytes / sizeof(double);
-
-inline Vec Load(const double* p) {
-  Vec v;
-  __builtin_memcpy(&v, p, sizeof(v));
-  return v;
-}
-
-inline void Store(const Vec& v, double* p) {
-  __builtin_memcpy(p, &v, sizeof(v));
-}
 
 // c[r][j] (r < R, j < V lanes; rows ldc apart) = init + sum_p a_r[p] b[p][j],
 // where a_r[p] = a[r * a_row + p * a_step] (so a is read as given or
