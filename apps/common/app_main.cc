@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "apps/common/flag_help.h"
+#include "apps/common/memory_policy.h"
 #include "apps/common/threads_flag.h"
 #include "apps/common/version.h"
 #include "apps/common/wait_policy.h"
@@ -49,6 +50,7 @@ void CheckFloatingPointFlags() {
 int RunApp(int argc, char** argv, const char* usage,
            const std::function<int()>& body) {
   ApplyWaitPolicy(argv);  // may start the program again, with the policy
+  KeepFreedMemory();
   gflags::SetUsageMessage(usage);
   gflags::SetVersionString(VersionString());
   for (int i = 1; i < argc; ++i) {

@@ -64,21 +64,38 @@ double L1Loss(const cv::Mat& x, const cv::Mat& y, cv::Mat* d_x) {
   return sum * inv_n;
 }
 
-cv::Mat SsimMap(const cv::Mat& x, const cv::Mat& y) {
-  CheckPair(x, y);
+namespace {
+
+// Each thread's SSIM buffers, kept between calls (their size is that of
+// the last image scored): an evaluation scores many frames of one size,
+// and fresh buffers cost their allocation, their zeroing and a page fault
+// per page at every call.
+struct SsimBuffers {
   SsimScratch<double> scratch;
   SsimTarget<double> target;
-  ComputeSsimTarget(y, &scratch, &target);
+};
+SsimBuffers& ThreadSsimBuffers() {
+  thread_local SsimBuffers buffers;
+  return buffers;
+}
+
+}  // namespace
+
+cv::Mat SsimMap(const cv::Mat& x, const cv::Mat& y) {
+  CheckPair(x, y);
+  SsimBuffers& b = ThreadSsimBuffers();
+  ComputeSsimTarget(y, &b.scratch, &b.target);
   cv::Mat map(x.size(), x.type());
-  SsimAgainstTarget(x.ptr<double>(), target, &scratch, 1.0, nullptr,
+  SsimAgainstTarget(x.ptr<double>(), b.target, &b.scratch, 1.0, nullptr,
                     map.ptr<double>());
   return map;
 }
 
 double Ssim(const cv::Mat& x, const cv::Mat& y, cv::Mat* d_x) {
   CheckPair(x, y);
-  SsimScratch<double> scratch;
-  SsimTarget<double> target;
+  SsimBuffers& b = ThreadSsimBuffers();
+  SsimScratch<double>& scratch = b.scratch;
+  SsimTarget<double>& target = b.target;
   ComputeSsimTarget(y, &scratch, &target);
   double* grad = nullptr;
   if (d_x) {
