@@ -2,10 +2,11 @@
 #define EULERSPLAT_COSTS_WATER_KERNELS_H_
 
 // The separable blurs of the water losses (costs/water_image_filters.h)
-// and their adjoints, and the energy loss's per-pixel terms, compiled once per instruction set
+// and their adjoints, the energy loss's per-pixel terms and the texture
+// loss's projections, compiled once per instruction set
 // (water_kernels_{sse2,avx2,avx512}.cc from the one source in
 // water_kernels_impl.h) and picked at run time. Every set sums each
-// output's taps in the same order without fused multiply-adds, so all
+// output's terms in the same order without fused multiply-adds, so all
 // give the same bits: a run resumed on another CPU goes on unchanged.
 //
 // Images are row-major doubles, w x h; k holds the 2 r + 1 taps of a 1D
@@ -65,9 +66,9 @@ struct WaterKernelSet {
   void (*project)(const TextureProjection& p, long begin, long end,
                   double* out);
   // The adjoint for band b: d_band[taps[9 i + o]] += sum_j d_proj(i, j)
-  // directions(9 b + o, j) for every pixel i and o = 0 .. 8 (16 directions
-  // at a time, a block of pixels at a time, its o in order); d_proj is n x
-  // projections, col-major.
+  // directions(9 b + o, j) (summed in j order), for pixel i = 0 .. n - 1
+  // in order, o = 0 .. 8 in order, once per 16 directions (then 4, then
+  // 1); d_proj is n x projections, col-major.
   void (*project_adjoint)(const TextureProjection& p, int b,
                           const double* d_proj, double* d_band);
 };

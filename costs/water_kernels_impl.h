@@ -176,7 +176,8 @@ void ProjectDirections(const TextureProjection& p, long begin, long end,
         Vec v;
         for (int l = 0; l < kLanes; ++l) v[l] = band[taps[kNeighbours * l + o]];
         const int f = kNeighbours * b + o;
-        for (int m = 0; m < M; ++m) acc[m] += v * d[static_cast<long>(m) * dims + f];
+        for (int m = 0; m < M; ++m)
+          acc[m] += v * d[static_cast<long>(m) * dims + f];
       }
     }
     for (int m = 0; m < M; ++m)
@@ -219,12 +220,17 @@ void ProjectAdjointDirections(const TextureProjection& p, int b, int j0,
     Vec g[M];
     for (int m = 0; m < M; ++m)
       g[m] = Load(d_proj + static_cast<long>(j0 + m) * p.n + i);
+    Vec v[kNeighbours];
     for (int o = 0; o < kNeighbours; ++o) {
-      Vec v{};
-      for (int m = 0; m < M; ++m) v += g[m] * d[static_cast<long>(m) * dims + o];
-      for (int l = 0; l < kLanes; ++l)
-        d_band[taps[kNeighbours * (i + l) + o]] += v[l];
+      v[o] = Vec{};
+      for (int m = 0; m < M; ++m)
+        v[o] += g[m] * d[static_cast<long>(m) * dims + o];
     }
+    // Pixel by pixel, as the one-pixel loop below: the same order of
+    // adds into d_band whatever the vectors' width.
+    for (int l = 0; l < kLanes; ++l)
+      for (int o = 0; o < kNeighbours; ++o)
+        d_band[taps[kNeighbours * (i + l) + o]] += v[o][l];
   }
   for (; i < p.n; ++i) {
     for (int o = 0; o < kNeighbours; ++o) {
