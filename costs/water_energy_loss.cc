@@ -145,15 +145,14 @@ double WaterEnergyLoss::Evaluate(const double* rendered_a,
   for (int c = 0; c < kChannels; ++c) {
     t.motion += motion[c];
     t.detail += detail[0][c] + detail[1][c];
-    internal::ChannelScratch& s = channels_[c];
-    s.dya = s.terms[0].dya;
-    s.dyb = s.terms[0].dyb;
+    // The motion's gradients, then each frame's detail added to them.
+    std::array<internal::TermScratch, 3>& parts = channels_[c].terms;
     for (size_t p = 0; p < pixels; ++p) {
-      s.dya[p] += s.terms[1].dya[p];
-      s.dyb[p] += s.terms[2].dyb[p];
+      parts[0].dya[p] += parts[1].dya[p];
+      parts[0].dyb[p] += parts[2].dyb[p];
     }
-    AddChannelGradient(s.dya, c, d_a);
-    AddChannelGradient(s.dyb, c, d_b);
+    AddChannelGradient(parts[0].dya, c, d_a);
+    AddChannelGradient(parts[0].dyb, c, d_b);
   }
   if (terms) *terms = t;
   return scale * (options_.motion_weight * t.motion +

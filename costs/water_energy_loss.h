@@ -28,10 +28,9 @@ struct TermScratch {
   BlurScratch blur;
 };
 
-// One opponent channel of the two renders, its gradients, and its terms'
-// scratch.
+// One opponent channel of the two renders and its terms' scratch.
 struct ChannelScratch {
-  std::vector<double> ya, yb, dya, dyb;
+  std::vector<double> ya, yb;
   std::array<TermScratch, 3> terms;
 };
 }  // namespace internal

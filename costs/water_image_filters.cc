@@ -1,6 +1,5 @@
 #include "costs/water_image_filters.h"
 
-#include <algorithm>
 #include <utility>
 
 #include <glog/logging.h>
@@ -9,13 +8,6 @@
 #include "costs/water_kernels.h"
 
 namespace es {
-
-const WaterKernelSet& WaterKernels(SimdLevel level) {
-  return ForSimdLevel(level, &water_kernels_sse2::Kernels,
-                      &water_kernels_avx2::Kernels,
-                      &water_kernels_avx512::Kernels)();
-}
-
 namespace internal {
 namespace {
 

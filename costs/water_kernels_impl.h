@@ -1,4 +1,4 @@
-// The water losses' blurs. Included only by
+// The water losses' kernels (costs/water_kernels.h). Included only by
 // water_kernels_{sse2,avx2,avx512}.cc, each compiled for its
 // instruction set with ES_WATER_KERNELS_ISA naming its namespace and
 // -ffp-contract=off (CMakeLists.txt), so that every set rounds as the
@@ -6,9 +6,9 @@
 // out-of-line library code (memcpy aside), so nothing compiled for AVX2 /
 // AVX-512 runs on a CPU without it.
 //
-// Every pass is a gather: an output sums its terms from 0.0 in the order
-// in which a scatter into zeroed outputs would add them, and blocks of
-// outputs stay in vector registers over all their taps (one store per
+// Every blur pass is a gather: an output sums its terms from 0.0 in the
+// order in which a scatter into zeroed outputs would add them, and blocks
+// of outputs stay in vector registers over all their taps (one store per
 // output, not one per tap).
 
 #if !defined(ES_WATER_KERNELS_ISA)
@@ -16,6 +16,7 @@
 #endif
 
 #include <cstddef>
+#include <type_traits>
 
 #include "core/base/simd_vector.h"
 #include "costs/water_kernels.h"
@@ -106,8 +107,10 @@ void BlurRowsAdjoint(const double* g_out, int w, int h, const double* k,
     double* dst = g_in + static_cast<size_t>(y) * w;
     for (int j = 0; j < taps; ++j) s.sources[j] = g + r - j;
     SumTerms(s.sources, k, taps, begin, end, dst);
-    for (int x = 0; x < begin; ++x) dst[x] = PaddedAdjointAt(g, x + r, w, k, r);
-    for (int x = end; x < w; ++x) dst[x] = PaddedAdjointAt(g, x + r, w, k, r);
+    for (int x = 0; x < begin; ++x)
+      dst[x] = PaddedAdjointAt(g, x + r, w, k, r);
+    for (int x = end; x < w; ++x)
+      dst[x] = PaddedAdjointAt(g, x + r, w, k, r);
     for (int m = 0; m < r; ++m) {
       dst[0] += PaddedAdjointAt(g, m, w, k, r);
       dst[w - 1] += PaddedAdjointAt(g, w + r + m, w, k, r);
@@ -158,6 +161,18 @@ void AmplitudeTerms(const double* e_rendered, const double* e_input,
 
 constexpr int kNeighbours = 9;
 
+// Runs run(std::integral_constant<int, M>(), j0) over the directions in
+// chunks of M = 16, then 4, then 1, each chunk's sums held in registers.
+template <typename Run>
+void InDirectionChunks(int projections, Run run) {
+  int j = 0;
+  for (; j + 16 <= projections; j += 16)
+    run(std::integral_constant<int, 16>(), j);
+  for (; j + 4 <= projections; j += 4)
+    run(std::integral_constant<int, 4>(), j);
+  for (; j < projections; ++j) run(std::integral_constant<int, 1>(), j);
+}
+
 // Project for directions [j0, j0 + M), kLanes pixels at a time: their M
 // sums stay in registers over all the features.
 template <int M>
@@ -174,7 +189,8 @@ void ProjectDirections(const TextureProjection& p, long begin, long end,
       const int* taps = p.taps[b % p.levels] + kNeighbours * i;
       for (int o = 0; o < kNeighbours; ++o) {
         Vec v;
-        for (int l = 0; l < kLanes; ++l) v[l] = band[taps[kNeighbours * l + o]];
+        for (int l = 0; l < kLanes; ++l)
+          v[l] = band[taps[kNeighbours * l + o]];
         const int f = kNeighbours * b + o;
         for (int m = 0; m < M; ++m)
           acc[m] += v * d[static_cast<long>(m) * dims + f];
@@ -198,12 +214,9 @@ void ProjectDirections(const TextureProjection& p, long begin, long end,
 }
 
 void Project(const TextureProjection& p, long begin, long end, double* out) {
-  int j = 0;
-  for (; j + 16 <= p.projections; j += 16)
-    ProjectDirections<16>(p, begin, end, j, out);
-  for (; j + 4 <= p.projections; j += 4)
-    ProjectDirections<4>(p, begin, end, j, out);
-  for (; j < p.projections; ++j) ProjectDirections<1>(p, begin, end, j, out);
+  InDirectionChunks(p.projections, [&](auto m, int j0) {
+    ProjectDirections<decltype(m)::value>(p, begin, end, j0, out);
+  });
 }
 
 // kLanes pixels at a time: their gradients by the projections are read
@@ -245,13 +258,9 @@ void ProjectAdjointDirections(const TextureProjection& p, int b, int j0,
 
 void ProjectAdjoint(const TextureProjection& p, int b, const double* d_proj,
                     double* d_band) {
-  int j = 0;
-  for (; j + 16 <= p.projections; j += 16)
-    ProjectAdjointDirections<16>(p, b, j, d_proj, d_band);
-  for (; j + 4 <= p.projections; j += 4)
-    ProjectAdjointDirections<4>(p, b, j, d_proj, d_band);
-  for (; j < p.projections; ++j)
-    ProjectAdjointDirections<1>(p, b, j, d_proj, d_band);
+  InDirectionChunks(p.projections, [&](auto m, int j0) {
+    ProjectAdjointDirections<decltype(m)::value>(p, b, j0, d_proj, d_band);
+  });
 }
 
 const WaterKernelSet kKernels = {&BlurRows,        &BlurColumns,

@@ -139,7 +139,7 @@ double WaterTextureLoss::Evaluate(const double* rendered,
   // once while the cache has room.
   const size_t bytes =
       n * sizeof(int) * (1 + kNeighbours * options_.bands) +
-      dims() / kNeighbours * pixels * sizeof(double);
+      kChannels * options_.bands * pixels * sizeof(double);
   inputs_now_ = &inputs_.Get({&input, &mask}, bytes,
                              [&](internal::TextureInputs* inputs) {
                                FindInputs(input, inputs);
