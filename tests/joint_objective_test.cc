@@ -25,6 +25,9 @@ struct Fixture {
   Fixture() {
     JointTrainerOptions o = TinyOptions();
     o.residual_weight = 0.1;
+    // Central differences need double fields, as they need the double
+    // rasterizer below.
+    o.field_precision = MlpPrecision::kDouble;
     std::mt19937_64 rng(1);
     // Away from the frames' own model: at an exact fit the L1 term has a
     // kink at every pixel.
@@ -72,6 +75,23 @@ double MaxAbs(const std::vector<double>& v) {
 
 // With the water terms ramped to 0 the pair's step is the mean of both
 // frames' fits, each as JointRenderCost scores it alone.
+// Stage 3 runs its fields' MLPs in the options' precision, float by
+// default (the gradient test below sets double).
+TEST(JointObjectiveTest, InitialModelRunsItsFieldsInTheOptionsPrecision) {
+  EXPECT_EQ(JointTrainerOptions().field_precision, MlpPrecision::kFloat);
+  for (const MlpPrecision precision :
+       {MlpPrecision::kFloat, MlpPrecision::kDouble}) {
+    JointTrainerOptions o = TinyOptions();
+    o.field_precision = precision;
+    std::mt19937_64 rng(1);
+    const LoopModel model =
+        InitialLoopModel(o, kFrames, TrueCanonical(), std::nullopt, &rng);
+    ASSERT_TRUE(model.motion && model.residual);
+    EXPECT_EQ(model.motion->mlp().precision(), precision);
+    EXPECT_EQ(model.residual->mlp().precision(), precision);
+  }
+}
+
 TEST(JointObjectiveTest, PairWithoutWaterTermsIsTheMeanOfBothFits) {
   Fixture f;
   f.options.loop_texture_weight = 0;

@@ -81,6 +81,49 @@ TEST_P(MlpKernelLevelTest, MultiplyTransposedMatchesTheDefinition) {
   }
 }
 
+// The float products against the definition summed in double: within
+// float rounding of the sum's terms.
+TEST_P(MlpKernelLevelTest, FloatProductsMatchTheDefinition) {
+  const MlpKernelSet& kernels = MlpKernels(GetParam());
+  int seed = 200;
+  auto floats = [&seed](int size) {
+    const std::vector<double> v = Uniform(size, -1.0, 1.0, seed++);
+    return std::vector<float>(v.begin(), v.end());
+  };
+  for (const Shape& s : kShapes) {
+    const std::vector<float> a = floats(s.rows * s.k);
+    const std::vector<float> b = floats(s.k * s.n);
+    const std::vector<float> bias = floats(s.n);
+    std::vector<float> c(s.rows * s.n, 7.0f);
+    kernels.multiply_float(s.rows, s.k, s.n, a.data(), b.data(), bias.data(),
+                           /*accumulate=*/false, c.data());
+    for (int r = 0; r < s.rows; ++r) {
+      for (int j = 0; j < s.n; ++j) {
+        double want = bias[j];
+        for (int p = 0; p < s.k; ++p)
+          want += double(a[r * s.k + p]) * b[p * s.n + j];
+        ASSERT_NEAR(c[r * s.n + j], want, 2e-7 * (1 + s.k))
+            << s.rows << "x" << s.k << "x" << s.n << " at " << r << "," << j;
+      }
+    }
+    // c (k x n) += a^T b2 for b2 rows x n.
+    const std::vector<float> b2 = floats(s.rows * s.n);
+    const std::vector<float> start = floats(s.k * s.n);
+    std::vector<float> ct = start;
+    kernels.multiply_transposed_float(s.rows, s.k, s.n, a.data(), b2.data(),
+                                      ct.data());
+    for (int i = 0; i < s.k; ++i) {
+      for (int j = 0; j < s.n; ++j) {
+        double want = start[i * s.n + j];
+        for (int r = 0; r < s.rows; ++r)
+          want += double(a[r * s.k + i]) * b2[r * s.n + j];
+        ASSERT_NEAR(ct[i * s.n + j], want, 2e-7 * (1 + s.rows))
+            << s.rows << "x" << s.k << "x" << s.n << " at " << i << "," << j;
+      }
+    }
+  }
+}
+
 // The whole network, forward and backward, at this level against SSE2, in
 // the motion and residual fields' shapes (the gradient itself is checked
 // against central differences in mlp_test.cc).

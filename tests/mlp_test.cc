@@ -1,5 +1,6 @@
 #include "core/fields/mlp.h"
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <random>
@@ -89,6 +90,48 @@ TEST(MlpTest, LargeBatchesMatchSmallBatches) {
   }
 }
 
+// Float precision computes what double does to float rounding, in the
+// residual field's shape and over several chunks (the parallel path); a
+// bug in its conversions or buffers (a wrong offset, a stale chunk) gives
+// errors of the values' own size.
+TEST(MlpTest, FloatPrecisionMatchesDoubleToFloatRounding) {
+  Mlp mlp(32, 128, 2, 52);
+  std::vector<double> params(mlp.num_params());
+  mlp.Initialize(31, 1.0, params.data());
+  const int n = 1300;
+  const std::vector<double> input = Uniform(n * 32, -1.0, 1.0, 32);
+  const std::vector<double> d_out = Uniform(n * 52, -1.0, 1.0, 33);
+  auto run = [&](MlpPrecision precision, std::vector<double>* out,
+                 std::vector<double>* d_params, std::vector<double>* d_input) {
+    mlp.set_precision(precision);
+    MlpWorkspace ws;
+    out->assign(n * 52, 0.0);
+    // Backward adds: start from ones to check it adds, not overwrites.
+    d_params->assign(params.size(), 1.0);
+    d_input->assign(n * 32, 1.0);
+    mlp.Forward(params.data(), n, input.data(), out->data(), &ws);
+    mlp.Backward(params.data(), d_out.data(), d_params->data(),
+                 d_input->data(), &ws);
+  };
+  std::vector<double> out, dp, di, out_f, dp_f, di_f;
+  run(MlpPrecision::kDouble, &out, &dp, &di);
+  run(MlpPrecision::kFloat, &out_f, &dp_f, &di_f);
+  // Relative to each array's largest entry: float's rounding of sums of
+  // up to n terms.
+  auto expect_near = [](const std::vector<double>& want,
+                        const std::vector<double>& got, double tolerance,
+                        const char* what) {
+    double scale = 0.0;
+    for (double v : want) scale = std::max(scale, std::abs(v));
+    for (size_t i = 0; i < want.size(); ++i) {
+      ASSERT_NEAR(got[i], want[i], tolerance * scale) << what << " " << i;
+    }
+  };
+  expect_near(out, out_f, 1e-5, "output");
+  expect_near(dp, dp_f, 1e-4, "d_params");
+  expect_near(di, di_f, 1e-5, "d_input");
+}
+
 TEST(MlpTest, ParameterLayoutIsWeightsThenBiasPerLayer) {
   const Mlp mlp(2, 3, 1, 1);
   EXPECT_EQ(mlp.num_params(), 3 * 2 + 3 + 1 * 3 + 1);
@@ -125,17 +168,17 @@ TEST(MlpTest, WorkspaceIsReusedAtTheSameOrASmallerBatchSize) {
   MlpWorkspace ws;
   mlp.Forward(params.data(), n, input.data(), out.data(), &ws);
   mlp.Backward(params.data(), d_out.data(), d_params.data(), nullptr, &ws);
-  const double* hidden = ws.hidden[0].data();
-  const double* grad = ws.grad.data();
-  const double* grad_prev = ws.grad_prev.data();
+  const double* hidden = ws.f64.hidden[0].data();
+  const double* grad = ws.f64.grad.data();
+  const double* grad_prev = ws.f64.grad_prev.data();
   // The Euler chain's batches shrink step by step: no reallocation then.
   for (const int batch : {n, n, n - 4, 1}) {
     mlp.Forward(params.data(), batch, input.data(), out.data(), &ws);
     mlp.Backward(params.data(), d_out.data(), d_params.data(), nullptr, &ws);
   }
-  EXPECT_EQ(ws.hidden[0].data(), hidden);
-  EXPECT_EQ(ws.grad.data(), grad);
-  EXPECT_EQ(ws.grad_prev.data(), grad_prev);
+  EXPECT_EQ(ws.f64.hidden[0].data(), hidden);
+  EXPECT_EQ(ws.f64.grad.data(), grad);
+  EXPECT_EQ(ws.f64.grad_prev.data(), grad_prev);
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 #include "apps/common/flag_checks.h"
 #include "apps/common/splat_rate_flags.h"
 #include "apps/common/world.h"
+#include "core/base/parse_choice.h"
 
 DEFINE_string(scene, "", "Scene directory (images/, masks/, sparse/0/).");
 DEFINE_string(init, "",
@@ -200,6 +201,12 @@ DEFINE_double(motion_warmup, 0,
               "starts from Stage 1's model exactly instead of carrying its "
               "time-averaged water downstream from the first step "
               "(docs/results/stage3-start.md); 0: full steps from the start.");
+DEFINE_string(field_precision, "float",
+              "Arithmetic of the fields' MLPs (V and D) in CPU training: "
+              "float (twice the lanes per vector; the parameters, inputs "
+              "and gradients stay double) or double. --device cuda and "
+              "the evaluation run them in double (docs/BENCHMARKS.md, "
+              "\"Fields in float\").");
 DEFINE_int32(texture_bands, 2,
              "Bands of the texture term's difference-of-Gaussians "
              "pyramid, finest first, each twice the scale of the last.");
@@ -315,6 +322,9 @@ JointTrainerOptions TrainerOptionsFromFlags() {
   o.residual.mlp_width = FLAGS_residual_width;
   o.residual.mlp_depth = FLAGS_residual_depth;
   o.residual.p_frequencies = FLAGS_residual_cycle_frequencies;
+  o.field_precision = ParseChoice<MlpPrecision>(
+      "--field_precision", FLAGS_field_precision,
+      {{"float", MlpPrecision::kFloat}, {"double", MlpPrecision::kDouble}});
   if (FLAGS_white_background) o.background.setOnes();
   return o;
 }

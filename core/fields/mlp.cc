@@ -1,17 +1,61 @@
 #include "core/fields/mlp.h"
 
+#include <glog/logging.h>
+#include <omp.h>
+
 #include <algorithm>
 #include <cmath>
 #include <random>
-
-#include <glog/logging.h>
-#include <omp.h>
+#include <type_traits>
 
 namespace es {
 namespace {
 
 // Rows per chunk: a chunk's activations of all layers stay in L2 cache.
 constexpr int kChunkRows = 512;
+
+template <typename T>
+constexpr bool kIsFloat = std::is_same_v<T, float>;
+
+template <typename T>
+MlpBuffers<T>& BuffersOf(MlpWorkspace* ws);
+template <>
+MlpBuffers<double>& BuffersOf(MlpWorkspace* ws) {
+  return ws->f64;
+}
+template <>
+MlpBuffers<float>& BuffersOf(MlpWorkspace* ws) {
+  return ws->f32;
+}
+
+// The kernel set's products in T.
+void Product(const MlpKernelSet& k, int rows, int kk, int n, const double* a,
+             const double* b, const double* bias, bool accumulate, double* c) {
+  k.multiply(rows, kk, n, a, b, bias, accumulate, c);
+}
+void Product(const MlpKernelSet& k, int rows, int kk, int n, const float* a,
+             const float* b, const float* bias, bool accumulate, float* c) {
+  k.multiply_float(rows, kk, n, a, b, bias, accumulate, c);
+}
+void ProductTransposed(const MlpKernelSet& k, int rows, int m, int n,
+                       const double* a, const double* b, double* c) {
+  k.multiply_transposed(rows, m, n, a, b, c);
+}
+void ProductTransposed(const MlpKernelSet& k, int rows, int m, int n,
+                       const float* a, const float* b, float* c) {
+  k.multiply_transposed_float(rows, m, n, a, b, c);
+}
+
+template <typename T>
+void Grow(size_t size, std::vector<T>* buffer) {
+  if (buffer->size() < size) buffer->resize(size);
+}
+
+// dst[i] = src[i] for i < count, converted.
+template <typename To, typename From>
+void Convert(const From* src, size_t count, To* dst) {
+  for (size_t i = 0; i < count; ++i) dst[i] = static_cast<To>(src[i]);
+}
 
 }  // namespace
 
@@ -49,20 +93,36 @@ void Mlp::Forward(const double* params, int n, const double* input, double* out,
                   MlpWorkspace* ws) const {
   ws->batch = n;
   ws->input = input;
-  ws->hidden.resize(depth_);
-  const size_t hidden_size = static_cast<size_t>(n) * width_;
-  for (std::vector<double>& h : ws->hidden) {
-    if (h.size() < hidden_size) h.resize(hidden_size);
+  if (precision_ == MlpPrecision::kFloat) {
+    ForwardIn<float>(params, n, out, ws);
+  } else {
+    ForwardIn<double>(params, n, out, ws);
+  }
+}
+
+template <typename T>
+void Mlp::ForwardIn(const double* params, int n, double* out,
+                    MlpWorkspace* ws) const {
+  MlpBuffers<T>& b = BuffersOf<T>(ws);
+  b.hidden.resize(depth_);
+  for (std::vector<T>& h : b.hidden) Grow(static_cast<size_t>(n) * width_, &h);
+  if constexpr (kIsFloat<T>) {
+    Grow(static_cast<size_t>(n) * input_dim_, &b.input);
+    Grow(static_cast<size_t>(n) * output_dim_, &b.out);
+    b.weights.resize(num_params());
+    Convert(params, num_params(), b.weights.data());
   }
   // The products run over W_l^T (in_l x out_l), so their rows are outputs.
-  ws->transposed.resize(num_params());
+  b.transposed.resize(num_params());
   for (int l = 0; l <= depth_; ++l) {
     const int in = layer_in(l), o = layer_out(l);
     const double* w = params + offsets_[l];
-    double* wt = ws->transposed.data() + offsets_[l];
+    T* wt = b.transposed.data() + offsets_[l];
     for (int j = 0; j < o; ++j) {
-      for (int i = 0; i < in; ++i) wt[i * o + j] = w[j * in + i];
+      for (int i = 0; i < in; ++i)
+        wt[i * o + j] = static_cast<T>(w[j * in + i]);
     }
+    Convert(w + o * in, o, wt + o * in);
   }
   const int chunks = (n + kChunkRows - 1) / kChunkRows;
   // Inside a parallel region (a share of FrameComposer's) the calling
@@ -71,102 +131,163 @@ void Mlp::Forward(const double* params, int n, const double* input, double* out,
 #pragma omp parallel for schedule(static) if (parallel)
   for (int c = 0; c < chunks; ++c) {
     const int r0 = c * kChunkRows;
-    ForwardRows(params, r0, std::min(kChunkRows, n - r0), input, out, ws);
+    ForwardRows<T>(r0, std::min(kChunkRows, n - r0), out, ws);
   }
 }
 
-void Mlp::ForwardRows(const double* params, int r0, int rows,
-                      const double* input, double* out,
-                      MlpWorkspace* ws) const {
+template <typename T>
+void Mlp::ForwardRows(int r0, int rows, double* out, MlpWorkspace* ws) const {
+  MlpBuffers<T>& b = BuffersOf<T>(ws);
+  const size_t in_offset = static_cast<size_t>(r0) * input_dim_;
+  const size_t out_offset = static_cast<size_t>(r0) * output_dim_;
+  const T* x;
+  T* y_out;
+  if constexpr (kIsFloat<T>) {
+    Convert(ws->input + in_offset, static_cast<size_t>(rows) * input_dim_,
+            b.input.data() + in_offset);
+    x = b.input.data() + in_offset;
+    y_out = b.out.data() + out_offset;
+  } else {
+    x = ws->input + in_offset;
+    y_out = out + out_offset;
+  }
   for (int l = 0; l <= depth_; ++l) {
     const int in = layer_in(l), o = layer_out(l);
-    const double* a =
-        l == 0 ? input + static_cast<size_t>(r0) * in
-               : ws->hidden[l - 1].data() + static_cast<size_t>(r0) * width_;
-    double* y = l == depth_
-                    ? out + static_cast<size_t>(r0) * o
-                    : ws->hidden[l].data() + static_cast<size_t>(r0) * o;
-    kernels_->multiply(rows, in, o, a, ws->transposed.data() + offsets_[l],
-                       params + offsets_[l] + o * in, /*accumulate=*/false, y);
+    const T* a =
+        l == 0 ? x : b.hidden[l - 1].data() + static_cast<size_t>(r0) * width_;
+    T* y =
+        l == depth_ ? y_out : b.hidden[l].data() + static_cast<size_t>(r0) * o;
+    const T* wt = b.transposed.data() + offsets_[l];
+    Product(*kernels_, rows, in, o, a, wt, wt + o * in, /*accumulate=*/false,
+            y);
     if (l < depth_) {
       const size_t size = static_cast<size_t>(rows) * o;
-      for (size_t i = 0; i < size; ++i) y[i] = std::max(y[i], 0.0);
+      for (size_t i = 0; i < size; ++i) y[i] = std::max(y[i], T(0));
     }
+  }
+  if constexpr (kIsFloat<T>) {
+    Convert(y_out, static_cast<size_t>(rows) * output_dim_, out + out_offset);
   }
 }
 
 void Mlp::Backward(const double* params, const double* d_out, double* d_params,
                    double* d_input, MlpWorkspace* ws) const {
-  const int n = ws->batch;
   CHECK(ws->input != nullptr) << "Mlp::Backward before Forward";
+  if (precision_ == MlpPrecision::kFloat) {
+    BackwardIn<float>(params, d_out, d_params, d_input, ws);
+  } else {
+    BackwardIn<double>(params, d_out, d_params, d_input, ws);
+  }
+}
+
+template <typename T>
+void Mlp::BackwardIn(const double* params, const double* d_out,
+                     double* d_params, double* d_input,
+                     MlpWorkspace* ws) const {
+  MlpBuffers<T>& b = BuffersOf<T>(ws);
+  const int n = ws->batch;
   if (depth_ > 0) {
-    const size_t size = static_cast<size_t>(n) * width_;
-    if (ws->grad.size() < size) ws->grad.resize(size);
-    if (ws->grad_prev.size() < size) ws->grad_prev.resize(size);
+    Grow(static_cast<size_t>(n) * width_, &b.grad);
+    Grow(static_cast<size_t>(n) * width_, &b.grad_prev);
+  }
+  if constexpr (kIsFloat<T>) {
+    Grow(static_cast<size_t>(n) * output_dim_, &b.d_out);
+    if (d_input != nullptr) {
+      Grow(static_cast<size_t>(n) * input_dim_, &b.d_input);
+    }
   }
   const int chunks = (n + kChunkRows - 1) / kChunkRows;
   const int threads =
       chunks > 1 && !omp_in_parallel() ? omp_get_max_threads() : 1;
-  // Zeroed here, not by their threads: the team may get fewer threads.
+  // In double the first thread adds into d_params itself; in float every
+  // thread sums into a float array of its own. Zeroed here, not by their
+  // threads: the team may get fewer threads.
+  const int first_own = kIsFloat<T> ? 0 : 1;
   if (d_params != nullptr) {
-    ws->thread_grads.resize(threads - 1);
-    for (std::vector<double>& g : ws->thread_grads) {
-      g.assign(num_params(), 0.0);
-    }
+    b.thread_grads.resize(threads - first_own);
+    for (std::vector<T>& g : b.thread_grads) g.assign(num_params(), T(0));
   }
 #pragma omp parallel num_threads(threads)
   {
     const int id = omp_get_thread_num();
-    double* grads = d_params;
-    if (d_params != nullptr && id > 0) grads = ws->thread_grads[id - 1].data();
+    T* grads = nullptr;
+    if (d_params != nullptr) {
+      if constexpr (kIsFloat<T>) {
+        grads = b.thread_grads[id].data();
+      } else {
+        grads = id == 0 ? d_params : b.thread_grads[id - 1].data();
+      }
+    }
 #pragma omp for schedule(static)
     for (int c = 0; c < chunks; ++c) {
       const int r0 = c * kChunkRows;
-      BackwardRows(params, r0, std::min(kChunkRows, n - r0), d_out, grads,
-                   d_input, ws);
+      BackwardRows<T>(params, r0, std::min(kChunkRows, n - r0), d_out, grads,
+                      d_input, ws);
     }
   }
   if (d_params == nullptr) return;
-  for (int t = 0; t + 1 < threads; ++t) {
-    const double* g = ws->thread_grads[t].data();
+  for (const std::vector<T>& g : b.thread_grads) {
     for (int i = 0; i < num_params(); ++i) d_params[i] += g[i];
   }
 }
 
+template <typename T>
 void Mlp::BackwardRows(const double* params, int r0, int rows,
-                       const double* d_out, double* d_params, double* d_input,
+                       const double* d_out, T* d_params, double* d_input,
                        MlpWorkspace* ws) const {
+  MlpBuffers<T>& b = BuffersOf<T>(ws);
+  const size_t in_offset = static_cast<size_t>(r0) * input_dim_;
+  const size_t out_offset = static_cast<size_t>(r0) * output_dim_;
   // Layer by layer from the output; `g` is dL/d(layer output), written into
   // grad and grad_prev alternately.
-  const double* g = d_out + static_cast<size_t>(r0) * output_dim_;
-  std::vector<double>* buffers[2] = {&ws->grad, &ws->grad_prev};
+  const T* g;
+  const T* x;
+  const T* weights;
+  if constexpr (kIsFloat<T>) {
+    Convert(d_out + out_offset, static_cast<size_t>(rows) * output_dim_,
+            b.d_out.data() + out_offset);
+    g = b.d_out.data() + out_offset;
+    x = b.input.data() + in_offset;
+    weights = b.weights.data();
+  } else {
+    g = d_out + out_offset;
+    x = ws->input + in_offset;
+    weights = params;
+  }
+  std::vector<T>* buffers[2] = {&b.grad, &b.grad_prev};
   for (int l = depth_; l >= 0; --l) {
     const int in = layer_in(l), o = layer_out(l);
-    const double* w = params + offsets_[l];
-    const double* a =
-        l == 0 ? ws->input + static_cast<size_t>(r0) * in
-               : ws->hidden[l - 1].data() + static_cast<size_t>(r0) * width_;
+    const T* w = weights + offsets_[l];
+    const T* a =
+        l == 0 ? x : b.hidden[l - 1].data() + static_cast<size_t>(r0) * width_;
     if (d_params != nullptr) {
-      double* dw = d_params + offsets_[l];
-      kernels_->multiply_transposed(rows, o, in, g, a, dw);
-      double* db = dw + o * in;
+      T* dw = d_params + offsets_[l];
+      ProductTransposed(*kernels_, rows, o, in, g, a, dw);
+      T* db = dw + o * in;
       for (int r = 0; r < rows; ++r) {
         for (int j = 0; j < o; ++j) db[j] += g[r * o + j];
       }
     }
     if (l == 0) {
-      if (d_input != nullptr) {
-        kernels_->multiply(rows, o, in, g, w, nullptr, /*accumulate=*/true,
-                           d_input + static_cast<size_t>(r0) * in);
+      if (d_input == nullptr) break;
+      if constexpr (kIsFloat<T>) {
+        T* d_x = b.d_input.data() + in_offset;
+        Product(*kernels_, rows, o, in, g, w, nullptr, /*accumulate=*/false,
+                d_x);
+        const size_t size = static_cast<size_t>(rows) * in;
+        for (size_t i = 0; i < size; ++i) d_input[in_offset + i] += d_x[i];
+      } else {
+        Product(*kernels_, rows, o, in, g, w, nullptr, /*accumulate=*/true,
+                d_input + in_offset);
       }
       break;
     }
     // Through the ReLU of the previous layer: zero where it was inactive.
-    double* next = buffers[l % 2]->data() + static_cast<size_t>(r0) * in;
-    kernels_->multiply(rows, o, in, g, w, nullptr, /*accumulate=*/false, next);
+    T* next = buffers[l % 2]->data() + static_cast<size_t>(r0) * in;
+    Product(*kernels_, rows, o, in, g, w, nullptr, /*accumulate=*/false, next);
     const size_t size = static_cast<size_t>(rows) * in;
     // A select, not a conditional store, so it vectorizes.
-    for (size_t i = 0; i < size; ++i) next[i] = a[i] > 0.0 ? next[i] : 0.0;
+    for (size_t i = 0; i < size; ++i) next[i] = a[i] > T(0) ? next[i] : T(0);
     g = next;
   }
 }

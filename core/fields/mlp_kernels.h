@@ -18,6 +18,12 @@ struct MlpKernelSet {
   // c (m x n) += a^T b for a (rows x m) and b (rows x n).
   void (*multiply_transposed)(int rows, int m, int n, const double* a,
                               const double* b, double* c);
+  // The same two in float (Mlp's float precision).
+  void (*multiply_float)(int rows, int k, int n, const float* a,
+                         const float* b, const float* bias, bool accumulate,
+                         float* c);
+  void (*multiply_transposed_float)(int rows, int m, int n, const float* a,
+                                    const float* b, float* c);
 };
 
 const MlpKernelSet& MlpKernels(SimdLevel level);

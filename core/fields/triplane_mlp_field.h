@@ -53,6 +53,10 @@ class TriplaneMlpField {
 
   const Triplane& triplane() const { return triplane_; }
   const Mlp& mlp() const { return mlp_; }
+  // The MLP's arithmetic (Mlp::set_precision); double unless set.
+  void set_mlp_precision(MlpPrecision precision) {
+    mlp_.set_precision(precision);
+  }
   double box_diagonal() const {
     return (triplane_.box_max() - triplane_.box_min()).norm();
   }

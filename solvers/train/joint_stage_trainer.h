@@ -125,6 +125,9 @@ struct JointTrainerOptions {
   // frame of the video.
   MotionFieldOptions motion;
   ResidualFieldOptions residual;
+  // The arithmetic of V's and D's MLPs in training (the field parameters
+  // stay double): float runs them at twice the lanes per vector.
+  MlpPrecision field_precision = MlpPrecision::kFloat;
   EulerOptions euler;
   Eigen::Vector3d background = Eigen::Vector3d::Zero();
   // This many non-finite steps in a row stop the run (DivergenceGuard), as
