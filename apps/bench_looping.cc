@@ -4,8 +4,10 @@
 //
 //   bench_looping --benchmark_filter=Alg
 //
-// Arguments: {dynamic Gaussians, frames}. Defaults are the paper's field
-// sizes (MotionFieldOptions) and L = 15.
+// Arguments: {dynamic Gaussians, frames}, or {points, precision} of the
+// fields' MLPs (0 double, 1 float: Stage 3 trains in float). Defaults are
+// the paper's field sizes (MotionFieldOptions, ResidualFieldOptions) and
+// L = 15.
 
 #include <random>
 #include <vector>
@@ -37,6 +39,11 @@ struct Scene {
   std::vector<double> x0;
   std::vector<int> start_times;
 };
+
+// The MLP precision of a benchmark's second argument.
+MlpPrecision PrecisionArg(const benchmark::State& state) {
+  return state.range(1) == 1 ? MlpPrecision::kFloat : MlpPrecision::kDouble;
+}
 
 void SetFrameCounters(benchmark::State& state, int frames, int64_t evals) {
   state.counters["frames"] = frames;
@@ -104,6 +111,7 @@ void BM_MotionFieldEvaluateBackward(benchmark::State& state) {
   const int n = state.range(0);
   Scene scene(n);
   MotionField& field = scene.field;
+  field.set_mlp_precision(PrecisionArg(state));
   FieldWorkspace ws;
   std::vector<double> v(3 * n), d_v(3 * n, 1.0), d_x(3 * n);
   std::vector<double> d_triplane(field.triplane_params().size());
@@ -122,6 +130,7 @@ void BM_ResidualFieldEvaluateBackward(benchmark::State& state) {
   const int n = state.range(0);
   Scene scene(n);
   ResidualField field{ResidualFieldOptions()};
+  field.set_mlp_precision(PrecisionArg(state));
   std::vector<int> t(n), p(n, 0);
   for (int k = 0; k < n; ++k) {
     t[k] = CycleIndex(0, scene.start_times[k], kCycleLength);
@@ -144,6 +153,7 @@ void BM_Alg1ForwardBackward(benchmark::State& state) {
   const int n = state.range(0);
   Scene scene(n);
   MotionField& field = scene.field;
+  field.set_mlp_precision(PrecisionArg(state));
   EulerChain chain(&field, EulerOptions());
   std::vector<int> steps(n);
   for (int k = 0; k < n; ++k) {
@@ -176,13 +186,16 @@ BENCHMARK(BM_MotionFieldEvaluate)
     ->Arg(1000)
     ->Arg(50000)
     ->Unit(benchmark::kMillisecond);
+// 2000 points: the dynamic Gaussians of the driver's 320x240 run.
 BENCHMARK(BM_MotionFieldEvaluateBackward)
-    ->Arg(50000)
+    ->ArgsProduct({{2000, 50000}, {0, 1}})
     ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_ResidualFieldEvaluateBackward)
-    ->Arg(50000)
+    ->ArgsProduct({{2000, 50000}, {0, 1}})
     ->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_Alg1ForwardBackward)->Arg(50000)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Alg1ForwardBackward)
+    ->ArgsProduct({{2000, 50000}, {0, 1}})
+    ->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace es

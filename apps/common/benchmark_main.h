@@ -6,6 +6,7 @@
 
 #include <benchmark/benchmark.h>
 
+#include "apps/common/memory_policy.h"
 #include "apps/common/version.h"
 
 namespace es {
@@ -23,8 +24,10 @@ inline int RunSelectedBenchmarks(int argc, char** argv) {
 
 // main() of a Google Benchmark binary: BENCHMARK_MAIN plus --version (the
 // version and git commit, as every other binary). --help is the benchmark
-// library's own.
+// library's own. Freed memory is kept as the apps keep it, so a benchmark
+// times what training pays for a call, not page faults.
 inline int RunBenchmarks(int argc, char** argv) {
+  KeepFreedMemory();
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--version") == 0) {
       std::printf("%s\n", VersionString().c_str());
