@@ -73,8 +73,6 @@ double MaxAbs(const std::vector<double>& v) {
   return m;
 }
 
-// With the water terms ramped to 0 the pair's step is the mean of both
-// frames' fits, each as JointRenderCost scores it alone.
 // Stage 3 runs its fields' MLPs in the options' precision, float by
 // default (the gradient test below sets double).
 TEST(JointObjectiveTest, InitialModelRunsItsFieldsInTheOptionsPrecision) {
@@ -92,6 +90,33 @@ TEST(JointObjectiveTest, InitialModelRunsItsFieldsInTheOptionsPrecision) {
   }
 }
 
+// With every term on, float fields give double's loss and gradient to
+// float's rounding, block by block: within 1e-5 of the block's largest
+// entry (they agree to 3e-7), or 1e-12 for a block whose gradient is
+// rounding noise near 0. Checks the float path's conversions, buffers and
+// gradient sums.
+TEST(JointObjectiveTest, FloatFieldsGiveDoublesGradient) {
+  Fixture f;
+  JointObjective objective(&f.frames[0], LoopStructure::Of(f.model),
+                           f.options);
+  std::vector<std::vector<double>> want, got;
+  const double want_loss = f.Evaluate(&objective, 1.0, &want);
+  f.model.motion->set_mlp_precision(MlpPrecision::kFloat);
+  f.model.residual->set_mlp_precision(MlpPrecision::kFloat);
+  const double got_loss = f.Evaluate(&objective, 1.0, &got);
+  EXPECT_NEAR(got_loss, want_loss, 1e-6 * std::abs(want_loss));
+  for (size_t b = 0; b < want.size(); ++b) {
+    const double scale = MaxAbs(want[b]);
+    double worst = 0;
+    for (size_t k = 0; k < want[b].size(); ++k)
+      worst = std::max(worst, std::abs(got[b][k] - want[b][k]));
+    EXPECT_LE(worst, 1e-5 * scale + 1e-12)
+        << "block " << b << " of " << want.size();
+  }
+}
+
+// With the water terms ramped to 0 the pair's step is the mean of both
+// frames' fits, each as JointRenderCost scores it alone.
 TEST(JointObjectiveTest, PairWithoutWaterTermsIsTheMeanOfBothFits) {
   Fixture f;
   f.options.loop_texture_weight = 0;
