@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -25,9 +26,6 @@ struct Fixture {
   Fixture() {
     JointTrainerOptions o = TinyOptions();
     o.residual_weight = 0.1;
-    // Central differences need double fields, as they need the double
-    // rasterizer below.
-    o.field_precision = MlpPrecision::kDouble;
     std::mt19937_64 rng(1);
     // Away from the frames' own model: at an exact fit the L1 term has a
     // kink at every pixel.
@@ -73,20 +71,24 @@ double MaxAbs(const std::vector<double>& v) {
   return m;
 }
 
-// Stage 3 runs its fields' MLPs in the options' precision, float by
-// default (the gradient test below sets double).
+// Stage 3 runs each field's MLP in the options' precision (double unless
+// set).
 TEST(JointObjectiveTest, InitialModelRunsItsFieldsInTheOptionsPrecision) {
-  EXPECT_EQ(JointTrainerOptions().field_precision, MlpPrecision::kFloat);
-  for (const MlpPrecision precision :
-       {MlpPrecision::kFloat, MlpPrecision::kDouble}) {
+  const MlpPrecision kDouble = MlpPrecision::kDouble;
+  const MlpPrecision kFloat = MlpPrecision::kFloat;
+  EXPECT_EQ(JointTrainerOptions().motion_precision, kDouble);
+  EXPECT_EQ(JointTrainerOptions().residual_precision, kDouble);
+  for (const auto& [motion, residual] :
+       {std::pair{kFloat, kDouble}, std::pair{kDouble, kFloat}}) {
     JointTrainerOptions o = TinyOptions();
-    o.field_precision = precision;
+    o.motion_precision = motion;
+    o.residual_precision = residual;
     std::mt19937_64 rng(1);
     const LoopModel model =
         InitialLoopModel(o, kFrames, TrueCanonical(), std::nullopt, &rng);
     ASSERT_TRUE(model.motion && model.residual);
-    EXPECT_EQ(model.motion->mlp().precision(), precision);
-    EXPECT_EQ(model.residual->mlp().precision(), precision);
+    EXPECT_EQ(model.motion->mlp().precision(), motion);
+    EXPECT_EQ(model.residual->mlp().precision(), residual);
   }
 }
 

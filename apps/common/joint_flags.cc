@@ -201,12 +201,18 @@ DEFINE_double(motion_warmup, 0,
               "starts from Stage 1's model exactly instead of carrying its "
               "time-averaged water downstream from the first step "
               "(docs/results/stage3-start.md); 0: full steps from the start.");
-DEFINE_string(field_precision, "float",
-              "Arithmetic of the fields' MLPs (V and D) in CPU training: "
-              "float (twice the lanes per vector; the parameters, inputs "
-              "and gradients stay double) or double. --device cuda and "
-              "the evaluation run them in double (docs/BENCHMARKS.md, "
-              "\"Fields in float\").");
+DEFINE_string(motion_precision, "double",
+              "Arithmetic of V's MLP in CPU training: double or float "
+              "(twice the lanes per vector; the parameters, inputs and "
+              "gradients stay double). --device cuda and the evaluation "
+              "run it in double. At the quick preset's V (width 32) float "
+              "saves nothing (docs/BENCHMARKS.md, \"Fields in float\").");
+DEFINE_string(residual_precision, "double",
+              "Arithmetic of D's MLP in CPU training, as "
+              "--motion_precision. float: D 1.5x faster, Stage 3 about "
+              "5% faster, but the loop's water moved less like the input "
+              "over three seeds (docs/BENCHMARKS.md, \"Fields in "
+              "float\").");
 DEFINE_int32(texture_bands, 2,
              "Bands of the texture term's difference-of-Gaussians "
              "pyramid, finest first, each twice the scale of the last.");
@@ -216,6 +222,12 @@ DEFINE_int32(texture_projections, 16,
 
 namespace es {
 namespace {
+
+MlpPrecision ParsePrecision(const std::string& flag, const std::string& name) {
+  return ParseChoice<MlpPrecision>(
+      flag, name,
+      {{"double", MlpPrecision::kDouble}, {"float", MlpPrecision::kFloat}});
+}
 
 // Throws InputError naming the flag for a value out of range.
 void CheckFlags() {
@@ -322,9 +334,10 @@ JointTrainerOptions TrainerOptionsFromFlags() {
   o.residual.mlp_width = FLAGS_residual_width;
   o.residual.mlp_depth = FLAGS_residual_depth;
   o.residual.p_frequencies = FLAGS_residual_cycle_frequencies;
-  o.field_precision = ParseChoice<MlpPrecision>(
-      "--field_precision", FLAGS_field_precision,
-      {{"float", MlpPrecision::kFloat}, {"double", MlpPrecision::kDouble}});
+  o.motion_precision = ParsePrecision("--motion_precision",
+                                      FLAGS_motion_precision);
+  o.residual_precision = ParsePrecision("--residual_precision",
+                                        FLAGS_residual_precision);
   if (FLAGS_white_background) o.background.setOnes();
   return o;
 }

@@ -126,8 +126,12 @@ struct JointTrainerOptions {
   MotionFieldOptions motion;
   ResidualFieldOptions residual;
   // The arithmetic of V's and D's MLPs in training (the field parameters
-  // stay double): float runs them at twice the lanes per vector.
-  MlpPrecision field_precision = MlpPrecision::kFloat;
+  // stay double). Float runs D 1.5x faster, but over three seeds of the
+  // README's run its loops moved less like the input (water motion ratio
+  // 0.917-0.949 against double's 0.951-0.973; docs/BENCHMARKS.md, "Fields
+  // in float"), so double is the default.
+  MlpPrecision motion_precision = MlpPrecision::kDouble;
+  MlpPrecision residual_precision = MlpPrecision::kDouble;
   EulerOptions euler;
   Eigen::Vector3d background = Eigen::Vector3d::Zero();
   // This many non-finite steps in a row stop the run (DivergenceGuard), as

@@ -152,8 +152,8 @@ LoopModel InitialLoopModel(const JointTrainerOptions& o, int num_frames,
     model.residual.emplace(r);
     model.residual->SetBox(lo, hi);
   }
-  if (model.motion) model.motion->set_mlp_precision(o.field_precision);
-  if (model.residual) model.residual->set_mlp_precision(o.field_precision);
+  if (model.motion) model.motion->set_mlp_precision(o.motion_precision);
+  if (model.residual) model.residual->set_mlp_precision(o.residual_precision);
   return model;
 }
 
