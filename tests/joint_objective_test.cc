@@ -99,21 +99,24 @@ TEST(JointObjectiveTest, InitialModelRunsItsFieldsInTheOptionsPrecision) {
 // gradient sums.
 TEST(JointObjectiveTest, FloatFieldsGiveDoublesGradient) {
   Fixture f;
-  JointObjective objective(&f.frames[0], LoopStructure::Of(f.model),
-                           f.options);
-  std::vector<std::vector<double>> want, got;
-  const double want_loss = f.Evaluate(&objective, 1.0, &want);
-  f.model.motion->set_mlp_precision(MlpPrecision::kFloat);
-  f.model.residual->set_mlp_precision(MlpPrecision::kFloat);
-  const double got_loss = f.Evaluate(&objective, 1.0, &got);
-  EXPECT_NEAR(got_loss, want_loss, 1e-6 * std::abs(want_loss));
-  for (size_t b = 0; b < want.size(); ++b) {
-    const double scale = MaxAbs(want[b]);
+  double loss[2];
+  std::vector<std::vector<double>> grad[2];
+  for (const MlpPrecision precision :
+       {MlpPrecision::kDouble, MlpPrecision::kFloat}) {
+    f.model.motion->set_mlp_precision(precision);
+    f.model.residual->set_mlp_precision(precision);
+    JointObjective objective(&f.frames[0], LoopStructure::Of(f.model),
+                             f.options);
+    const int i = precision == MlpPrecision::kFloat;
+    loss[i] = f.Evaluate(&objective, 1.0, &grad[i]);
+  }
+  EXPECT_NEAR(loss[1], loss[0], 1e-6 * std::abs(loss[0]));
+  for (size_t b = 0; b < grad[0].size(); ++b) {
     double worst = 0;
-    for (size_t k = 0; k < want[b].size(); ++k)
-      worst = std::max(worst, std::abs(got[b][k] - want[b][k]));
-    EXPECT_LE(worst, 1e-5 * scale + 1e-12)
-        << "block " << b << " of " << want.size();
+    for (size_t k = 0; k < grad[0][b].size(); ++k)
+      worst = std::max(worst, std::abs(grad[1][b][k] - grad[0][b][k]));
+    EXPECT_LE(worst, 1e-5 * MaxAbs(grad[0][b]) + 1e-12)
+        << "block " << b << " of " << grad[0].size();
   }
 }
 

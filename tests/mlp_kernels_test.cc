@@ -27,27 +27,36 @@ const Shape kShapes[] = {{1, 1, 1},   {3, 5, 3},    {4, 12, 64},
                          {7, 64, 3},  {9, 64, 64},  {13, 32, 128},
                          {5, 128, 52}, {17, 19, 23}, {2, 3, 100}};
 
-TEST_P(MlpKernelLevelTest, MultiplyMatchesTheDefinition) {
-  const MlpKernelSet& kernels = MlpKernels(GetParam());
-  int seed = 1;
+// Uniform values in [-1, 1] as T.
+template <typename T>
+std::vector<T> Values(int size, int seed) {
+  const std::vector<double> v = Uniform(size, -1.0, 1.0, seed);
+  return std::vector<T>(v.begin(), v.end());
+}
+
+// A multiply kernel in T against its definition summed in double, within
+// `tolerance` per term of the sum.
+template <typename T>
+void ExpectMultiplyMatches(void (*multiply)(int, int, int, const T*, const T*,
+                                            const T*, bool, T*),
+                           double tolerance, int seed) {
   for (const Shape& s : kShapes) {
-    const std::vector<double> a = Uniform(s.rows * s.k, -1.0, 1.0, seed++);
-    const std::vector<double> b = Uniform(s.k * s.n, -1.0, 1.0, seed++);
-    const std::vector<double> bias = Uniform(s.n, -1.0, 1.0, seed++);
-    const std::vector<double> start = Uniform(s.rows * s.n, -1, 1, seed++);
+    const std::vector<T> a = Values<T>(s.rows * s.k, seed++);
+    const std::vector<T> b = Values<T>(s.k * s.n, seed++);
+    const std::vector<T> bias = Values<T>(s.n, seed++);
+    const std::vector<T> start = Values<T>(s.rows * s.n, seed++);
     for (const bool accumulate : {false, true}) {
       for (const bool with_bias : {false, true}) {
-        std::vector<double> c = start;
-        kernels.multiply(s.rows, s.k, s.n, a.data(), b.data(),
-                         with_bias ? bias.data() : nullptr, accumulate,
-                         c.data());
+        std::vector<T> c = start;
+        multiply(s.rows, s.k, s.n, a.data(), b.data(),
+                 with_bias ? bias.data() : nullptr, accumulate, c.data());
         for (int r = 0; r < s.rows; ++r) {
           for (int j = 0; j < s.n; ++j) {
             double want = accumulate ? start[r * s.n + j]
                                      : (with_bias ? bias[j] : 0.0);
             for (int p = 0; p < s.k; ++p)
-              want += a[r * s.k + p] * b[p * s.n + j];
-            ASSERT_NEAR(c[r * s.n + j], want, 1e-13 * (1 + s.k))
+              want += double(a[r * s.k + p]) * b[p * s.n + j];
+            ASSERT_NEAR(c[r * s.n + j], want, tolerance * (1 + s.k))
                 << s.rows << "x" << s.k << "x" << s.n << " at " << r << ","
                 << j << (accumulate ? " accumulate" : "")
                 << (with_bias ? " bias" : "");
@@ -58,70 +67,42 @@ TEST_P(MlpKernelLevelTest, MultiplyMatchesTheDefinition) {
   }
 }
 
-TEST_P(MlpKernelLevelTest, MultiplyTransposedMatchesTheDefinition) {
-  const MlpKernelSet& kernels = MlpKernels(GetParam());
-  int seed = 100;
+// c (m x n) += a^T b for a (rows x m) and b (rows x n), as above.
+template <typename T>
+void ExpectMultiplyTransposedMatches(
+    void (*multiply_transposed)(int, int, int, const T*, const T*, T*),
+    double tolerance, int seed) {
   for (const Shape& s : kShapes) {
-    // a is rows x m (m = s.k), b rows x n; c (m x n) += a^T b.
-    const std::vector<double> a = Uniform(s.rows * s.k, -1.0, 1.0, seed++);
-    const std::vector<double> b = Uniform(s.rows * s.n, -1.0, 1.0, seed++);
-    const std::vector<double> start = Uniform(s.k * s.n, -1, 1, seed++);
-    std::vector<double> c = start;
-    kernels.multiply_transposed(s.rows, s.k, s.n, a.data(), b.data(),
-                                c.data());
+    const std::vector<T> a = Values<T>(s.rows * s.k, seed++);  // m = s.k
+    const std::vector<T> b = Values<T>(s.rows * s.n, seed++);
+    const std::vector<T> start = Values<T>(s.k * s.n, seed++);
+    std::vector<T> c = start;
+    multiply_transposed(s.rows, s.k, s.n, a.data(), b.data(), c.data());
     for (int i = 0; i < s.k; ++i) {
       for (int j = 0; j < s.n; ++j) {
         double want = start[i * s.n + j];
         for (int r = 0; r < s.rows; ++r)
-          want += a[r * s.k + i] * b[r * s.n + j];
-        ASSERT_NEAR(c[i * s.n + j], want, 1e-13 * (1 + s.rows))
+          want += double(a[r * s.k + i]) * b[r * s.n + j];
+        ASSERT_NEAR(c[i * s.n + j], want, tolerance * (1 + s.rows))
             << s.rows << "x" << s.k << "x" << s.n << " at " << i << "," << j;
       }
     }
   }
 }
 
-// The float products against the definition summed in double: within
-// float rounding of the sum's terms.
-TEST_P(MlpKernelLevelTest, FloatProductsMatchTheDefinition) {
+// Double within 1e-13 per term, float within its rounding (2e-7).
+TEST_P(MlpKernelLevelTest, MultiplyMatchesTheDefinition) {
   const MlpKernelSet& kernels = MlpKernels(GetParam());
-  int seed = 200;
-  auto floats = [&seed](int size) {
-    const std::vector<double> v = Uniform(size, -1.0, 1.0, seed++);
-    return std::vector<float>(v.begin(), v.end());
-  };
-  for (const Shape& s : kShapes) {
-    const std::vector<float> a = floats(s.rows * s.k);
-    const std::vector<float> b = floats(s.k * s.n);
-    const std::vector<float> bias = floats(s.n);
-    std::vector<float> c(s.rows * s.n, 7.0f);
-    kernels.multiply_float(s.rows, s.k, s.n, a.data(), b.data(), bias.data(),
-                           /*accumulate=*/false, c.data());
-    for (int r = 0; r < s.rows; ++r) {
-      for (int j = 0; j < s.n; ++j) {
-        double want = bias[j];
-        for (int p = 0; p < s.k; ++p)
-          want += double(a[r * s.k + p]) * b[p * s.n + j];
-        ASSERT_NEAR(c[r * s.n + j], want, 2e-7 * (1 + s.k))
-            << s.rows << "x" << s.k << "x" << s.n << " at " << r << "," << j;
-      }
-    }
-    // c (k x n) += a^T b2 for b2 rows x n.
-    const std::vector<float> b2 = floats(s.rows * s.n);
-    const std::vector<float> start = floats(s.k * s.n);
-    std::vector<float> ct = start;
-    kernels.multiply_transposed_float(s.rows, s.k, s.n, a.data(), b2.data(),
-                                      ct.data());
-    for (int i = 0; i < s.k; ++i) {
-      for (int j = 0; j < s.n; ++j) {
-        double want = start[i * s.n + j];
-        for (int r = 0; r < s.rows; ++r)
-          want += double(a[r * s.k + i]) * b2[r * s.n + j];
-        ASSERT_NEAR(ct[i * s.n + j], want, 2e-7 * (1 + s.rows))
-            << s.rows << "x" << s.k << "x" << s.n << " at " << i << "," << j;
-      }
-    }
-  }
+  ExpectMultiplyMatches<double>(kernels.multiply, 1e-13, 1);
+  ExpectMultiplyMatches<float>(kernels.multiply_float, 2e-7, 1);
+}
+
+TEST_P(MlpKernelLevelTest, MultiplyTransposedMatchesTheDefinition) {
+  const MlpKernelSet& kernels = MlpKernels(GetParam());
+  ExpectMultiplyTransposedMatches<double>(kernels.multiply_transposed, 1e-13,
+                                          100);
+  ExpectMultiplyTransposedMatches<float>(kernels.multiply_transposed_float,
+                                         2e-7, 100);
 }
 
 // The whole network, forward and backward, at this level against SSE2, in
