@@ -213,6 +213,12 @@ DEFINE_string(residual_precision, "double",
               "5% faster, but the loop's water moved less like the input "
               "over three seeds (docs/BENCHMARKS.md, \"Fields in "
               "float\").");
+DEFINE_int32(input_cache_mb, 128,
+             "Memory (MB) each water loss may keep of what it computes "
+             "from the input frames alone (the energy loss's input "
+             "energies; the texture loss's water pixels, their "
+             "neighbourhoods and bands), so a frame scored again skips "
+             "that work; the same values either way. 0: nothing kept.");
 DEFINE_int32(texture_bands, 2,
              "Bands of the texture term's difference-of-Gaussians "
              "pyramid, finest first, each twice the scale of the last.");
@@ -271,6 +277,7 @@ void CheckFlags() {
   RequireInRange("water_loss_warmup", FLAGS_water_loss_warmup, 0, 1);
   RequireInRange("motion_warmup", FLAGS_motion_warmup, 0, 1);
   RequireInRange("texture_bands", FLAGS_texture_bands, 1, 6);
+  RequireAtLeast("input_cache_mb", FLAGS_input_cache_mb, 0);
   RequireInRange("texture_projections", FLAGS_texture_projections, 1, 1024);
   RequireInRange("flow_prior_final_factor", FLAGS_flow_prior_final_factor, 0,
                  1);
@@ -325,6 +332,8 @@ JointTrainerOptions TrainerOptionsFromFlags() {
   o.motion_warmup = FLAGS_motion_warmup;
   o.water_texture.bands = FLAGS_texture_bands;
   o.water_texture.projections = FLAGS_texture_projections;
+  o.water_energy.input_cache_bytes = size_t(FLAGS_input_cache_mb) << 20;
+  o.water_texture.input_cache_bytes = size_t(FLAGS_input_cache_mb) << 20;
   o.motion.triplane.resolution = FLAGS_motion_resolution;
   o.motion.triplane.channels = FLAGS_motion_channels;
   o.motion.mlp_width = FLAGS_motion_width;
