@@ -5,9 +5,9 @@
 //   bench_looping --benchmark_filter=Alg
 //
 // Arguments: {dynamic Gaussians, frames}, or {points, precision} of the
-// fields' MLPs (0 double, 1 float: Stage 3 trains in float). Defaults are
-// the paper's field sizes (MotionFieldOptions, ResidualFieldOptions) and
-// L = 15.
+// fields' MLPs (0 double, 1 float: es_train's --motion_precision and
+// --residual_precision). Defaults are the paper's field sizes
+// (MotionFieldOptions, ResidualFieldOptions) and L = 15.
 
 #include <random>
 #include <vector>

@@ -31,9 +31,9 @@ struct WaterFilterScratch {
 struct TextureProjection {
   const double* const* bands = nullptr;  // `count` images
   int count = 0, levels = 0;
-  const int* const* taps = nullptr;      // per level, 9 n pixel indices
-  long n = 0;                            // pixels
-  const double* directions = nullptr;    // 9 count x projections, col-major
+  const int* const* taps = nullptr;    // per level, 9 n pixel indices
+  long n = 0;                          // pixels
+  const double* directions = nullptr;  // 9 count x projections, col-major
   int projections = 0;
 };
 
@@ -41,25 +41,23 @@ struct WaterKernelSet {
   // Along x, then along y.
   void (*blur_rows)(const double* in, int w, int h, const double* k, int r,
                     const WaterFilterScratch& scratch, double* out);
-  void (*blur_columns)(const double* in, int w, int h, const double* k,
-                       int r, const WaterFilterScratch& scratch,
-                       double* out);
+  void (*blur_columns)(const double* in, int w, int h, const double* k, int r,
+                       const WaterFilterScratch& scratch, double* out);
   // Their adjoints: g_in = B^T g_out, exact at the borders.
-  void (*blur_rows_adjoint)(const double* g_out, int w, int h,
-                            const double* k, int r,
-                            const WaterFilterScratch& scratch, double* g_in);
+  void (*blur_rows_adjoint)(const double* g_out, int w, int h, const double* k,
+                            int r, const WaterFilterScratch& scratch,
+                            double* g_in);
   void (*blur_columns_adjoint)(const double* g_out, int w, int h,
                                const double* k, int r,
-                               const WaterFilterScratch& scratch,
-                               double* g_in);
+                               const WaterFilterScratch& scratch, double* g_in);
   // The energy loss's per-pixel amplitude terms over n pixels: where
   // water[p] != 0, a = sqrt(max(e_rendered[p], 0) + floor), b =
   // sqrt(max(e_input[p], 0) + eps), term[p] = |a - b| and d_energy[p] =
   // scale sign(a - b) / (2 a count); elsewhere both 0.
   void (*amplitude_terms)(const double* e_rendered, const double* e_input,
-                          const double* water, long n, double floor,
-                          double eps, double scale, double count,
-                          double* term, double* d_energy);
+                          const double* water, long n, double floor, double eps,
+                          double scale, double count, double* term,
+                          double* d_energy);
   // out(i, j) = sum over the features f in order of feature f of pixel i
   // times directions(f, j), for pixels i in [begin, end); out is n x
   // projections, col-major.
@@ -74,12 +72,11 @@ struct WaterKernelSet {
 };
 
 // The set for `level` (kAuto: the best this CPU runs).
-const WaterKernelSet& WaterKernels(
-    SimdLevel level = SimdLevel::kAuto);
+const WaterKernelSet& WaterKernels(SimdLevel level = SimdLevel::kAuto);
 
 #define ES_DECLARE_WATER_KERNELS(isa) \
-  namespace isa {                            \
-  const WaterKernelSet& Kernels();     \
+  namespace isa {                     \
+  const WaterKernelSet& Kernels();    \
   }
 ES_DECLARE_WATER_KERNELS(water_kernels_sse2)
 ES_DECLARE_WATER_KERNELS(water_kernels_avx2)

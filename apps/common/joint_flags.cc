@@ -205,14 +205,15 @@ DEFINE_string(motion_precision, "double",
               "Arithmetic of V's MLP in CPU training: double or float "
               "(twice the lanes per vector; the parameters, inputs and "
               "gradients stay double). --device cuda and the evaluation "
-              "run it in double. At the quick preset's V (width 32) float "
-              "saves nothing (docs/BENCHMARKS.md, \"Fields in float\").");
+              "run it in double. V's MLP is small next to its triplane: "
+              "float saves 5-8% of V's time (docs/BENCHMARKS.md, \"Fields "
+              "in float\").");
 DEFINE_string(residual_precision, "double",
               "Arithmetic of D's MLP in CPU training, as "
-              "--motion_precision. float: D 1.5x faster, Stage 3 about "
-              "5% faster, but the loop's water moved less like the input "
-              "over three seeds (docs/BENCHMARKS.md, \"Fields in "
-              "float\").");
+              "--motion_precision. float: D 1.5x faster (with V in float "
+              "too, the whole run 4% faster), but the loop's water moved "
+              "less like the input over three seeds (docs/BENCHMARKS.md, "
+              "\"Fields in float\").");
 DEFINE_int32(input_cache_mb, 128,
              "Memory (MB) each water loss may keep of what it computes "
              "from the input frames alone (the energy loss's input "

@@ -1,12 +1,12 @@
 #include "core/fields/mlp.h"
 
-#include <glog/logging.h>
-#include <omp.h>
-
 #include <algorithm>
 #include <cmath>
 #include <random>
 #include <type_traits>
+
+#include <glog/logging.h>
+#include <omp.h>
 
 namespace es {
 namespace {
